@@ -1,0 +1,25 @@
+"""The `soccer-lab` command line. Each command group lives in its own module here."""
+
+from __future__ import annotations
+
+import typer
+
+app = typer.Typer(
+    name="soccer-lab",
+    help="Evolve, inspect and teach fuzzy-rule robot soccer players.",
+    no_args_is_help=True,
+    add_completion=False,
+    pretty_exceptions_enable=False,
+)
+
+
+def _register() -> None:
+    # Imported here so that `soccer-lab --help` lists every command and each module stays independent.
+    from app.cli import rules
+
+    app.add_typer(rules.app, name="rules")
+
+
+def main() -> None:
+    _register()
+    app()

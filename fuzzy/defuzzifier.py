@@ -1,0 +1,34 @@
+"""Mean of maximum, computed exactly (spec 2.2), not on a sampled grid.
+
+After clipping and max aggregation the maximum level M is the largest strength among the
+contributing rules, and the set where the aggregate reaches M is the union of the alpha-cuts
+at level M of the terms of the rules whose strength equals M. Its mean is the length-weighted
+centre of the merged intervals, or, when the set has no length, the mean of its points.
+The numba kernel (fuzzy/batched.py) performs the same operations in the same order.
+"""
+
+from __future__ import annotations
+
+
+def mean_of_maximum(cuts: list[tuple[float, float]]) -> float:
+    """Mean of the union of closed intervals `cuts` (each lo <= hi); points count when no interval has length."""
+    if not cuts:
+        raise ValueError("mean of maximum of an empty set")
+    ordered = sorted(cuts)
+    merged: list[list[float]] = [list(ordered[0])]
+    for lo, hi in ordered[1:]:
+        if lo <= merged[-1][1]:
+            merged[-1][1] = max(merged[-1][1], hi)
+        else:
+            merged.append([lo, hi])
+    total = 0.0
+    weighted = 0.0
+    for lo, hi in merged:
+        total += hi - lo
+        weighted += (hi - lo) * (lo + hi) * 0.5
+    if total > 0.0:
+        return weighted / total
+    points = 0.0
+    for lo, _ in merged:
+        points += lo
+    return points / len(merged)
