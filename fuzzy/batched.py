@@ -360,3 +360,44 @@ def infer_batch(compiled: CompiledRulebases, inputs: np.ndarray, visible: np.nda
     _infer_all(inputs, visible, players, *compiled.kernel_args(), max_rules, selected, supports, first_rules,
                values, strengths)
     return BatchInference(selected, supports, first_rules, values, strengths)
+
+
+@numba.njit(cache=True)
+def _decide_all(
+    inputs, visible, players, rule_start, premise_start, premise_object, premise_term, premise_negated, premise_or,
+    rule_action, rule_output_term, term_params, term_input, input_min, input_max, output_term_params,
+    output_default, action_uses, max_rules, actions, supports, outputs,
+):
+    n_actions = action_uses.shape[0]
+    degrees = np.empty(term_input.shape[0] * term_input.shape[1])
+    support = np.empty(n_actions)
+    first_rule = np.empty(n_actions, dtype=np.int64)
+    strengths = np.empty(max(max_rules, 1))
+    cut_lo = np.empty(max(max_rules, 1))
+    cut_hi = np.empty(max(max_rules, 1))
+    for i in range(inputs.shape[0]):
+        actions[i], supports[i] = decide(
+            players[i], inputs[i], visible[i], rule_start, premise_start, premise_object, premise_term,
+            premise_negated, premise_or, rule_action, rule_output_term, term_params, term_input, input_min,
+            input_max, output_term_params, output_default, action_uses, degrees, support, first_rule, strengths,
+            cut_lo, cut_hi, outputs[i],
+        )
+
+
+def decide_batch(compiled: CompiledRulebases, inputs: np.ndarray, visible: np.ndarray,
+                 players: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Only the decisions (what a player acts on): per row the selected action (NO_ACTION when no
+    rule fired), its support and its output values (defaults where unused), as `decide` gives them."""
+    inputs = np.ascontiguousarray(inputs, dtype=np.float64)
+    visible = np.ascontiguousarray(visible, dtype=np.bool_)
+    n = inputs.shape[0]
+    players = np.arange(n, dtype=np.int64) if players is None else np.ascontiguousarray(players, dtype=np.int64)
+    if players.shape != (n,) or visible.shape[0] != n:
+        raise ValueError("inputs, visible and players must have one row per evaluation")
+    if n and (players.min() < 0 or players.max() >= compiled.players):
+        raise ValueError("player index out of range")
+    actions = np.empty(n, dtype=np.int64)
+    supports = np.empty(n)
+    outputs = np.empty((n, compiled.tables.output_default.shape[0]))
+    _decide_all(inputs, visible, players, *compiled.kernel_args(), compiled.max_rules, actions, supports, outputs)
+    return actions, supports, outputs

@@ -107,7 +107,10 @@ class Engine:
     def defuzzify(self, output: str, sets: list[tuple[str, float]]) -> float:
         if not sets:
             return self.vocabulary.output_default(output)
+        return mean_of_maximum(self.maximum_cuts(output, sets))
+
+    def maximum_cuts(self, output: str, sets: list[tuple[str, float]]) -> list[tuple[float, float]]:
+        """The intervals whose union is where the aggregate of the clipped `sets` reaches its maximum."""
         variable = self.vocabulary.output_variable(output)
         level = max(strength for _, strength in sets)
-        cuts = [variable.term(term).alpha_cut(level) for term, strength in sets if strength == level]
-        return mean_of_maximum(cuts)
+        return [variable.term(term).alpha_cut(level) for term, strength in sets if strength == level]

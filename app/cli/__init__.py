@@ -18,6 +18,15 @@ def _register() -> None:
     from app.cli import rules
 
     app.add_typer(rules.app, name="rules")
+    from app.cli import evolve, play
+    from app.cli.common import OneLineErrors
+
+    app.command("evolve", cls=OneLineErrors)(evolve.evolve_command)
+    app.command("random-search", cls=OneLineErrors)(evolve.random_search_command)
+    app.command("play", cls=OneLineErrors)(play.play_command)
+    from app.cli import serve
+
+    app.command("serve")(serve.serve_command)
 
 
 def main() -> None:

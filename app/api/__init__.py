@@ -1,0 +1,53 @@
+"""The FastAPI application: the JSON API under /api, its OpenAPI document, the landing page."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from fastapi import APIRouter, FastAPI
+from fastapi.middleware.cors import CORSMiddleware
+from fastapi.staticfiles import StaticFiles
+
+from app.api.errors import MAX_BODY_BYTES, BodySizeLimit, install_error_handlers
+from app.api.models import ServerInfo
+from app.api.routes import rulebases, rules, runs, vocabulary
+from app.runs import RunManager
+from app.store import Store
+
+STATIC_DIR = Path(__file__).resolve().parents[2] / "static"
+API_PREFIX = "/api"
+
+
+def create_app(
+    store: Store,
+    run_manager: RunManager,
+    *,
+    ui_url: str | None = None,
+    viewer_url: str | None = None,
+    max_body_bytes: int = MAX_BODY_BYTES,
+) -> FastAPI:
+    """The API over `store` and `run_manager`; ui_url/viewer_url are linked from the landing page
+    (the rerun viewer also fetches recordings from here, hence CORS for its origin)."""
+    app = FastAPI(
+        title="soccer-lab",
+        summary="Evolve, inspect and teach fuzzy-rule robot soccer players.",
+        version="0.1.0",
+    )
+    app.state.store = store
+    app.state.runs = run_manager
+    install_error_handlers(app)
+    app.add_middleware(BodySizeLimit, limit=max_body_bytes)
+    if viewer_url:
+        app.add_middleware(CORSMiddleware, allow_origins=[viewer_url.rstrip("/")], allow_methods=["GET"])
+
+    api = APIRouter(prefix=API_PREFIX)
+    for module in (vocabulary, rulebases, rules, runs):
+        api.include_router(module.router)
+
+    @api.get("/server", tags=["server"], summary="Addresses of the UI, the rerun viewer and the API docs")
+    def server() -> ServerInfo:
+        return ServerInfo(ui=ui_url, viewer=viewer_url, docs=app.docs_url or "")
+
+    app.include_router(api)
+    app.mount("/", StaticFiles(directory=STATIC_DIR, html=True), name="static")
+    return app

@@ -1,0 +1,200 @@
+"""The JSON API's request and response bodies (pydantic): what /openapi.json documents."""
+
+from __future__ import annotations
+
+import math
+from typing import Annotated, Any
+
+from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
+
+from app.store import NAME_MAX_LENGTH, BestIndividual, RulebaseRecord, RunRecord
+from ga.config import GAConfig
+from soccer.config import GameConfig
+
+RULE_TEXT_MAX_LENGTH = 200_000  # far above any evolved rulebase (64 genes make at most 16 rules)
+
+Name = Annotated[str, Field(min_length=1, max_length=NAME_MAX_LENGTH, pattern=r"\S")]
+RuleText = Annotated[str, Field(max_length=RULE_TEXT_MAX_LENGTH)]
+
+
+class Strict(BaseModel):
+    """Requests name every field they mean: an unknown field is an error, not silently dropped."""
+
+    model_config = ConfigDict(extra="forbid")
+
+
+# ---- errors ------------------------------------------------------------------------------
+class ErrorLocation(BaseModel):
+    line: int
+    column: int
+    message: str
+
+
+class ErrorBody(BaseModel):
+    detail: str
+    errors: list[dict[str, Any]] = []
+
+
+# ---- rules -------------------------------------------------------------------------------
+class PremiseOut(BaseModel):
+    object: str
+    term: str
+    negated: bool
+
+
+class ConsequentOut(BaseModel):
+    action: str
+    direction: str | None
+    power: str | None
+
+
+class RuleOut(BaseModel):
+    text: str
+    premises: list[PremiseOut]
+    connectors: list[str]
+    consequent: ConsequentOut
+
+
+class ParseRequest(Strict):
+    text: RuleText
+
+
+class ParseResponse(BaseModel):
+    rules: list[RuleOut]
+    text: str  # the rulebase printed back in canonical form
+
+
+class CrispInputs(Strict):
+    """Crisp inputs; leave both inputs of an object out (or null) when it is not in view."""
+
+    ball_distance: float | None = Field(None, ge=0.0)
+    ball_direction: float | None = Field(None, ge=-180.0, le=180.0)
+    goal_distance: float | None = Field(None, ge=0.0)
+    goal_direction: float | None = Field(None, ge=-180.0, le=180.0)
+
+    @field_validator("*")
+    @classmethod
+    def finite(cls, value: float | None) -> float | None:
+        if value is not None and not math.isfinite(value):
+            raise ValueError("must be a finite number")
+        return value
+
+
+class EvaluateRequest(Strict):
+    """Rule text or a saved rulebase's id (exactly one), and the crisp inputs."""
+
+    text: RuleText | None = None
+    rulebase_id: int | None = Field(None, ge=1, le=2**62)
+    inputs: CrispInputs = CrispInputs()
+
+    @model_validator(mode="after")
+    def one_source(self) -> "EvaluateRequest":
+        if (self.text is None) == (self.rulebase_id is None):
+            raise ValueError("give exactly one of 'text' and 'rulebase_id'")
+        return self
+
+
+class RuleEvaluation(BaseModel):
+    text: str
+    premise_degrees: list[float]
+    strength: float
+
+
+class FiredAction(BaseModel):
+    action: str
+    support: float
+    parameters: dict[str, float]
+
+
+class EvaluateResponse(BaseModel):
+    visible: list[str]
+    rules: list[RuleEvaluation]
+    fired: list[FiredAction]
+    selected: FiredAction | None  # null: no rule fired and the player hunts (spec 4.3)
+
+
+# ---- rulebases ---------------------------------------------------------------------------
+class RulebaseCreate(Strict):
+    name: Name
+    text: RuleText
+
+
+class RulebaseUpdate(Strict):
+    name: Name | None = None
+    text: RuleText | None = None
+
+    @model_validator(mode="after")
+    def something(self) -> "RulebaseUpdate":
+        if self.name is None and self.text is None:
+            raise ValueError("give 'name', 'text' or both")
+        return self
+
+
+class RulebaseOut(BaseModel):
+    id: int
+    name: str
+    text: str
+    created: str
+    updated: str
+
+    @classmethod
+    def of(cls, record: RulebaseRecord) -> "RulebaseOut":
+        return cls(**record.to_dict())
+
+
+# ---- runs --------------------------------------------------------------------------------
+class RunStart(Strict):
+    """A new evolution; every GA and game parameter defaults to the chapter's (spec 3.2, 4)."""
+
+    name: Name = "evolution"
+    ga: GAConfig = GAConfig()
+    game: GameConfig = GameConfig()
+
+
+class RunOut(BaseModel):
+    id: int
+    name: str
+    status: str
+    created: str
+    finished: str | None
+    error: str | None
+    config: dict[str, Any]
+    generations: int  # finished generations stored
+    best_fitness: float | None
+    resumable: bool
+    recording: str | None  # URL of the rerun recording, once there is one
+
+    @classmethod
+    def of(cls, record: RunRecord, statistics: list[dict[str, Any]], recording: str | None) -> "RunOut":
+        bests = [s["best"] for s in statistics if isinstance(s.get("best"), (int, float))]
+        return cls(
+            id=record.id,
+            name=record.name,
+            status=str(record.status),
+            created=record.created,
+            finished=record.finished,
+            error=record.error,
+            config=record.config,
+            generations=len(statistics),
+            best_fitness=min(bests) if bests else None,
+            resumable=record.status.resumable,
+            recording=recording,
+        )
+
+
+class BestOut(BaseModel):
+    run_id: int
+    generation: int
+    rules: str
+    chromosome: str
+    fitness: float
+
+    @classmethod
+    def of(cls, best: BestIndividual) -> "BestOut":
+        return cls(**best.to_dict())
+
+
+class ServerInfo(BaseModel):
+    ui: str | None
+    viewer: str | None
+    docs: str

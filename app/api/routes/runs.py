@@ -1,0 +1,71 @@
+"""/api/runs: start, list, read, stop and resume evolutions; their statistics, best and recording."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from fastapi import APIRouter, Request
+from fastapi.responses import FileResponse
+
+from app.api.models import BestOut, ErrorBody, RunOut, RunStart
+from app.api.routes.dependencies import RecordId, RunsDependency, StoreDependency
+from app.run_outputs import RunFolder
+from app.store import NotFound, RunRecord, Store
+
+router = APIRouter(prefix="/runs", tags=["runs"], responses={404: {"model": ErrorBody}})
+CONFLICT = {409: {"model": ErrorBody, "description": "The run's state does not allow this"}}
+
+
+def _out(record: RunRecord, store: Store, request: Request) -> RunOut:
+    recording = None
+    if RunFolder(Path(record.folder)).recording.is_file():
+        recording = str(request.url_for("run_recording", run_id=record.id))
+    return RunOut.of(record, store.statistics(record.id), recording)
+
+
+@router.post("", status_code=201, summary="Start an evolution in the background", responses=CONFLICT)
+def start(body: RunStart, runs: RunsDependency, store: StoreDependency, request: Request) -> RunOut:
+    return _out(runs.start(body.name, body.ga, body.game), store, request)
+
+
+@router.get("", summary="List runs")
+def list_all(store: StoreDependency, request: Request) -> list[RunOut]:
+    return [_out(record, store, request) for record in store.list_runs()]
+
+
+@router.get("/{run_id}", summary="Read a run")
+def read(run_id: RecordId, store: StoreDependency, request: Request) -> RunOut:
+    return _out(store.get_run(run_id), store, request)
+
+
+@router.get("/{run_id}/statistics", summary="The run's statistics, one object per finished generation")
+def statistics(run_id: RecordId, store: StoreDependency) -> list[dict[str, float | int | None]]:
+    return store.statistics(run_id)
+
+
+@router.post("/{run_id}/stop", summary="Stop a run after its current generation", responses=CONFLICT)
+def stop(run_id: RecordId, runs: RunsDependency, store: StoreDependency, request: Request) -> RunOut:
+    return _out(runs.stop(run_id), store, request)
+
+
+@router.post("/{run_id}/resume", summary="Resume a stopped or interrupted run", responses=CONFLICT)
+def resume(run_id: RecordId, runs: RunsDependency, store: StoreDependency, request: Request) -> RunOut:
+    return _out(runs.resume(run_id), store, request)
+
+
+@router.get("/{run_id}/best", summary="The best individual so far: rule text, chromosome, fitness")
+def best(run_id: RecordId, store: StoreDependency) -> BestOut:
+    return BestOut.of(store.best_individual(run_id))
+
+
+@router.get(
+    "/{run_id}/recording.rrd",
+    name="run_recording",
+    summary="The run's rerun recording (open it in the rerun viewer)",
+    response_class=FileResponse,
+)
+def recording(run_id: RecordId, store: StoreDependency) -> FileResponse:
+    path = RunFolder(Path(store.get_run(run_id).folder)).recording
+    if not path.is_file():
+        raise NotFound("recording of run", run_id)
+    return FileResponse(path, media_type="application/octet-stream", filename=f"run-{run_id}.rrd")

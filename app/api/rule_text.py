@@ -1,0 +1,22 @@
+"""Rule text in and out of the API: parsing (errors become 422 with line/column) and rule bodies."""
+
+from __future__ import annotations
+
+from app.api.models import ConsequentOut, PremiseOut, RuleOut
+from fuzzy.parser import parse_rulebase
+from fuzzy.printer import format_rule
+from fuzzy.rule import Rule, Rulebase
+
+
+def parse(text: str) -> Rulebase:
+    """The rulebase; RuleSyntaxError (every error of the text) is answered 422 by the error handlers."""
+    return parse_rulebase(text)
+
+
+def rule_out(rule: Rule) -> RuleOut:
+    return RuleOut(
+        text=format_rule(rule),
+        premises=[PremiseOut(object=p.object, term=p.term, negated=p.negated) for p in rule.premises],
+        connectors=list(rule.connectors),
+        consequent=ConsequentOut(**vars(rule.consequent)),
+    )

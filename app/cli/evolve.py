@@ -1,0 +1,205 @@
+"""`soccer-lab evolve` and `soccer-lab random-search`: one run from the terminal, with a progress bar,
+a summary, and its outputs in a run folder (app/run_outputs.py); `evolve --resume RUN_DIR` continues
+a killed run (either kind) from its checkpoint."""
+
+from __future__ import annotations
+
+import os
+import time
+from pathlib import Path
+from typing import Annotated, Any, Optional
+
+import typer
+from rich.console import Console
+from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+
+from app.cli.common import fail
+from app.cli.play import (FitnessOption, GoalCapOption, IdleTicksOption, MaxTicksOption, NoiseOption,
+                          config_from_options, game_config, option_help)
+from app.recording import RunRecorder
+from app.rulebase_files import rulebase_text
+from app.run_outputs import RunFolder, RunFolderError, RunOutputs, default_run_dir
+from fuzzy.vocabulary import Vocabulary
+from ga.algorithms import evolve, random_search, resume
+from ga.checkpoint import CheckpointError, load_checkpoint
+from ga.config import GAConfig
+from ga.result import RunResult
+from ga.state import GA, RANDOM_SEARCH
+from soccer.config import GameConfig
+
+GA_PANEL = "Genetic algorithm"
+RUN_PANEL = "Run"
+# GAConfig fields whose option is not simply --field-name.
+RENAMED = {"max_generations": "generations"}
+WORKERS_LIMIT = next(limit.le for limit in GAConfig.model_fields["workers"].metadata if hasattr(limit, "le"))
+
+
+def _ga_option(field: str, text: str, kind: Any) -> Any:
+    return Annotated[Optional[kind], typer.Option(
+        "--" + RENAMED.get(field, field.replace("_", "-")), help=option_help(GAConfig, field, text),
+        show_default=False, rich_help_panel=GA_PANEL)]
+
+
+PopulationSize = _ga_option("population_size", "Individuals per generation.", int)
+Generations = _ga_option("max_generations", "Generations evaluated, the initial one included.", int)
+MaxLength = _ga_option("max_length", "Maximum genes per chromosome.", int)
+ConsequentProbability = _ga_option("consequent_probability", "Chance that an initial gene is a consequent.", float)
+Crossover = _ga_option("crossover", "Cut-and-splice crossover: one-point or two-point.", str)
+CrossoverProbability = _ga_option("crossover_probability", "Chance that a pair of parents is crossed.", float)
+MutationProbability = _ga_option("mutation_probability", "Chance that a child is mutated.", float)
+MutationRate = _ga_option("mutation_rate", "Chance that each gene of a mutated child is hit.", float)
+Selection = _ga_option("selection", "roulette, tournament or elitist.", str)
+TournamentSize = _ga_option("tournament_size", "Entrants per tournament.", int)
+TournamentSelector = _ga_option("tournament_selector", "Chance that the better entrant wins a tournament.", float)
+EliteFraction = _ga_option("elite_fraction", "Share of the population copied unchanged (elitist).", float)
+TargetFitness = _ga_option("target_fitness", "Stop once the best fitness reaches this.", float)
+Seed = _ga_option("seed", "Seed of the whole run: the same seed gives the same run, bit for bit.", int)
+Workers = Annotated[Optional[int], typer.Option(
+    "--workers", help="Evaluation processes; results do not depend on it. (default: all cores)",
+    show_default=False, rich_help_panel=GA_PANEL)]
+GamesPerEvaluation = Annotated[Optional[int], typer.Option(
+    "--games-per-evaluation", help=option_help(GameConfig, "games_per_evaluation",
+                                               "Games an evaluation averages, from different starts."),
+    show_default=False, rich_help_panel="Game")]
+Out = Annotated[Optional[Path], typer.Option(
+    "--out", help="Run folder for the outputs. (default: runs/<timestamp>)", show_default=False,
+    rich_help_panel=RUN_PANEL)]
+Resume = Annotated[Optional[Path], typer.Option(
+    "--resume", help="Continue the killed run in this folder (with its own settings).", show_default=False,
+    rich_help_panel=RUN_PANEL)]
+
+
+def evolve_command(
+    population_size: PopulationSize = None, generations: Generations = None, max_length: MaxLength = None,
+    consequent_probability: ConsequentProbability = None, crossover: Crossover = None,
+    crossover_probability: CrossoverProbability = None, mutation_probability: MutationProbability = None,
+    mutation_rate: MutationRate = None, selection: Selection = None, tournament_size: TournamentSize = None,
+    tournament_selector: TournamentSelector = None, elite_fraction: EliteFraction = None,
+    target_fitness: TargetFitness = None, seed: Seed = None, workers: Workers = None,
+    fitness: FitnessOption = None, games_per_evaluation: GamesPerEvaluation = None, max_ticks: MaxTicksOption = None,
+    goal_cap: GoalCapOption = None, idle_ticks: IdleTicksOption = None, noise: NoiseOption = None,
+    out: Out = None, resume_dir: Resume = None,
+) -> None:
+    """Evolve a goal-scoring rulebase with the messy-coded GA (defaults: the chapter's Table 2)."""
+    options = dict(locals())
+    if resume_dir is not None:
+        given = [f"--{name.replace('_', '-')}" for name, value in options.items()
+                 if value is not None and name != "resume_dir"]
+        if given:
+            fail(f"--resume continues a run with its own settings; drop {', '.join(given)}")
+        _resume(resume_dir)
+    else:
+        _start(GA, options)
+
+
+def random_search_command(
+    population_size: PopulationSize = None, generations: Generations = None, max_length: MaxLength = None,
+    consequent_probability: ConsequentProbability = None, target_fitness: TargetFitness = None, seed: Seed = None,
+    workers: Workers = None, fitness: FitnessOption = None, games_per_evaluation: GamesPerEvaluation = None,
+    max_ticks: MaxTicksOption = None, goal_cap: GoalCapOption = None, idle_ticks: IdleTicksOption = None,
+    noise: NoiseOption = None, out: Out = None,
+) -> None:
+    """The baseline: spend the same evaluations on fresh random rulebases (population x generations),
+    with the same statistics and outputs as evolve. Continue a killed one with `evolve --resume`."""
+    _start(RANDOM_SEARCH, dict(locals()))
+
+
+# ---- running ---------------------------------------------------------------------------------
+def _start(algorithm: str, options: dict[str, Any]) -> None:
+    game = game_config(options.pop("fitness"), options.pop("max_ticks"), options.pop("goal_cap"),
+                       options.pop("idle_ticks"), options.pop("noise"), options.pop("games_per_evaluation"))
+    out = options.pop("out")
+    options.pop("resume_dir", None)
+    options["max_generations"] = options.pop("generations")
+    if options["workers"] is None:
+        options["workers"] = min(os.cpu_count() or 1, WORKERS_LIMIT)
+    config = config_from_options(GAConfig, options, RENAMED)
+    try:
+        folder = RunFolder.create(out or default_run_dir(),
+                                  {"algorithm": algorithm, "ga": config.model_dump(), "game": game.model_dump()})
+    except RunFolderError as exc:
+        fail(str(exc))
+    run = evolve if algorithm == GA else random_search
+    _drive(folder, config, game, algorithm, Vocabulary.default(), history=[], best=None,
+           launch=lambda evaluate, callbacks: run(config, evaluate, callbacks=callbacks, checkpoint=folder.checkpoint))
+
+
+def _resume(path: Path) -> None:
+    try:
+        folder = RunFolder.open(path)
+        game = config_from_options(GameConfig, folder.read_manifest().get("game", {}))
+        state = load_checkpoint(folder.checkpoint)
+    except (RunFolderError, CheckpointError) as exc:
+        fail(str(exc))
+    history = [stats.to_dict() for stats in state.history]
+    typer.echo(f"resuming {folder.path} after generation {len(history) - 1}", err=True)
+    _drive(folder, state.config, game, state.algorithm, state.vocabulary, history=history, best=state.best,
+           launch=lambda evaluate, callbacks: resume(folder.checkpoint, evaluate, callbacks=callbacks))
+
+
+def _drive(folder: RunFolder, config: GAConfig, game: GameConfig, algorithm: str, vocabulary: Vocabulary, *,
+           history: list[dict], best: Any, launch: Any) -> None:
+    """Run `launch(evaluate, callbacks)` with the folder's callbacks, then write the best rulebase and
+    its replay and print the summary."""
+    from soccer.engine import play_game
+    from soccer.evaluate import SimpleSoccerEvaluator
+
+    outputs = RunOutputs(folder, vocabulary, history=history, best=best)
+    recorder = RunRecorder(folder.recording, history=history)
+    started = time.perf_counter()
+    try:
+        with GenerationProgress(config.max_generations, done=len(history),
+                                label="evolving" if algorithm == GA else "random search") as progress:
+            result: RunResult = launch(SimpleSoccerEvaluator(game), [outputs, recorder, progress])
+    except KeyboardInterrupt:
+        recorder.close()
+        typer.echo(f"\ninterrupted; continue with: soccer-lab evolve --resume {folder.path}", err=True)
+        raise typer.Exit(130)
+    outputs.write_best(result.best_rulebase)
+    game_result, trace = play_game(result.best_rulebase, config.seed, game, trace=True)
+    recorder.log_replay(trace, game.world)
+    recorder.close()
+    _summary(folder, result, game_result, time.perf_counter() - started)
+
+
+class GenerationProgress:
+    """A progress bar over generations showing the best and mean fitness (on stderr)."""
+
+    def __init__(self, total: int, *, done: int = 0, label: str = "evolving"):
+        self.progress = Progress(
+            TextColumn("[bold]{task.description}"), BarColumn(), MofNCompleteColumn(),
+            TextColumn("best {task.fields[best]}  mean {task.fields[mean]}"), TimeElapsedColumn(),
+            console=Console(stderr=True),
+        )
+        self.task = self.progress.add_task(label, total=total, completed=done, best="-", mean="-")
+
+    def __enter__(self) -> "GenerationProgress":
+        self.progress.start()
+        return self
+
+    def __exit__(self, *exc_info: object) -> None:
+        self.progress.stop()
+
+    def on_generation(self, stats: Any, population: Any = None) -> None:
+        self.progress.update(self.task, completed=stats.generation + 1,
+                             best=f"{stats.best:.4f}", mean=f"{stats.mean:.4f}")
+
+
+def _summary(folder: RunFolder, result: RunResult, replay: Any, seconds: float) -> None:
+    best = result.best
+    typer.echo(f"{len(result.history)} generations, {result.evaluations} evaluations ({result.stop_reason}), "
+               f"{seconds:.1f} s")
+    typer.echo(f"best fitness {best.fitness:.4f} (mean of {best.evaluations} evaluation"
+               f"{'s' if best.evaluations != 1 else ''}; {best.goals} goal{'s' if best.goals != 1 else ''} "
+               f"in its latest game)")
+    typer.echo(f"replay (seed {result.config.seed}): {replay.goals} goals, {replay.kicks} kicks, "
+               f"{replay.ticks} ticks, fitness {replay.fitness:.4f}")
+    typer.echo(f"best rules ({len(result.best_rulebase)}):")
+    for line in rulebase_text(result.best_rulebase, result.vocabulary).splitlines():
+        typer.echo(f"  {line}")
+    typer.echo(f"outputs in {folder.path}: {', '.join(p.name for p in _outputs(folder))}")
+
+
+def _outputs(folder: RunFolder) -> list[Path]:
+    return [p for p in (folder.best_rules, folder.best_json, folder.statistics, folder.checkpoint, folder.recording,
+                        folder.manifest) if p.exists()]

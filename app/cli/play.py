@@ -1,0 +1,170 @@
+"""`soccer-lab play RULEBASE`: play games from seeded random starts and print how each went.
+
+Also home of the game options (`--fitness`, `--max-ticks`, ...) that `evolve` shares, and of
+`config_from_options`, which turns a pydantic validation error into one line naming the option.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated, Any, Optional
+
+import typer
+from pydantic import BaseModel, ValidationError
+
+from app.cli.common import fail
+from app.recording import log_replay, open_stream
+from app.rulebase_files import RulebaseFileError, load_rulebase
+from soccer.config import FITNESS_NAMES, GameConfig
+
+DEFAULT_GAMES = 5
+DEFAULT_SEED = 0
+GAME_PANEL = "Game"
+
+
+def _default(model: type[BaseModel], field: str) -> Any:
+    return model.model_fields[field].default
+
+
+def option_help(model: type[BaseModel], field: str, text: str) -> str:
+    """Help text ending with the model's default: the model is the one place defaults live."""
+    return f"{text} (default: {_default(model, field)})"
+
+
+def option_name(field: str, renamed: dict[str, str]) -> str:
+    return "--" + renamed.get(field, field.replace("_", "-"))
+
+
+def config_from_options(model: type[BaseModel], values: dict[str, Any], renamed: dict[str, str] | None = None):
+    """`model(**values)` without the options left unset; a validation error exits with one line
+    naming the command-line option (`--population-size: Input should be ...`)."""
+    renamed = renamed or {}
+    try:
+        return model(**{field: value for field, value in values.items() if value is not None})
+    except ValidationError as exc:
+        problems = []
+        for error in exc.errors():
+            field = str(error["loc"][0]) if error["loc"] else ""
+            where = f"{option_name(field, renamed)}: " if field else ""
+            given = f" (got {error['input']!r})" if field and not isinstance(error.get("input"), dict) else ""
+            problems.append(f"{where}{error['msg'].removeprefix('Value error, ')}{given}")
+        fail("; ".join(problems))
+
+
+# The game options, shared with `evolve` and `random-search`: unset (None) means the GameConfig default.
+FitnessOption = Annotated[Optional[str], typer.Option(
+    "--fitness", help=option_help(GameConfig, "fitness", f"Fitness function: {', '.join(FITNESS_NAMES)}."),
+    show_default=False, rich_help_panel=GAME_PANEL)]
+MaxTicksOption = Annotated[Optional[int], typer.Option(
+    "--max-ticks", help=option_help(GameConfig, "max_ticks", "Ticks (100 ms) a game lasts at most."),
+    show_default=False, rich_help_panel=GAME_PANEL)]
+GoalCapOption = Annotated[Optional[int], typer.Option(
+    "--goal-cap", help=option_help(GameConfig, "goal_cap", "A game ends when this many goals are scored."),
+    show_default=False, rich_help_panel=GAME_PANEL)]
+IdleTicksOption = Annotated[Optional[int], typer.Option(
+    "--idle-ticks", help=option_help(GameConfig, "idle_ticks",
+                                     "A game ends after this many ticks without moving or kicking."),
+    show_default=False, rich_help_panel=GAME_PANEL)]
+NoiseOption = Annotated[Optional[bool], typer.Option(
+    "--noise/--no-noise", help=option_help(GameConfig, "noise", "rcssserver-like movement noise."),
+    show_default=False, rich_help_panel=GAME_PANEL)]
+
+
+def game_config(fitness: str | None, max_ticks: int | None, goal_cap: int | None, idle_ticks: int | None,
+                noise: bool | None, games_per_evaluation: int | None = None) -> GameConfig:
+    return config_from_options(GameConfig, {
+        "fitness": fitness, "max_ticks": max_ticks, "goal_cap": goal_cap, "idle_ticks": idle_ticks,
+        "noise": noise, "games_per_evaluation": games_per_evaluation,
+    })
+
+
+def game_seeds(seed: int, games: int) -> list[int]:
+    """Game i (from 0) starts from seed + i, so any one game can be replayed alone."""
+    return [seed + i for i in range(games)]
+
+
+def play_command(
+    rulebase: Annotated[Path, typer.Argument(help="Rulebase file: rule text (.rules) or JSON (.json).",
+                                             show_default=False)],
+    games: Annotated[int, typer.Option("--games", "-n", min=1, help="Games to play.")] = DEFAULT_GAMES,
+    seed: Annotated[int, typer.Option("--seed", min=0, help="Seed of the first game's start; game i uses seed + i.")]
+    = DEFAULT_SEED,
+    rrd: Annotated[Optional[Path], typer.Option("--rrd", help="Write every game's replay to this rerun file.",
+                                                show_default=False)] = None,
+    fitness: FitnessOption = None,
+    max_ticks: MaxTicksOption = None,
+    goal_cap: GoalCapOption = None,
+    idle_ticks: IdleTicksOption = None,
+    noise: NoiseOption = None,
+    env: Annotated[str, typer.Option("--env", help="simple (SimpleSoccer) or rcss (a real rcssserver).")]
+    = "simple",
+    server: Annotated[Optional[list[str]], typer.Option(
+        "--server", help="rcssserver HOST:PORT (repeat for several servers; default 127.0.0.1:6000).",
+        show_default=False)] = None,
+) -> None:
+    """Play RULEBASE in SimpleSoccer (or on rcssserver) from seeded random starts; print goals, kicks, ticks and fitness."""
+    from soccer.engine import play_game, play_games
+
+    config = game_config(fitness, max_ticks, goal_cap, idle_ticks, noise)
+    try:
+        player = load_rulebase(rulebase)
+    except RulebaseFileError as exc:
+        fail(str(exc))
+    seeds = game_seeds(seed, games)
+    if env not in ("simple", "rcss"):
+        fail(f"--env: expected simple or rcss, got {env!r}")
+    if env == "rcss":
+        _print_table(seeds, _play_on_rcss(player, seeds, server, fitness, max_ticks, goal_cap, idle_ticks))
+        return
+    if rrd is None:
+        results = play_games([player] * games, seeds, config)
+    else:
+        stream = _open_replay_file(rrd)
+        results = []
+        for number, game_seed in enumerate(seeds, start=1):
+            result, trace = play_game(player, game_seed, config, trace=True)
+            log_replay(stream, trace, config.world, entity=f"game_{number}")
+            results.append(result)
+        stream.flush()
+    _print_table(seeds, results)
+    if rrd is not None:
+        typer.echo(f"replays written to {rrd} (open with: rerun {rrd})")
+
+
+def _play_on_rcss(player, seeds, servers, fitness, max_ticks, goal_cap, idle_ticks) -> list[Any]:
+    """Trials on real servers (spec 5); unset options keep the chapter's RoboCup settings (TrialConfig)."""
+    from soccer.rcss.errors import RcssError
+    from soccer.rcss.evaluate import DEFAULT_SERVER, RcssEvaluator
+    from soccer.rcss.trial import TrialConfig
+
+    chosen = {"fitness": fitness, "max_cycles": max_ticks, "goal_cap": goal_cap, "idle_cycles": idle_ticks}
+    try:
+        config = TrialConfig(**{name: value for name, value in chosen.items() if value is not None})
+        with RcssEvaluator(servers or [DEFAULT_SERVER], config) as evaluate:
+            return evaluate([player] * len(seeds), seeds)
+    except (RcssError, ValueError) as exc:
+        fail(str(exc))
+
+
+def _open_replay_file(path: Path):
+    if path.is_dir():
+        fail(f"--rrd: {path} is a folder")
+    if not path.parent.is_dir():
+        fail(f"--rrd: folder {path.parent} does not exist")
+    return open_stream(path)
+
+
+ROW = "{:>5} {:>20} {:>6} {:>6} {:>6} {:>8}"
+
+
+def _print_table(seeds: list[int], results: list[Any]) -> None:
+    typer.echo(ROW.format("game", "seed", "goals", "kicks", "ticks", "fitness"))
+    for number, (game_seed, result) in enumerate(zip(seeds, results), start=1):
+        typer.echo(ROW.format(number, game_seed, result.goals, result.kicks, result.ticks, f"{result.fitness:.4f}"))
+    count = len(results)
+    typer.echo(ROW.format(
+        "mean", "",
+        f"{sum(r.goals for r in results) / count:.2f}", f"{sum(r.kicks for r in results) / count:.1f}",
+        f"{sum(r.ticks for r in results) / count:.0f}", f"{sum(r.fitness for r in results) / count:.4f}",
+    ))
+

@@ -1,0 +1,34 @@
+"""`soccer-lab serve`: the browser app (UI, JSON API, rerun viewer) on this machine."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Optional
+
+import typer
+
+from app.cli.common import fail
+from app.paths import default_data_dir
+from app.server import DEFAULT_HOST, DEFAULT_PORT, DEFAULT_RERUN_PORT, DEFAULT_UI_PORT, ServeError, ServeOptions, serve
+from app.store import StoreError
+
+PORT_RANGE = {"min": 1, "max": 65535}
+
+
+def serve_command(
+    host: str = typer.Option(DEFAULT_HOST, help="Address to listen on (127.0.0.1: this machine only)."),
+    port: int = typer.Option(DEFAULT_PORT, help="Port of the JSON API and the home page.", **PORT_RANGE),
+    ui_port: int = typer.Option(DEFAULT_UI_PORT, help="Port of the viser UI.", **PORT_RANGE),
+    rerun_port: int = typer.Option(DEFAULT_RERUN_PORT, help="Port of rerun's web viewer.", **PORT_RANGE),
+    data_dir: Optional[Path] = typer.Option(
+        None, help="Folder of the database and the runs' files [default: $SOCCER_LAB_DATA or ~/.local/share/soccer-lab]."
+    ),
+) -> None:
+    """Start the UI, the JSON API and the rerun viewer, and print their addresses."""
+    options = ServeOptions(host, port, ui_port, rerun_port, data_dir or default_data_dir())
+    try:
+        serve(options, echo=typer.echo)
+    except (ServeError, StoreError) as exc:
+        fail(str(exc))
+    except KeyboardInterrupt:
+        typer.echo("stopped")

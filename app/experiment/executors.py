@@ -1,0 +1,108 @@
+"""Where trials run: local worker processes (default) or Ray tasks. Both hand results back as each
+trial finishes, in whatever order; a trial's result depends only on its spec, so the executor never
+changes the outcome."""
+
+from __future__ import annotations
+
+import multiprocessing
+import os
+from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
+from typing import Any, Callable, Iterable, Iterator
+
+LOCAL, RAY = "local", "ray"
+EXECUTOR_NAMES = (LOCAL, RAY)
+RAY_MISSING = "Ray is not installed; install the optional extra: pip install 'soccer-lab[ray]'"
+
+
+class ExecutorError(RuntimeError):
+    """An executor that cannot start (Ray missing, cluster unreachable): one line for the user."""
+
+
+def default_workers() -> int:
+    return os.cpu_count() or 1
+
+
+class LocalExecutor:
+    """Trials on `workers` spawned processes; with one worker, in this process (no start-up cost)."""
+
+    def __init__(self, workers: int | None = None):
+        self.workers = workers or default_workers()
+        self._pool: ProcessPoolExecutor | None = None
+
+    def __enter__(self) -> "LocalExecutor":
+        if self.workers > 1:
+            self._pool = ProcessPoolExecutor(self.workers, mp_context=multiprocessing.get_context("spawn"))
+        return self
+
+    def __exit__(self, *exc_info: object) -> None:
+        if self._pool is not None:
+            self._pool.shutdown(wait=True, cancel_futures=True)
+            self._pool = None
+
+    def map_unordered(self, function: Callable[[Any], Any], items: Iterable[Any]) -> Iterator[tuple[Any, Any]]:
+        if self._pool is None:
+            for item in items:
+                yield item, function(item)
+            return
+        pending = {self._pool.submit(function, item): item for item in items}
+        while pending:
+            done, _ = wait(pending, return_when=FIRST_COMPLETED)
+            for future in done:
+                yield pending.pop(future), future.result()
+
+
+class RayExecutor:
+    """Trials as Ray tasks (one CPU each) on the cluster at `address`, or on a local Ray started here
+    with `workers` CPUs. The cluster's workers need soccer-lab installed."""
+
+    def __init__(self, address: str | None = None, workers: int | None = None):
+        try:
+            import ray
+        except ImportError:
+            raise ExecutorError(RAY_MISSING) from None
+        self.ray = ray
+        self.address = address
+        self.workers = workers
+        self._started_here = False
+
+    def __enter__(self) -> "RayExecutor":
+        if not self.ray.is_initialized():
+            try:
+                if self.address is None:
+                    self.ray.init(num_cpus=self.workers or default_workers(), include_dashboard=False,
+                                  log_to_driver=False)
+                else:
+                    self.ray.init(address=self.address, log_to_driver=False)
+            except (ConnectionError, RuntimeError, ValueError) as exc:
+                where = f" at {self.address}" if self.address else ""
+                raise ExecutorError(f"cannot start Ray{where}: {str(exc).splitlines()[0] if str(exc) else exc!r}") \
+                    from None
+            self._started_here = True
+        return self
+
+    def __exit__(self, *exc_info: object) -> None:
+        if self._started_here:
+            self.ray.shutdown()
+            self._started_here = False
+
+    def map_unordered(self, function: Callable[[Any], Any], items: Iterable[Any]) -> Iterator[tuple[Any, Any]]:
+        task = self.ray.remote(num_cpus=1)(function)
+        pending = {task.remote(item): item for item in items}
+        try:
+            while pending:
+                done, _ = self.ray.wait(list(pending), num_returns=1)
+                for ref in done:
+                    yield pending.pop(ref), self.ray.get(ref)
+        finally:
+            for ref in pending:  # interrupted: do not leave the cluster busy with our trials
+                self.ray.cancel(ref, force=True)
+
+
+def make_executor(name: str, *, workers: int | None = None, address: str | None = None) -> LocalExecutor | RayExecutor:
+    if name == LOCAL:
+        if address is not None:
+            raise ExecutorError("--address needs --executor ray")
+        return LocalExecutor(workers)
+    if name == RAY:
+        return RayExecutor(address, workers)
+    raise ExecutorError(f"unknown executor {name!r}; choose one of {', '.join(EXECUTOR_NAMES)}")

@@ -1,0 +1,198 @@
+"""The chapter's SimpleSoccer study (section 6, spec 6) as presets: which settings each varies, at
+which size, and how the options shrink them.
+
+Control parameters. Table 2 (roulette selection, one-point crossover, 10% mutation rate, population
+200, 25 generations, max length 64) is the control for `initial`, `max-length`, `population` and
+`selection`. The chapter says (section 4) that "elitist selection was used in the remainder of the
+SimpleSoccer trials" after the selection comparison; section 6.4 presents crossover, mutation,
+maximum generations and GA against random search after it, so those presets use elitist selection
+(5% retained). Every trial runs all its generations: the chapter's target fitness (0.05) "did not
+occur", but our simulator does reach 10 goals, and curves averaged over trials need equal lengths,
+so experiments switch early stopping off (`EXPERIMENT_TARGET_FITNESS`).
+
+A setting is identified by its full configuration, not by its preset: the same configuration in two
+presets (Table 2 is the control of four of them) is one set of trials, run once and shared.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from pydantic import BaseModel, ConfigDict, Field
+
+from ga.config import GAConfig
+from ga.state import GA, RANDOM_SEARCH
+from soccer.config import GameConfig
+
+ALL = "all"
+EXPERIMENT_TARGET_FITNESS = 0.0  # fitness is always > 0, so no trial stops early (see above)
+SEED_BOUND = 2**63  # GAConfig.seed < 2**63
+
+TABLE_2 = GAConfig()  # the chapter's control values are GAConfig's defaults
+CHAPTER_POPULATION = TABLE_2.population_size
+CHAPTER_GENERATIONS = TABLE_2.max_generations
+LATER_CONTROL = {"selection": "elitist"}  # section 4: used after the selection comparison
+
+DEFAULT_TRIALS = 10
+INITIAL_TRIALS = 20
+MAX_LENGTHS = (25, 50, 64, 75, 100)
+POPULATION_SIZES = (50, 100, 200, 500)
+POPULATION_EVALUATIONS = 10_000
+SELECTIONS = ("roulette", "tournament", "elitist")
+CROSSOVERS = ("one-point", "two-point")
+MUTATION_RATES = (0.05, 0.10, 0.15, 0.20, 0.25)
+LONG_GENERATIONS = 100
+RANDOM_SEARCH_POPULATION = 500  # the chapter: 40 "generations" of 500 = the GA's 20,000 evaluations
+
+
+class ExperimentOptions(BaseModel):
+    """What the command line may change. Population and generations shrink (or grow) every setting in
+    proportion to Table 2's 200 and 25, so the study keeps its shape: `population` keeps equal
+    evaluations per setting, `long` keeps 4x the generations, `random` keeps equal evaluations."""
+
+    model_config = ConfigDict(frozen=True, extra="forbid")
+
+    trials: int | None = Field(None, ge=1, le=10_000, description="trials per setting (default: the chapter's)")
+    population: int = Field(CHAPTER_POPULATION, ge=2, le=100_000, description="Table 2's population size")
+    generations: int = Field(CHAPTER_GENERATIONS, ge=1, le=100_000, description="Table 2's generations")
+    max_ticks: int = Field(GameConfig().max_ticks, ge=1, le=1_000_000, description="ticks a game lasts at most")
+    seed: int = Field(0, ge=0, lt=SEED_BOUND, description="experiment seed: every trial's seed derives from it")
+
+    @property
+    def population_scale(self) -> float:
+        return self.population / CHAPTER_POPULATION
+
+    @property
+    def generation_scale(self) -> float:
+        return self.generations / CHAPTER_GENERATIONS
+
+    def scaled_population(self, chapter_size: int) -> int:
+        return max(2, round(chapter_size * self.population_scale))
+
+    def scaled_generations(self, chapter_generations: int) -> int:
+        return max(1, round(chapter_generations * self.generation_scale))
+
+    def game(self) -> GameConfig:
+        return GameConfig(max_ticks=self.max_ticks)
+
+    def identity(self) -> dict[str, Any]:
+        """What makes two experiment folders' finished trials interchangeable (trials count excluded:
+        more trials only add files)."""
+        return self.model_dump(exclude={"trials"})
+
+
+@dataclass(frozen=True)
+class Setting:
+    """One value of the varied parameter: a label for figures and the whole GA configuration."""
+
+    label: str
+    algorithm: str  # ga.state.GA or RANDOM_SEARCH
+    ga: GAConfig  # seed 0: each trial gets its own
+
+    @property
+    def key(self) -> str:
+        """A stable, readable file-name stem identifying the configuration (shared across presets)."""
+        digest = hashlib.sha256(json.dumps([self.algorithm, self.ga.model_dump(exclude={"seed", "workers"})],
+                                           sort_keys=True).encode()).hexdigest()
+        return f"{self.algorithm}-p{self.ga.population_size}-g{self.ga.max_generations}-{digest[:10]}"
+
+    @property
+    def evaluations(self) -> int:
+        return self.ga.population_size * self.ga.max_generations
+
+
+@dataclass(frozen=True)
+class Preset:
+    name: str
+    title: str  # what is varied, for figure titles
+    varied: str  # the parameter's display name
+    settings: tuple[Setting, ...]
+    trials: int
+    per_trial: bool = False  # the chapter shows each trial's curve (Figs. 11-12, 26-27)
+    figures: tuple[str, ...] = field(default=())  # figure kinds (app.experiment.figures.FIGURE_KINDS)
+
+
+def _config(options: ExperimentOptions, base: dict[str, Any], **changes: Any) -> GAConfig:
+    values = {"population_size": options.scaled_population(CHAPTER_POPULATION),
+              "max_generations": options.scaled_generations(CHAPTER_GENERATIONS),
+              "target_fitness": EXPERIMENT_TARGET_FITNESS, **base, **changes}
+    return GAConfig(**values)
+
+
+def _preset_settings(name: str, options: ExperimentOptions) -> tuple[Setting, ...]:
+    if name == "initial":
+        return (Setting("Table 2", GA, _config(options, {})),)
+    if name == "max-length":
+        return tuple(Setting(str(length), GA, _config(options, {}, max_length=length)) for length in MAX_LENGTHS)
+    if name == "population":
+        budget = POPULATION_EVALUATIONS * options.population_scale * options.generation_scale
+        settings = []
+        for size in POPULATION_SIZES:
+            population = options.scaled_population(size)
+            settings.append(Setting(str(size), GA, _config(options, {}, population_size=population,
+                                                           max_generations=max(1, round(budget / population)))))
+        return tuple(settings)
+    if name == "selection":
+        return tuple(Setting(method, GA, _config(options, {}, selection=method)) for method in SELECTIONS)
+    if name == "crossover":
+        return tuple(Setting(method, GA, _config(options, LATER_CONTROL, crossover=method)) for method in CROSSOVERS)
+    if name == "mutation":
+        return tuple(Setting(f"{rate:.0%}", GA, _config(options, LATER_CONTROL, mutation_rate=rate))
+                     for rate in MUTATION_RATES)
+    if name == "long":
+        return (_long_setting(options),)
+    if name == "random":
+        ga = _long_setting(options)
+        population = options.scaled_population(RANDOM_SEARCH_POPULATION)
+        generations = max(1, round(ga.evaluations / population))
+        search = _config(options, {}, population_size=population, max_generations=generations)
+        return (Setting("GA", GA, ga.ga), Setting("random search", RANDOM_SEARCH, search))
+    raise KeyError(name)
+
+
+def _long_setting(options: ExperimentOptions) -> Setting:
+    return Setting(f"{LONG_GENERATIONS} generations", GA,
+                   _config(options, LATER_CONTROL, max_generations=options.scaled_generations(LONG_GENERATIONS)))
+
+
+# name -> (title, varied parameter, chapter's trials, per-trial curves, figure kinds)
+PRESET_TABLE: dict[str, tuple[str, str, int, bool, tuple[str, ...]]] = {
+    "initial": ("Initial trials (Table 2)", "trial", INITIAL_TRIALS, True,
+                ("mean_fitness", "best_fitness", "goal_histogram", "composition", "gene_pools")),
+    "max-length": ("Maximum chromosome length", "max length", DEFAULT_TRIALS, False,
+                   ("mean_fitness", "best_fitness", "chromosome_length", "valid_rules")),
+    "population": ("Population size (10,000 evaluations)", "population", DEFAULT_TRIALS, False,
+                   ("mean_fitness", "best_fitness")),
+    "selection": ("Selection method", "selection", DEFAULT_TRIALS, False, ("mean_fitness", "best_fitness")),
+    "crossover": ("Crossover method", "crossover", DEFAULT_TRIALS, False, ("mean_fitness", "best_fitness")),
+    "mutation": ("Mutation rate", "mutation rate", DEFAULT_TRIALS, False, ("mean_fitness", "best_fitness")),
+    "long": ("100 generations", "trial", DEFAULT_TRIALS, True,
+             ("mean_fitness", "best_fitness", "goal_histogram", "composition", "gene_pools")),
+    "random": ("GA against random search", "search", DEFAULT_TRIALS, False, ("mean_fitness", "best_fitness")),
+}
+PRESET_NAMES: tuple[str, ...] = tuple(PRESET_TABLE)
+CHOICES: tuple[str, ...] = (*PRESET_NAMES, ALL)
+
+
+def preset(name: str, options: ExperimentOptions) -> Preset:
+    """The preset at the size the options ask for; KeyError naming the choices for an unknown name."""
+    if name not in PRESET_TABLE:
+        raise KeyError(f"unknown preset {name!r}; choose one of {', '.join(CHOICES)}")
+    title, varied, trials, per_trial, figures = PRESET_TABLE[name]
+    return Preset(name, title, varied, _preset_settings(name, options), options.trials or trials, per_trial, figures)
+
+
+def presets(name: str, options: ExperimentOptions) -> list[Preset]:
+    """`all` expands to every preset, in the chapter's order."""
+    return [preset(n, options) for n in (PRESET_NAMES if name == ALL else (name,))]
+
+
+def trial_seed(experiment_seed: int, setting: Setting, trial: int) -> int:
+    """Each trial's seed, stable per (experiment seed, setting configuration, trial number)."""
+    key = [int(setting.key.rsplit("-", 1)[1], 16), trial]
+    state = np.random.SeedSequence(experiment_seed, spawn_key=key).generate_state(1, np.uint64)[0]
+    return int(state) % SEED_BOUND

@@ -1,0 +1,101 @@
+"""statistics.csv in memory: one row per (preset, setting, trial, generation), every statistic of spec 3.3.
+Figures and the report read only this table, so they work as well on fabricated statistics."""
+
+from __future__ import annotations
+
+import csv
+import io
+from pathlib import Path
+from typing import Any, Iterable, Mapping
+
+import numpy as np
+
+from ga.statistics import GenerationStats
+
+PRESET, SETTING, TRIAL, SEED, ALGORITHM = "preset", "setting", "trial", "seed", "algorithm"
+KEY_COLUMNS = (PRESET, SETTING, TRIAL, SEED, ALGORITHM)
+STATISTIC_COLUMNS = GenerationStats.field_names()
+COLUMNS = (*KEY_COLUMNS, *STATISTIC_COLUMNS)
+TEXT_COLUMNS = (PRESET, SETTING, ALGORITHM)
+
+
+class TableError(ValueError):
+    pass
+
+
+class StatisticsTable:
+    def __init__(self, rows: Iterable[Mapping[str, Any]]):
+        self.rows = [dict(row) for row in rows]
+        missing = [c for c in COLUMNS if self.rows and c not in self.rows[0]]
+        if missing:
+            raise TableError(f"statistics lack the columns {', '.join(missing)}")
+
+    @classmethod
+    def read(cls, path: str | Path) -> "StatisticsTable":
+        with Path(path).open(newline="") as handle:
+            return cls(_typed(row) for row in csv.DictReader(handle))
+
+    def to_csv(self) -> str:
+        buffer = io.StringIO()
+        writer = csv.DictWriter(buffer, fieldnames=COLUMNS, extrasaction="ignore", lineterminator="\n")
+        writer.writeheader()
+        writer.writerows(self.rows)
+        return buffer.getvalue()
+
+    # ---- selections -----------------------------------------------------------------------------
+    def presets(self) -> list[str]:
+        return _unique(row[PRESET] for row in self.rows)
+
+    def settings(self, preset: str) -> list[str]:
+        return _unique(row[SETTING] for row in self.rows if row[PRESET] == preset)
+
+    def trials(self, preset: str, setting: str) -> list[int]:
+        return _unique(int(row[TRIAL]) for row in self._rows(preset, setting))
+
+    def curves(self, preset: str, setting: str, column: str) -> np.ndarray:
+        """trials x generations; a trial with fewer generations is padded with NaN."""
+        by_trial: dict[int, list[tuple[int, float]]] = {}
+        for row in self._rows(preset, setting):
+            by_trial.setdefault(int(row[TRIAL]), []).append((int(row["generation"]), float(row[column])))
+        length = max((len(points) for points in by_trial.values()), default=0)
+        curves = np.full((len(by_trial), length), np.nan)
+        for i, points in enumerate(by_trial.values()):
+            values = [value for _, value in sorted(points)]
+            curves[i, :len(values)] = values
+        return curves
+
+    def final(self, preset: str, setting: str, column: str) -> np.ndarray:
+        """Each trial's value in its last generation."""
+        curves = self.curves(preset, setting, column)
+        return np.array([row[~np.isnan(row)][-1] for row in curves]) if curves.size else np.array([])
+
+    def best_so_far(self, preset: str, setting: str) -> np.ndarray:
+        """Each trial's best fitness over the whole run."""
+        curves = self.curves(preset, setting, "best")
+        return np.nanmin(curves, axis=1) if curves.size else np.array([])
+
+    def evaluations(self, preset: str, setting: str) -> np.ndarray:
+        """The x axis for comparisons at equal evaluations: evaluations so far, per generation."""
+        return np.nanmean(self.curves(preset, setting, "evaluations"), axis=0)
+
+    def _rows(self, preset: str, setting: str) -> list[dict[str, Any]]:
+        return [row for row in self.rows if row[PRESET] == preset and row[SETTING] == setting]
+
+
+def _unique(values: Iterable[Any]) -> list[Any]:
+    return list(dict.fromkeys(values))
+
+
+def _typed(row: Mapping[str, str]) -> dict[str, Any]:
+    try:
+        return {name: value if name in TEXT_COLUMNS else _number(value) for name, value in row.items()}
+    except ValueError as exc:
+        raise TableError(f"statistics.csv holds a value that is not a number: {exc}") from None
+
+
+def _number(text: str) -> int | float:
+    """Integers stay exact (seeds need 63 bits), the rest are floats."""
+    try:
+        return int(text)
+    except ValueError:
+        return float(text)

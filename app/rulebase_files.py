@@ -1,0 +1,68 @@
+"""Rulebase files: rule text (`.rules`, anything else) or our JSON (`.json`, or text starting with `{`).
+
+Every problem becomes one `RulebaseFileError` whose message names the file and, for rule text, the
+line and column, so the CLI prints it as one line.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from fuzzy.export import RulebaseFormatError, rulebase_from_json, to_json
+from fuzzy.parser import RuleSyntaxError, parse_rulebase
+from fuzzy.printer import format_rulebase
+from fuzzy.rule import Rulebase
+from fuzzy.vocabulary import Vocabulary
+
+JSON_SUFFIX = ".json"
+RULES_SUFFIX = ".rules"
+
+
+class RulebaseFileError(ValueError):
+    """A rulebase file that cannot be read or parsed; the message is one line."""
+
+
+def load_rulebase(path: str | Path, vocabulary: Vocabulary | None = None) -> Rulebase:
+    """The rulebase in `path`, which must hold at least one rule written in `vocabulary`
+    (default: the soccer vocabulary, the one SimpleSoccer plays with)."""
+    path = Path(path)
+    vocabulary = vocabulary or Vocabulary.default()
+    try:
+        text = path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise RulebaseFileError(f"{path}: no such file") from None
+    except IsADirectoryError:
+        raise RulebaseFileError(f"{path}: is a folder, not a rulebase file") from None
+    except UnicodeDecodeError:
+        raise RulebaseFileError(f"{path}: not a text file (expected rule text or JSON)") from None
+    except OSError as exc:
+        raise RulebaseFileError(f"{path}: cannot read: {exc.strerror or exc}") from None
+
+    if path.suffix.lower() == JSON_SUFFIX or text.lstrip().startswith("{"):
+        try:
+            rulebase, file_vocabulary = rulebase_from_json(text)
+        except RulebaseFormatError as exc:
+            raise RulebaseFileError(f"{path}: {exc}") from None
+        if file_vocabulary != vocabulary:
+            raise RulebaseFileError(
+                f"{path}: its vocabulary differs from the soccer vocabulary this player is played with"
+            )
+    else:
+        try:
+            rulebase = parse_rulebase(text, vocabulary)
+        except RuleSyntaxError as exc:
+            more = len(exc.errors) - 1
+            suffix = f" (and {more} more error{'s' if more > 1 else ''})" if more else ""
+            raise RulebaseFileError(f"{path}: {exc}{suffix}") from None
+    if len(rulebase) == 0:
+        raise RulebaseFileError(f"{path}: holds no rule")
+    return rulebase
+
+
+def rulebase_text(rulebase: Rulebase, vocabulary: Vocabulary | None = None) -> str:
+    """Rule text as written to `.rules` files (ends with a newline)."""
+    return format_rulebase(rulebase, vocabulary) + "\n"
+
+
+def rulebase_json(rulebase: Rulebase, vocabulary: Vocabulary | None = None) -> str:
+    return to_json(rulebase, vocabulary or Vocabulary.default()) + "\n"

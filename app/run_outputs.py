@@ -1,0 +1,189 @@
+"""The run folder: where `evolve`, `random-search` and the server keep one run's outputs.
+
+```
+RUN_DIR/
+  run.json         what was run (mode, GA config, game config): enough to resume it
+  statistics.csv   every statistic of spec 3.3, one row per generation
+  checkpoint       the GA's full state after the last finished generation
+  best.rules       the best rulebase so far, as rule text
+  best.json        the same, as versioned JSON
+  run.rrd          the rerun recording (app/recording.py)
+```
+`RunOutputs` is the per-generation callback that keeps the folder current, so a killed run keeps
+every finished generation.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+from dataclasses import dataclass
+from datetime import datetime
+from pathlib import Path
+from typing import Any, Iterable, Mapping
+
+from app.rulebase_files import rulebase_json, rulebase_text
+from fuzzy.rule import Rulebase
+from fuzzy.vocabulary import Vocabulary
+from ga.codec import ChromosomeCodec
+from ga.individual import Individual
+
+RUNS_ROOT = Path("runs")
+RUN_MANIFEST = "run.json"
+STATISTICS_CSV = "statistics.csv"
+CHECKPOINT = "checkpoint"
+BEST_RULES = "best.rules"
+BEST_JSON = "best.json"
+RECORDING = "run.rrd"
+TIMESTAMP_FORMAT = "%Y%m%d-%H%M%S"
+
+
+class RunFolderError(ValueError):
+    """A run folder that cannot be created, read or resumed."""
+
+
+def default_run_dir(now: datetime | None = None, root: Path = RUNS_ROOT) -> Path:
+    """root/<timestamp>, e.g. runs/20240131-142502 (runs/20240131-142502-2 if that one is taken)."""
+    stamp = (now or datetime.now()).strftime(TIMESTAMP_FORMAT)
+    path, number = root / stamp, 1
+    while path.exists():
+        number += 1
+        path = root / f"{stamp}-{number}"
+    return path
+
+
+@dataclass(frozen=True)
+class RunFolder:
+    path: Path
+
+    @property
+    def manifest(self) -> Path:
+        return self.path / RUN_MANIFEST
+
+    @property
+    def statistics(self) -> Path:
+        return self.path / STATISTICS_CSV
+
+    @property
+    def checkpoint(self) -> Path:
+        return self.path / CHECKPOINT
+
+    @property
+    def best_rules(self) -> Path:
+        return self.path / BEST_RULES
+
+    @property
+    def best_json(self) -> Path:
+        return self.path / BEST_JSON
+
+    @property
+    def recording(self) -> Path:
+        return self.path / RECORDING
+
+    @classmethod
+    def create(cls, path: str | Path, manifest: Mapping[str, Any]) -> "RunFolder":
+        """A new run folder. Refuses a folder that already holds a run (use resume for that)."""
+        folder = cls(Path(path))
+        if folder.manifest.exists():
+            raise RunFolderError(f"{folder.path} already holds a run (use --resume {folder.path} to continue it)")
+        try:
+            folder.path.mkdir(parents=True, exist_ok=True)
+            _write_atomically(folder.manifest, json.dumps(manifest, indent=2) + "\n")
+        except OSError as exc:
+            raise RunFolderError(f"cannot create run folder {folder.path}: {exc.strerror or exc}") from exc
+        return folder
+
+    @classmethod
+    def open(cls, path: str | Path) -> "RunFolder":
+        """An existing run folder, for resuming: it must have its manifest and a checkpoint."""
+        folder = cls(Path(path))
+        if not folder.path.is_dir():
+            raise RunFolderError(f"{folder.path} is not a run folder")
+        if not folder.manifest.is_file():
+            raise RunFolderError(f"{folder.path} is not a run folder (no {RUN_MANIFEST})")
+        if not folder.checkpoint.is_file():
+            raise RunFolderError(f"{folder.path} has no checkpoint: the run finished no generation to resume from")
+        return folder
+
+    def read_manifest(self) -> dict[str, Any]:
+        try:
+            manifest = json.loads(self.manifest.read_text())
+        except (OSError, json.JSONDecodeError) as exc:
+            raise RunFolderError(f"cannot read {self.manifest}: {exc}") from exc
+        if not isinstance(manifest, dict):
+            raise RunFolderError(f"{self.manifest} is not a run manifest")
+        return manifest
+
+    def read_statistics(self) -> list[dict[str, str]]:
+        """The rows of statistics.csv as written (strings), [] when there is none yet."""
+        if not self.statistics.is_file():
+            return []
+        with self.statistics.open(newline="") as handle:
+            return list(csv.DictReader(handle))
+
+    def write_best(self, rule_text: str, json_text: str) -> None:
+        _write_atomically(self.best_rules, rule_text)
+        _write_atomically(self.best_json, json_text)
+
+
+class StatisticsFile:
+    """statistics.csv, one row per generation, appended as each generation finishes."""
+
+    def __init__(self, path: Path, history: Iterable[Mapping[str, Any]] = ()):
+        """Starts the file afresh with `history`: the rows of the generations already finished (when
+        resuming, those the checkpoint holds; rows a killed run wrote after its checkpoint go)."""
+        self.path = path
+        self._fields: list[str] | None = None
+        self.path.write_text("")
+        for row in history:
+            self.append(row)
+
+    def append(self, row: Mapping[str, Any]) -> None:
+        header = self._fields is None
+        if header:
+            self._fields = list(row)
+        self._write_rows([row], header=header)
+
+    def _write_rows(self, rows: Iterable[Mapping[str, Any]], header: bool) -> None:
+        with self.path.open("a", newline="") as handle:
+            writer = csv.DictWriter(handle, fieldnames=self._fields)
+            if header:
+                writer.writeheader()
+            writer.writerows(rows)
+
+
+class RunOutputs:
+    """Callback for `ga.algorithms.evolve`: after each generation, appends its statistics to
+    statistics.csv and rewrites best.rules and best.json when the best individual so far changed
+    (the GA's own rule: a lower running mean; the first of equals stays)."""
+
+    def __init__(self, folder: RunFolder, vocabulary: Vocabulary, *, history: Iterable[Mapping[str, Any]] = (),
+                 best: Individual | None = None):
+        """history, best: the finished generations' statistics and best individual, when resuming."""
+        self.folder = folder
+        self.vocabulary = vocabulary
+        self.codec = ChromosomeCodec(vocabulary)
+        self.statistics = StatisticsFile(folder.statistics, history)
+        self.best: Individual | None = None
+        if best is not None:
+            self._keep_best(best)
+
+    def on_generation(self, stats: Any, population: list[Individual]) -> None:
+        self.statistics.append(stats.to_dict())
+        contender = min(population, key=lambda individual: individual.fitness)
+        if self.best is None or contender.fitness < self.best.fitness:
+            self._keep_best(contender)
+
+    def write_best(self, rulebase: Rulebase) -> None:
+        self.folder.write_best(rulebase_text(rulebase, self.vocabulary), rulebase_json(rulebase, self.vocabulary))
+
+    def _keep_best(self, best: Individual) -> None:
+        self.best = best
+        self.write_best(self.codec.decode(best.chromosome))
+
+
+def _write_atomically(path: Path, text: str) -> None:
+    """Write to a temporary file, then rename: a kill mid-write never leaves a half-written file."""
+    temporary = path.with_name(path.name + ".tmp")
+    temporary.write_text(text)
+    temporary.replace(path)

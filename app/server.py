@@ -1,0 +1,107 @@
+"""`soccer-lab serve`: the store, the run manager, the viser UI, rerun's web viewer and the FastAPI
+server, started together on checked ports and stopped together."""
+
+from __future__ import annotations
+
+import errno
+import socket
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Callable
+
+import rerun as rr
+import uvicorn
+
+from app.api import create_app
+from app.paths import DATABASE_FILE
+from app.runs import RunManager
+from app.store import Store
+from app.ui import PortBusyError, start_ui
+
+DEFAULT_HOST = "127.0.0.1"
+DEFAULT_PORT = 8000
+DEFAULT_UI_PORT = 8080
+DEFAULT_RERUN_PORT = 9090
+RERUN_VIEWER_HOST = "0.0.0.0"  # rerun's web viewer always listens on every interface
+
+
+class ServeError(RuntimeError):
+    """The app cannot start (busy port, unusable data folder): one line for the user."""
+
+
+@dataclass(frozen=True)
+class ServeOptions:
+    host: str = DEFAULT_HOST
+    port: int = DEFAULT_PORT
+    ui_port: int = DEFAULT_UI_PORT
+    rerun_port: int = DEFAULT_RERUN_PORT
+    data_dir: Path = Path(".")
+
+    def url(self, port: int) -> str:
+        return f"http://{self.host}:{port}"
+
+
+def check_port_free(host: str, port: int, what: str, option: str) -> None:
+    """ServeError when `port` is taken, before anything starts (viser would silently move on)."""
+    try:
+        family = socket.getaddrinfo(host, port, type=socket.SOCK_STREAM)[0][0]
+    except socket.gaierror as exc:
+        raise ServeError(f"cannot use host {host!r}: {exc.strerror}") from exc
+    with socket.socket(family, socket.SOCK_STREAM) as probe:
+        probe.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)  # as the servers themselves do
+        try:
+            probe.bind((host, port))
+        except OSError as exc:
+            if exc.errno == errno.EADDRINUSE:
+                raise ServeError(f"port {port} for the {what} is busy: stop what uses it or choose another with {option}")
+            raise ServeError(f"cannot listen on {host}:{port} for the {what}: {exc.strerror or exc}") from exc
+
+
+def check_ports(options: ServeOptions) -> None:
+    ports = {"--port": options.port, "--ui-port": options.ui_port, "--rerun-port": options.rerun_port}
+    if len(set(ports.values())) != len(ports):
+        raise ServeError("--port, --ui-port and --rerun-port must be three different ports")
+    check_port_free(options.host, options.port, "API server", "--port")
+    check_port_free(options.host, options.ui_port, "UI", "--ui-port")
+    check_port_free(RERUN_VIEWER_HOST, options.rerun_port, "rerun viewer", "--rerun-port")
+
+
+def _start_rerun_viewer(port: int) -> None:
+    rr.serve_web_viewer(web_port=port, open_browser=False)
+
+
+def serve(options: ServeOptions, echo: Callable[[str], None] = print) -> None:
+    """Run everything until Ctrl+C; runs still going are then marked interrupted (resumable)."""
+    check_ports(options)
+    try:
+        options.data_dir.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise ServeError(f"cannot create the data folder {options.data_dir}: {exc.strerror or exc}") from exc
+    store = Store(options.data_dir / DATABASE_FILE)
+    runs = RunManager(store, options.data_dir)
+    ui = None
+    try:
+        try:
+            ui = start_ui(store, runs, options.host, options.ui_port)
+        except PortBusyError as exc:  # taken between the check and now
+            raise ServeError(str(exc)) from exc
+        _start_rerun_viewer(options.rerun_port)
+        ui_url = options.url(options.ui_port)
+        viewer_url = options.url(options.rerun_port)
+        app = create_app(store, runs, ui_url=ui_url, viewer_url=viewer_url)
+        api_url = options.url(options.port)
+        echo("soccer-lab is running (Ctrl+C to stop)")
+        echo(f"  home          {api_url}/")
+        echo(f"  UI            {ui_url}")
+        echo(f"  API           {api_url}/api   docs: {api_url}/docs")
+        echo(f"  rerun viewer  {viewer_url}")
+        echo(f"  data          {options.data_dir.resolve()}")
+        if runs.interrupted_at_start:
+            listed = ", ".join(map(str, runs.interrupted_at_start))
+            echo(f"  runs cut off last time, now interrupted and resumable: {listed}")
+        uvicorn.run(app, host=options.host, port=options.port, log_level="warning")
+    finally:
+        runs.shutdown()
+        if ui is not None:
+            ui.stop()
+        store.close()

@@ -1,0 +1,430 @@
+"""The SQLite store: saved rulebases, evolution runs with their per-generation statistics and best
+individuals, and experiments.
+
+One connection shared by every thread (the UI, the API and background runs) behind a lock; every
+write is one transaction, so a crash or a bad value leaves what was saved before intact. The schema
+carries its version in `PRAGMA user_version` and is brought up to date by `MIGRATIONS` on open.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import sqlite3
+import threading
+from contextlib import contextmanager
+from dataclasses import asdict, dataclass
+from datetime import datetime, timezone
+from enum import StrEnum
+from pathlib import Path
+from typing import Any, Iterator
+
+NAME_MAX_LENGTH = 200
+
+# MIGRATIONS[v] brings a database at schema version v to version v + 1.
+MIGRATIONS: tuple[tuple[str, ...], ...] = (
+    (
+        """CREATE TABLE rulebases (
+            id INTEGER PRIMARY KEY AUTOINCREMENT,
+            name TEXT NOT NULL,
+            text TEXT NOT NULL,
+            created TEXT NOT NULL,
+            updated TEXT NOT NULL)""",
+        """CREATE TABLE runs (
+            id INTEGER PRIMARY KEY AUTOINCREMENT,
+            name TEXT NOT NULL,
+            config TEXT NOT NULL,
+            status TEXT NOT NULL,
+            created TEXT NOT NULL,
+            finished TEXT,
+            folder TEXT NOT NULL,
+            error TEXT)""",
+        """CREATE TABLE generation_statistics (
+            run_id INTEGER NOT NULL REFERENCES runs(id) ON DELETE CASCADE,
+            generation INTEGER NOT NULL,
+            stats TEXT NOT NULL,
+            PRIMARY KEY (run_id, generation))""",
+        """CREATE TABLE best_individuals (
+            run_id INTEGER NOT NULL REFERENCES runs(id) ON DELETE CASCADE,
+            generation INTEGER NOT NULL,
+            rules TEXT NOT NULL,
+            chromosome TEXT NOT NULL,
+            fitness REAL NOT NULL,
+            PRIMARY KEY (run_id, generation))""",
+        """CREATE TABLE experiments (
+            id INTEGER PRIMARY KEY AUTOINCREMENT,
+            preset TEXT NOT NULL,
+            folder TEXT NOT NULL,
+            created TEXT NOT NULL,
+            summary TEXT NOT NULL)""",
+    ),
+)
+SCHEMA_VERSION = len(MIGRATIONS)
+
+
+class StoreError(ValueError):
+    """A value the store refuses (nothing is written) or a database it cannot use."""
+
+
+class NotFound(KeyError):
+    """No record with that id."""
+
+    def __init__(self, kind: str, record_id: object):
+        super().__init__(f"no {kind} with id {record_id}")
+        self.kind = kind
+        self.record_id = record_id
+
+    def __str__(self) -> str:
+        return str(self.args[0])
+
+
+class RunStatus(StrEnum):
+    RUNNING = "running"
+    STOPPED = "stopped"
+    FINISHED = "finished"
+    FAILED = "failed"
+    INTERRUPTED = "interrupted"  # the app ended while the run was going; resumable
+
+    @property
+    def resumable(self) -> bool:
+        return self in (RunStatus.STOPPED, RunStatus.FAILED, RunStatus.INTERRUPTED)
+
+
+@dataclass(frozen=True)
+class RulebaseRecord:
+    id: int
+    name: str
+    text: str
+    created: str
+    updated: str
+
+    def to_dict(self) -> dict[str, Any]:
+        return asdict(self)
+
+
+@dataclass(frozen=True)
+class RunRecord:
+    id: int
+    name: str
+    config: dict[str, Any]
+    status: RunStatus
+    created: str
+    finished: str | None
+    folder: str
+    error: str | None
+
+    def to_dict(self) -> dict[str, Any]:
+        return {**asdict(self), "status": str(self.status)}
+
+
+@dataclass(frozen=True)
+class BestIndividual:
+    run_id: int
+    generation: int
+    rules: str  # rule text
+    chromosome: str  # compact notation
+    fitness: float
+
+    def to_dict(self) -> dict[str, Any]:
+        return asdict(self)
+
+
+@dataclass(frozen=True)
+class ExperimentRecord:
+    id: int
+    preset: str
+    folder: str
+    created: str
+    summary: dict[str, Any]
+
+    def to_dict(self) -> dict[str, Any]:
+        return asdict(self)
+
+
+def now() -> str:
+    return datetime.now(timezone.utc).isoformat(timespec="milliseconds")
+
+
+class Store:
+    """The database at `path` (created with its folder when missing)."""
+
+    def __init__(self, path: str | Path):
+        self.path = Path(path)
+        try:
+            self.path.parent.mkdir(parents=True, exist_ok=True)
+            # Autocommit mode: transactions are explicit (BEGIN IMMEDIATE ... COMMIT) in _transaction.
+            self._connection = sqlite3.connect(self.path, check_same_thread=False, isolation_level=None)
+            self._connection.row_factory = sqlite3.Row
+            self._connection.execute("PRAGMA journal_mode=WAL")
+            self._connection.execute("PRAGMA foreign_keys=ON")
+            self._connection.execute("PRAGMA busy_timeout=5000")
+        except (OSError, sqlite3.Error) as exc:
+            raise StoreError(f"cannot open database {self.path}: {exc}") from exc
+        self._lock = threading.RLock()
+        self._migrate()
+
+    # ---- schema -------------------------------------------------------------------------
+    @property
+    def schema_version(self) -> int:
+        with self._lock:
+            return self._connection.execute("PRAGMA user_version").fetchone()[0]
+
+    def _migrate(self) -> None:
+        version = self.schema_version
+        if version > SCHEMA_VERSION:
+            raise StoreError(
+                f"database {self.path} has schema version {version}, newer than this soccer-lab's {SCHEMA_VERSION}"
+            )
+        for target, statements in enumerate(MIGRATIONS[version:], start=version + 1):
+            with self._transaction() as cursor:
+                for statement in statements:
+                    cursor.execute(statement)
+                cursor.execute(f"PRAGMA user_version = {target}")
+
+    @contextmanager
+    def _transaction(self) -> Iterator[sqlite3.Cursor]:
+        """One atomic write: everything inside commits together or not at all."""
+        with self._lock:
+            cursor = self._connection.cursor()
+            cursor.execute("BEGIN IMMEDIATE")
+            try:
+                yield cursor
+            except BaseException:
+                cursor.execute("ROLLBACK")
+                raise
+            cursor.execute("COMMIT")
+
+    def _query(self, sql: str, parameters: tuple = ()) -> list[sqlite3.Row]:
+        with self._lock:
+            return self._connection.execute(sql, parameters).fetchall()
+
+    def close(self) -> None:
+        with self._lock:
+            self._connection.close()
+
+    # ---- rulebases ----------------------------------------------------------------------
+    def create_rulebase(self, name: str, text: str) -> RulebaseRecord:
+        name, text = _valid_name(name), _valid_text(text)
+        stamp = now()
+        with self._transaction() as cursor:
+            cursor.execute(
+                "INSERT INTO rulebases (name, text, created, updated) VALUES (?, ?, ?, ?)", (name, text, stamp, stamp)
+            )
+            record_id = cursor.lastrowid
+        return RulebaseRecord(record_id, name, text, stamp, stamp)
+
+    def get_rulebase(self, rulebase_id: int) -> RulebaseRecord:
+        rows = self._query("SELECT * FROM rulebases WHERE id = ?", (_valid_id(rulebase_id),))
+        if not rows:
+            raise NotFound("rulebase", rulebase_id)
+        return RulebaseRecord(**dict(rows[0]))
+
+    def list_rulebases(self) -> list[RulebaseRecord]:
+        return [RulebaseRecord(**dict(row)) for row in self._query("SELECT * FROM rulebases ORDER BY id")]
+
+    def update_rulebase(self, rulebase_id: int, *, name: str | None = None, text: str | None = None) -> RulebaseRecord:
+        current = self.get_rulebase(rulebase_id)
+        name = current.name if name is None else _valid_name(name)
+        text = current.text if text is None else _valid_text(text)
+        stamp = now()
+        with self._transaction() as cursor:
+            cursor.execute(
+                "UPDATE rulebases SET name = ?, text = ?, updated = ? WHERE id = ?", (name, text, stamp, current.id)
+            )
+            if cursor.rowcount == 0:  # deleted by another thread meanwhile
+                raise NotFound("rulebase", rulebase_id)
+        return RulebaseRecord(current.id, name, text, current.created, stamp)
+
+    def delete_rulebase(self, rulebase_id: int) -> None:
+        with self._transaction() as cursor:
+            cursor.execute("DELETE FROM rulebases WHERE id = ?", (_valid_id(rulebase_id),))
+            if cursor.rowcount == 0:
+                raise NotFound("rulebase", rulebase_id)
+
+    # ---- runs ---------------------------------------------------------------------------
+    def create_run(self, name: str, config: dict[str, Any], folder: str | Path) -> RunRecord:
+        """A new run, status running. `folder` may contain `{id}`, filled with the new run's id."""
+        name = _valid_name(name)
+        config_json = _json(config, "run config")
+        stamp = now()
+        with self._transaction() as cursor:
+            cursor.execute(
+                "INSERT INTO runs (name, config, status, created, folder) VALUES (?, ?, ?, ?, ?)",
+                (name, config_json, RunStatus.RUNNING.value, stamp, str(folder)),
+            )
+            run_id = cursor.lastrowid
+            folder = str(folder).format(id=run_id)
+            cursor.execute("UPDATE runs SET folder = ? WHERE id = ?", (folder, run_id))
+        return self.get_run(run_id)
+
+    def get_run(self, run_id: int) -> RunRecord:
+        rows = self._query("SELECT * FROM runs WHERE id = ?", (_valid_id(run_id),))
+        if not rows:
+            raise NotFound("run", run_id)
+        return _run_record(rows[0])
+
+    def list_runs(self) -> list[RunRecord]:
+        return [_run_record(row) for row in self._query("SELECT * FROM runs ORDER BY id")]
+
+    def set_run_status(self, run_id: int, status: RunStatus, error: str | None = None) -> RunRecord:
+        status = RunStatus(status)
+        finished = None if status is RunStatus.RUNNING else now()
+        with self._transaction() as cursor:
+            cursor.execute(
+                "UPDATE runs SET status = ?, finished = ?, error = ? WHERE id = ?",
+                (status.value, finished, error, _valid_id(run_id)),
+            )
+            if cursor.rowcount == 0:
+                raise NotFound("run", run_id)
+        return self.get_run(run_id)
+
+    def rename_run(self, run_id: int, name: str) -> RunRecord:
+        name = _valid_name(name)
+        with self._transaction() as cursor:
+            cursor.execute("UPDATE runs SET name = ? WHERE id = ?", (name, _valid_id(run_id)))
+            if cursor.rowcount == 0:
+                raise NotFound("run", run_id)
+        return self.get_run(run_id)
+
+    def delete_run(self, run_id: int) -> None:
+        """The run's rows (statistics and best individuals go with it); its folder is the caller's."""
+        with self._transaction() as cursor:
+            cursor.execute("DELETE FROM runs WHERE id = ?", (_valid_id(run_id),))
+            if cursor.rowcount == 0:
+                raise NotFound("run", run_id)
+
+    def mark_interrupted(self) -> list[int]:
+        """Runs left 'running' by an app that ended: mark them interrupted (resumable). Their ids."""
+        with self._transaction() as cursor:
+            ids = [row[0] for row in cursor.execute("SELECT id FROM runs WHERE status = ?", (RunStatus.RUNNING.value,))]
+            cursor.execute(
+                "UPDATE runs SET status = ?, finished = ? WHERE status = ?",
+                (RunStatus.INTERRUPTED.value, now(), RunStatus.RUNNING.value),
+            )
+        return ids
+
+    # ---- generations --------------------------------------------------------------------
+    def record_generation(
+        self, run_id: int, stats: dict[str, Any], rules: str, chromosome: str, fitness: float
+    ) -> None:
+        """One finished generation: its statistics (with a `generation` key) and its best individual,
+        together. A generation played again after a resume replaces the earlier one."""
+        generation = stats.get("generation")
+        if not isinstance(generation, int) or isinstance(generation, bool) or generation < 0:
+            raise StoreError("statistics need a non-negative integer 'generation'")
+        stats_json = _json(stats, "statistics")
+        run_id = _valid_id(run_id)
+        with self._transaction() as cursor:
+            if cursor.execute("SELECT 1 FROM runs WHERE id = ?", (run_id,)).fetchone() is None:
+                raise NotFound("run", run_id)
+            cursor.execute(
+                "INSERT OR REPLACE INTO generation_statistics (run_id, generation, stats) VALUES (?, ?, ?)",
+                (run_id, generation, stats_json),
+            )
+            cursor.execute(
+                "INSERT OR REPLACE INTO best_individuals (run_id, generation, rules, chromosome, fitness)"
+                " VALUES (?, ?, ?, ?, ?)",
+                (run_id, generation, _valid_text(rules), str(chromosome), float(fitness)),
+            )
+
+    def statistics(self, run_id: int) -> list[dict[str, Any]]:
+        self.get_run(run_id)
+        rows = self._query(
+            "SELECT stats FROM generation_statistics WHERE run_id = ? ORDER BY generation", (_valid_id(run_id),)
+        )
+        return [json.loads(row["stats"]) for row in rows]
+
+    def best_individuals(self, run_id: int) -> list[BestIndividual]:
+        self.get_run(run_id)
+        rows = self._query("SELECT * FROM best_individuals WHERE run_id = ? ORDER BY generation", (run_id,))
+        return [BestIndividual(**dict(row)) for row in rows]
+
+    def best_individual(self, run_id: int) -> BestIndividual:
+        """The best individual so far: the lowest fitness, the latest generation among equals."""
+        self.get_run(run_id)
+        rows = self._query(
+            "SELECT * FROM best_individuals WHERE run_id = ? ORDER BY fitness ASC, generation DESC LIMIT 1", (run_id,)
+        )
+        if not rows:
+            raise NotFound("best individual of run", run_id)
+        return BestIndividual(**dict(rows[0]))
+
+    # ---- experiments --------------------------------------------------------------------
+    def record_experiment(self, preset: str, folder: str | Path, summary: dict[str, Any]) -> ExperimentRecord:
+        preset = _valid_name(preset)
+        summary_json = _json(summary, "experiment summary")
+        stamp = now()
+        with self._transaction() as cursor:
+            cursor.execute(
+                "INSERT INTO experiments (preset, folder, created, summary) VALUES (?, ?, ?, ?)",
+                (preset, str(folder), stamp, summary_json),
+            )
+            record_id = cursor.lastrowid
+        return self.get_experiment(record_id)
+
+    def get_experiment(self, experiment_id: int) -> ExperimentRecord:
+        rows = self._query("SELECT * FROM experiments WHERE id = ?", (_valid_id(experiment_id),))
+        if not rows:
+            raise NotFound("experiment", experiment_id)
+        return _experiment_record(rows[0])
+
+    def list_experiments(self) -> list[ExperimentRecord]:
+        return [_experiment_record(row) for row in self._query("SELECT * FROM experiments ORDER BY id")]
+
+
+def _run_record(row: sqlite3.Row) -> RunRecord:
+    values = dict(row)
+    values["config"] = json.loads(values["config"])
+    values["status"] = RunStatus(values["status"])
+    return RunRecord(**values)
+
+
+def _experiment_record(row: sqlite3.Row) -> ExperimentRecord:
+    values = dict(row)
+    values["summary"] = json.loads(values["summary"])
+    return ExperimentRecord(**values)
+
+
+def _valid_id(record_id: object) -> int:
+    if isinstance(record_id, bool) or not isinstance(record_id, int):
+        raise StoreError(f"an id is an integer, not {record_id!r}")
+    return record_id
+
+
+def _valid_name(name: object) -> str:
+    if not isinstance(name, str) or not name.strip():
+        raise StoreError("a name must be a non-empty string")
+    if len(name) > NAME_MAX_LENGTH:
+        raise StoreError(f"a name is at most {NAME_MAX_LENGTH} characters")
+    return name.strip()
+
+
+def _valid_text(text: object) -> str:
+    if not isinstance(text, str):
+        raise StoreError("rule text must be a string")
+    return text
+
+
+def _json(value: Any, what: str) -> str:
+    try:
+        return json.dumps(_finite(value), allow_nan=False, default=_plain)
+    except (TypeError, ValueError) as exc:
+        raise StoreError(f"{what} is not JSON data: {exc}") from exc
+
+
+def _finite(value: Any) -> Any:
+    """NaN and infinities (e.g. a statistic of an empty set) stored as null: JSON has no such numbers."""
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    if isinstance(value, dict):
+        return {key: _finite(item) for key, item in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_finite(item) for item in value]
+    return value
+
+
+def _plain(value: Any) -> Any:
+    """numpy scalars and arrays (statistics computed with numpy) as plain JSON values."""
+    if hasattr(value, "tolist"):
+        return _finite(value.tolist())
+    raise TypeError(f"{type(value).__name__} is not JSON serialisable")

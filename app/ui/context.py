@@ -1,0 +1,31 @@
+"""What every browser session shares: the store, the run manager, the vocabulary, the world."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+from fuzzy.parser import parse_rulebase
+from fuzzy.rule import Rulebase
+from fuzzy.vocabulary import Vocabulary
+from soccer.config import GameConfig
+from soccer.demo import demo_rules_text
+
+if TYPE_CHECKING:
+    from app.runs import RunManager
+    from app.store import Store
+
+DEMO_NAME = "demo (built in)"
+
+
+@dataclass(frozen=True)
+class UiContext:
+    store: Store
+    runs: RunManager
+    vocabulary: Vocabulary
+    game: GameConfig
+
+    demo_name: str = DEMO_NAME
+
+    def demo_rulebase(self) -> Rulebase:
+        return parse_rulebase(demo_rules_text(), self.vocabulary)

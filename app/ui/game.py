@@ -1,0 +1,86 @@
+"""The game on a session's pitch: the SoccerEnv (a batch of one through the one engine), the rulebase it
+plays, and what the panels read from it each frame (pitch frame, crisp inputs, the scalar inference)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from app.ui import style
+from app.ui.context import UiContext
+from app.ui.panels.svg import escape
+from app.ui.pitch import PitchFrame
+from fuzzy.engine import Engine, Inference
+from fuzzy.printer import format_rule
+from fuzzy.rule import Rulebase
+from soccer.env import SoccerEnv
+
+BALL = "BALL"  # the object whose visibility colours the view cone
+
+
+class Game:
+    def __init__(self, context: UiContext, rulebase: Rulebase, name: str, seed: int):
+        self.context = context
+        self.vocabulary = context.vocabulary
+        self.env = SoccerEnv(rulebase, context.game)
+        self.view_half_angle = context.game.world.view_width / 2
+        self.set_rulebase(rulebase, name)
+        self.restart(seed)
+
+    def set_rulebase(self, rulebase: Rulebase, name: str) -> None:
+        self.rulebase = rulebase
+        self.name = name
+        # The scalar reference engine explains the tick (degrees, strengths, clipped sets); the env's
+        # batched kernel decides, and both agree bit for bit.
+        self.engine = Engine(rulebase, self.vocabulary)
+        self.rule_texts = [format_rule(rule, self.vocabulary) for rule in rulebase]
+        self.state = self.env.set_rulebase(rulebase)
+        self._inference: Inference | None = None
+
+    def restart(self, seed: int) -> None:
+        self.seed = seed
+        self.state = self.env.reset(seed)
+        self._inference = None
+
+    def step(self) -> None:
+        if self.done:
+            return
+        self.state = self.env.step()
+        self._inference = None
+
+    @property
+    def done(self) -> bool:
+        return bool(self.state.done)
+
+    # ---- what the panels read ---------------------------------------------------------------
+    def inputs(self) -> dict[str, float | None]:
+        """The crisp inputs the player decides on this tick (None for an object out of view)."""
+        return dict(self.state.inputs)
+
+    def inference(self) -> Inference:
+        if self._inference is None:
+            self._inference = self.engine.infer(self.inputs())
+        return self._inference
+
+    def frame(self) -> PitchFrame:
+        s = self.state
+        return PitchFrame(
+            player=s.player,
+            facing=float(np.radians(s.facing)),
+            ball=s.ball,
+            trail=np.array(s.ball_trail, dtype=np.float64).reshape(-1, 2),
+            ball_visible=s.visible[BALL],
+        )
+
+    def status_html(self) -> str:
+        s = self.state
+        over = f" — game over ({escape(s.end_reason)})" if self.done else ""
+        return (
+            f'<div class="game-status" data-tick="{s.tick}" data-goals="{s.goals}" style="{style.FONT}; '
+            f'font-size:{style.FONT_SIZE + 2}px; color:{style.INK}">'
+            f'<div style="font-size:{style.FONT_SIZE + 10}px; font-weight:700">Goals {s.goals}'
+            f'<span style="font-weight:400; font-size:{style.FONT_SIZE + 2}px; color:{style.MUTED}"> '
+            f"kicks {s.kicks}</span></div>"
+            f"<div>tick {s.tick} / {self.context.game.max_ticks}{over}</div>"
+            f'<div style="color:{style.MUTED}">seed {self.seed} · playing <b style="color:{style.INK}">'
+            f"{escape(self.name)}</b></div></div>"
+        )

@@ -1,0 +1,127 @@
+"""Rule editor: rule text with errors at line and column, apply, undo, save to the library, and the
+chromosome in the chapter's compact notation, both ways."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import viser
+
+from app.store import StoreError
+from app.ui import style
+from app.ui.panels.svg import escape
+from fuzzy.parser import RuleSyntaxError, parse_rulebase
+from fuzzy.printer import format_rulebase
+from fuzzy.rule import Rulebase
+from ga.codec import ChromosomeCodec
+from ga.notation import NotationError, format_compact, parse_compact
+
+if TYPE_CHECKING:
+    from app.ui.session import Session
+
+EDITED_NAME = "edited"
+UNDO_DEPTH = 50
+
+
+class EditorPanel:
+    def __init__(self, gui: viser.GuiApi, session: "Session"):
+        self.session = session
+        self.vocabulary = session.context.vocabulary
+        self.history: list[tuple[Rulebase, str]] = []
+        self.codec = ChromosomeCodec(self.vocabulary)
+        self.name = gui.add_html("")
+        self.text = gui.add_text("Rules", "", multiline=True)
+        actions = gui.add_button_group("Rules", ("Apply", "Undo"))
+        self.message = gui.add_html("")
+        with gui.add_folder("Save to library"):
+            self.save_name = gui.add_text("Name", "")
+            save = gui.add_button("Save", icon=viser.Icon.DEVICE_FLOPPY)
+        with gui.add_folder("Chromosome (compact notation)"):
+            self.compact = gui.add_text("Genes", "", multiline=True)
+            conversions = gui.add_button_group("Convert", ("Rules → genes", "Genes → rules"))
+
+        @actions.on_click
+        def _(event: viser.GuiEvent) -> None:
+            self.apply() if event.target.value == "Apply" else self.undo()
+
+        @save.on_click
+        def _(_: viser.GuiEvent) -> None:
+            self.save()
+
+        @conversions.on_click
+        def _(event: viser.GuiEvent) -> None:
+            self.rules_to_genes() if event.target.value == "Rules → genes" else self.genes_to_rules()
+
+    # ---- showing ----------------------------------------------------------------------------
+    def show_rulebase(self, rulebase: Rulebase) -> None:
+        """Called when a rulebase is put on the pitch (from here, the library or an evolution)."""
+        self.text.value = format_rulebase(rulebase, self.vocabulary)
+        self.compact.value = format_compact(self.codec.encode(rulebase))
+        self.name.content = (
+            f'<div style="{style.FONT}; font-size:{style.FONT_SIZE}px">On the pitch: '
+            f"<b>{escape(self.session.game.name)}</b> ({len(rulebase)} rules)</div>"
+        )
+
+    def _say(self, text: str, *, error: bool = False, lines: list[str] | None = None) -> None:
+        colour = style.ERROR if error else style.FIRED
+        items = "".join(f"<li>{escape(line)}</li>" for line in lines or [])
+        self.message.content = (
+            f'<div class="editor-message" data-error="{str(error).lower()}" style="{style.FONT}; '
+            f'font-size:{style.FONT_SIZE}px; color:{colour}">{escape(text)}'
+            f'{f"<ul style=margin:4px 0 0 18px;padding:0>{items}</ul>" if items else ""}</div>'
+        )
+
+    # ---- actions ----------------------------------------------------------------------------
+    def apply(self) -> None:
+        try:
+            rulebase = parse_rulebase(self.text.value, self.vocabulary)
+        except RuleSyntaxError as exc:
+            self._say(f"{len(exc.errors)} error(s); nothing applied:", error=True, lines=[str(e) for e in exc.errors])
+            return
+        if not len(rulebase):
+            self._say("No rules: write at least one rule (the player would only hunt).", error=True)
+            return
+        game = self.session.game
+        self.history = (self.history + [(game.rulebase, game.name)])[-UNDO_DEPTH:]
+        self.session.load_rulebase(rulebase, EDITED_NAME)
+        self._say(f"Applied {len(rulebase)} rules; the player now plays them.")
+
+    def undo(self) -> None:
+        if not self.history:
+            self._say("Nothing to undo.", error=True)
+            return
+        rulebase, name = self.history.pop()
+        self.session.load_rulebase(rulebase, name)
+        self._say(f"Back to {name}.")
+
+    def save(self) -> None:
+        name = self.save_name.value.strip()
+        if not name:
+            self._say("Give the rulebase a name to save it.", error=True)
+            return
+        text = format_rulebase(self.session.game.rulebase, self.vocabulary)
+        try:
+            record = self.session.context.store.create_rulebase(name, text)
+        except StoreError as exc:
+            self._say(f"Not saved: {exc}", error=True)
+            return
+        self._say(f"Saved the rules on the pitch as “{record.name}” (#{record.id}).")
+        self.session.library.refresh()
+
+    def rules_to_genes(self) -> None:
+        try:
+            rulebase = parse_rulebase(self.text.value, self.vocabulary)
+        except RuleSyntaxError as exc:
+            self._say("Fix the rules first:", error=True, lines=[str(e) for e in exc.errors])
+            return
+        self.compact.value = format_compact(self.codec.encode(rulebase))
+        self._say(f"Encoded {len(rulebase)} rules as genes.")
+
+    def genes_to_rules(self) -> None:
+        try:
+            rulebase = self.codec.decode(parse_compact(self.compact.value))
+        except (NotationError, ValueError) as exc:
+            self._say(f"Cannot read the genes: {exc}", error=True)
+            return
+        self.text.value = format_rulebase(rulebase, self.vocabulary)
+        self._say(f"Decoded {len(rulebase)} valid rules; press Apply to play them.")

@@ -1,0 +1,190 @@
+"""Evolve panel: every GA parameter (the chapter's defaults), start, stop, generation progress, live best
+and mean fitness, and the best player so far loadable onto the pitch while evolution goes on."""
+
+from __future__ import annotations
+
+import typing
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+import viser
+import viser.uplot
+
+from app.runs import RunEvent, RunStateError
+from app.store import NotFound, RunStatus
+from app.ui import style
+from app.ui.panels.svg import escape
+from ga.config import GAConfig
+
+if TYPE_CHECKING:
+    from app.ui.session import Session
+
+RUN_NAME = "from the UI"
+LABELS = {  # what a teacher reads next to each field; fields missing here show their own name
+    "population_size": "Population size",
+    "max_generations": "Generations (max)",
+    "max_length": "Chromosome length (max genes)",
+    "consequent_probability": "P(gene is a consequent)",
+    "crossover": "Crossover",
+    "crossover_probability": "Crossover probability",
+    "mutation_probability": "Mutation probability",
+    "mutation_rate": "Mutation rate (per gene)",
+    "selection": "Selection",
+    "tournament_size": "Tournament size",
+    "tournament_selector": "Tournament: P(better wins)",
+    "elite_fraction": "Elite fraction",
+    "target_fitness": "Target fitness (stop at or below)",
+    "seed": "Seed",
+    "workers": "Worker processes",
+}
+
+
+def ga_fields() -> dict[str, Any]:
+    """Field name -> pydantic FieldInfo of GAConfig, the one place the parameters and defaults live."""
+    return dict(GAConfig.model_fields)
+
+
+class EvolvePanel:
+    def __init__(self, gui: viser.GuiApi, session: "Session"):
+        self.session = session
+        self.runs = session.context.runs
+        self.run_id: int | None = None
+        self.generations: list[int] = []
+        self.best: list[float] = []
+        self.mean: list[float] = []
+        self.inputs: dict[str, viser.GuiInputHandle] = {}
+        with gui.add_folder("GA parameters (chapter's Table 2)", expand_by_default=False):
+            for name, field in ga_fields().items():
+                self.inputs[name] = self._input(gui, name, field)
+        buttons = gui.add_button_group("Evolution", ("Start", "Stop"))
+        self.progress = gui.add_progress_bar(0.0)
+        self.status = gui.add_html(self._status_html("Not started. Press Start: the chapter's defaults are set."))
+        self.plot = gui.add_uplot(
+            data=(np.zeros(0), np.zeros(0), np.zeros(0)),
+            series=(
+                viser.uplot.Series(label="generation"),
+                viser.uplot.Series(label="best", stroke=style.SELECTED, width=3),
+                viser.uplot.Series(label="mean", stroke=style.ACCENT, width=2),
+            ),
+            scales={"x": viser.uplot.Scale(time=False, auto=True), "y": viser.uplot.Scale(range=(0.0, 1.0))},
+            title="Fitness (lower is better)",
+            aspect=1.4,
+        )
+        self.load_best = gui.add_button("Load best so far onto the pitch", icon=viser.Icon.PLAYER_PLAY, disabled=True)
+        self._remove_listener = self.runs.add_listener(self._on_event)
+
+        @buttons.on_click
+        def _(event: viser.GuiEvent) -> None:
+            self.start() if event.target.value == "Start" else self.stop()
+
+        @self.load_best.on_click
+        def _(_: viser.GuiEvent) -> None:
+            self.load_best_so_far()
+
+    @staticmethod
+    def _input(gui: viser.GuiApi, name: str, field: Any) -> viser.GuiInputHandle:
+        label = LABELS.get(name, name)
+        default = field.default
+        choices = typing.get_args(field.annotation) if typing.get_origin(field.annotation) is typing.Literal else ()
+        if choices:
+            return gui.add_dropdown(label, tuple(choices), initial_value=default)
+        if isinstance(default, bool):
+            return gui.add_checkbox(label, default)
+        if isinstance(default, int):
+            return gui.add_number(label, initial_value=default, step=1)
+        return gui.add_number(label, initial_value=float(default), step=0.01)
+
+    def config(self) -> dict[str, Any]:
+        return {name: handle.value for name, handle in self.inputs.items()}
+
+    def _status_html(self, text: str, *, error: bool = False) -> str:
+        colour = style.ERROR if error else style.INK
+        return (
+            f'<div class="evolve-status" data-error="{str(error).lower()}" style="{style.FONT}; '
+            f'font-size:{style.FONT_SIZE}px; color:{colour}">{escape(text)}</div>'
+        )
+
+    # ---- actions ----------------------------------------------------------------------------
+    def start(self) -> None:
+        try:
+            record = self.runs.start(RUN_NAME, ga=self.config())
+        except (ValueError, RunStateError) as exc:  # pydantic's ValidationError is a ValueError
+            self.status.content = self._status_html(f"Not started: {_first_line(exc)}", error=True)
+            return
+        self.run_id = record.id
+        self.generations, self.best, self.mean = [], [], []
+        self.progress.value = 0.0
+        self.progress.animated = True
+        self._redraw_plot()
+        self.status.content = self._status_html(f"Run #{record.id} started: evaluating generation 0 …")
+        self.session.library.refresh()
+
+    def stop(self) -> None:
+        if self.run_id is None or not self.runs.is_active(self.run_id):
+            self.status.content = self._status_html("No evolution of this tab is running.", error=True)
+            return
+        self.status.content = self._status_html(f"Stopping run #{self.run_id} after this generation …")
+        try:
+            self.runs.stop(self.run_id, wait=0.0)
+        except (RunStateError, NotFound) as exc:
+            self.status.content = self._status_html(str(exc), error=True)
+
+    def load_best_so_far(self) -> None:
+        if self.run_id is None:
+            return
+        try:
+            rulebase = self.runs.best_rulebase(self.run_id)
+            best = self.session.context.store.best_individual(self.run_id)
+        except (NotFound, ValueError) as exc:
+            self.status.content = self._status_html(f"No best player yet: {exc}", error=True)
+            return
+        name = f"run #{self.run_id} best (gen {best.generation}, fitness {best.fitness:.3f})"
+        self.session.load_rulebase(rulebase, name, restart=True)
+
+    def close(self) -> None:
+        self._remove_listener()
+
+    # ---- live progress (called from the run's thread) -----------------------------------------
+    def _on_event(self, event: RunEvent) -> None:
+        if event.run_id != self.run_id:
+            return
+        total = int(self.inputs["max_generations"].value)
+        if event.stats is not None:
+            stats = event.stats
+            self.generations.append(int(stats["generation"]))
+            self.best.append(float(stats["best"]))
+            self.mean.append(float(stats["mean"]))
+            self._redraw_plot()
+            self.progress.value = min(100.0, 100.0 * (stats["generation"] + 1) / (total + 1))
+            self.load_best.disabled = False
+            self.status.content = self._status_html(
+                f"Run #{event.run_id}: generation {stats['generation']} of {total} — best {stats['best']:.3f}, "
+                f"mean {stats['mean']:.3f}, {stats.get('evaluations', 0)} games played"
+            )
+        elif event.status is not RunStatus.RUNNING:
+            self.progress.animated = False
+            if event.status is RunStatus.FINISHED:
+                self.progress.value = 100.0
+            best = f" — best {min(self.best):.3f}" if self.best else ""
+            self.status.content = self._status_html(
+                f"Run #{event.run_id} {event.status}{best}.", error=event.status is RunStatus.FAILED
+            )
+            self.session.library.refresh()
+
+    def _redraw_plot(self) -> None:
+        self.plot.data = (
+            np.array(self.generations, dtype=np.float64),
+            np.array(self.best, dtype=np.float64),
+            np.array(self.mean, dtype=np.float64),
+        )
+
+
+def _first_line(exc: Exception) -> str:
+    """One readable line: pydantic's first error as 'field: message', else the exception's first line."""
+    errors = getattr(exc, "errors", None)
+    if callable(errors):
+        first = errors()[0]
+        field = ".".join(str(part) for part in first.get("loc", ()))
+        return f"{LABELS.get(field, field)}: {first.get('msg', '')}"
+    text = str(exc).strip()
+    return text.splitlines()[0] if text else type(exc).__name__

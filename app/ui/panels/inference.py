@@ -1,0 +1,40 @@
+"""The inference view, in the order inference happens: fuzzify the inputs, fire the rules, clip and
+aggregate the output sets, defuzzify. The decision sits on top because it is what people look at first."""
+
+from __future__ import annotations
+
+from typing import Mapping, Sequence
+
+import viser
+
+from app.ui.panels.membership import membership_html
+from app.ui.panels.outputs import outputs_html
+from app.ui.panels.rules import decision_html, rules_html
+from fuzzy.engine import Inference
+from fuzzy.vocabulary import Vocabulary
+
+
+class InferencePanel:
+    def __init__(self, gui: viser.GuiApi, vocabulary: Vocabulary):
+        self.vocabulary = vocabulary
+        self.decision = gui.add_html("")
+        with gui.add_folder("Rules and their strengths"):
+            self.only_fired = gui.add_checkbox("Only rules that fired", False)
+            self.rules = gui.add_html("")
+        with gui.add_folder("Output sets (clipped, max, mean of maximum)"):
+            self.outputs = gui.add_html("")
+        with gui.add_folder("Inputs: membership degrees"):
+            self.membership = gui.add_html("")
+        self._shown: dict[str, str] = {}
+
+    def show(self, inputs: Mapping[str, float | None], rule_texts: Sequence[str], inference: Inference) -> None:
+        self._set(self.decision, "decision", decision_html(self.vocabulary, inference))
+        self._set(self.rules, "rules", rules_html(rule_texts, inference, self.only_fired.value))
+        self._set(self.outputs, "outputs", outputs_html(self.vocabulary, inference))
+        self._set(self.membership, "membership", membership_html(self.vocabulary, inputs))
+
+    def _set(self, handle: viser.GuiHtmlHandle, key: str, content: str) -> None:
+        # Only changed content goes over the websocket; at 30 fps most panels are unchanged most frames.
+        if self._shown.get(key) != content:
+            self._shown[key] = content
+            handle.content = content

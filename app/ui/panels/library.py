@@ -1,0 +1,171 @@
+"""Library: saved rulebases and past runs (open, rename, delete, watch a run's best player)."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import viser
+
+from app.runs import RunStateError
+from app.store import NotFound, StoreError
+from app.ui import style
+from app.ui.panels.svg import escape
+from fuzzy.parser import RuleSyntaxError, parse_rulebase
+
+if TYPE_CHECKING:
+    from app.ui.session import Session
+
+NONE = "(none yet)"
+
+
+def _label(record_id: int, name: str) -> str:
+    return f"#{record_id} {name}"
+
+
+def _id_of(label: str) -> int | None:
+    if not label.startswith("#"):
+        return None
+    return int(label[1:].split(" ", 1)[0])
+
+
+class LibraryPanel:
+    def __init__(self, gui: viser.GuiApi, session: "Session"):
+        self.session = session
+        self.store = session.context.store
+        gui.add_markdown("**Saved rulebases**")
+        self.rulebases = gui.add_dropdown("Rulebase", (NONE,))
+        rulebase_actions = gui.add_button_group("Rulebase actions", ("Open", "Rename", "Delete"))
+        gui.add_markdown("**Past runs**")
+        self.runs = gui.add_dropdown("Run", (NONE,))
+        run_actions = gui.add_button_group("Run actions", ("Watch best", "Rename", "Delete"))
+        self.new_name = gui.add_text("New name", "")
+        refresh = gui.add_button("Refresh", icon=viser.Icon.REFRESH, color="gray")
+        self.message = gui.add_html("")
+
+        @rulebase_actions.on_click
+        def _(event: viser.GuiEvent) -> None:
+            {"Open": self.open_rulebase, "Rename": self.rename_rulebase, "Delete": self.delete_rulebase}[
+                event.target.value
+            ]()
+
+        @run_actions.on_click
+        def _(event: viser.GuiEvent) -> None:
+            {"Watch best": self.watch_run, "Rename": self.rename_run, "Delete": self.delete_run}[event.target.value]()
+
+        @refresh.on_click
+        def _(_: viser.GuiEvent) -> None:
+            self.refresh()
+
+        self.refresh()
+
+    def refresh(self) -> None:
+        rulebases = [_label(r.id, r.name) for r in self.store.list_rulebases()]
+        runs = [_label(r.id, f"{r.name} ({r.status})") for r in self.store.list_runs()]
+        self._set_options(self.rulebases, rulebases)
+        self._set_options(self.runs, runs)
+
+    @staticmethod
+    def _set_options(dropdown: viser.GuiDropdownHandle, labels: list[str]) -> None:
+        current = _id_of(dropdown.value)
+        options = tuple(labels) or (NONE,)
+        if tuple(dropdown.options) != options:
+            dropdown.options = options
+        for label in options:  # keep the selection on the same record across a rename
+            if current is not None and _id_of(label) == current:
+                dropdown.value = label
+
+    def _say(self, text: str, *, error: bool = False) -> None:
+        self.message.content = (
+            f'<div class="library-message" data-error="{str(error).lower()}" style="{style.FONT}; '
+            f'font-size:{style.FONT_SIZE}px; color:{style.ERROR if error else style.FIRED}">{escape(text)}</div>'
+        )
+
+    def _selected(self, dropdown: viser.GuiDropdownHandle, what: str) -> int | None:
+        record_id = _id_of(dropdown.value)
+        if record_id is None:
+            self._say(f"No {what} selected.", error=True)
+        return record_id
+
+    def _new_name(self) -> str | None:
+        name = self.new_name.value.strip()
+        if not name:
+            self._say("Type the new name first.", error=True)
+            return None
+        return name
+
+    # ---- rulebases ----------------------------------------------------------------------------
+    def open_rulebase(self) -> None:
+        record_id = self._selected(self.rulebases, "rulebase")
+        if record_id is None:
+            return
+        try:
+            record = self.store.get_rulebase(record_id)
+            rulebase = parse_rulebase(record.text, self.session.context.vocabulary)
+        except (NotFound, RuleSyntaxError) as exc:
+            self._say(f"Cannot open: {exc}", error=True)
+            return
+        self.session.load_rulebase(rulebase, record.name, restart=True)
+        self._say(f"“{record.name}” is on the pitch.")
+
+    def rename_rulebase(self) -> None:
+        record_id, name = self._selected(self.rulebases, "rulebase"), self._new_name()
+        if record_id is None or name is None:
+            return
+        try:
+            self.store.update_rulebase(record_id, name=name)
+        except (NotFound, StoreError) as exc:
+            self._say(f"Not renamed: {exc}", error=True)
+            return
+        self.refresh()
+        self._say(f"Renamed to “{name}”.")
+
+    def delete_rulebase(self) -> None:
+        record_id = self._selected(self.rulebases, "rulebase")
+        if record_id is None:
+            return
+        try:
+            self.store.delete_rulebase(record_id)
+        except NotFound as exc:
+            self._say(str(exc), error=True)
+            return
+        self.refresh()
+        self._say(f"Deleted rulebase #{record_id}.")
+
+    # ---- runs ---------------------------------------------------------------------------------
+    def watch_run(self) -> None:
+        record_id = self._selected(self.runs, "run")
+        if record_id is None:
+            return
+        try:
+            rulebase = self.session.context.runs.best_rulebase(record_id)
+            best = self.store.best_individual(record_id)
+        except (NotFound, RuleSyntaxError) as exc:
+            self._say(f"No best player yet: {exc}", error=True)
+            return
+        name = f"run #{record_id} best (gen {best.generation}, fitness {best.fitness:.3f})"
+        self.session.load_rulebase(rulebase, name, restart=True)
+        self._say(f"Watching {name}.")
+
+    def rename_run(self) -> None:
+        record_id, name = self._selected(self.runs, "run"), self._new_name()
+        if record_id is None or name is None:
+            return
+        try:
+            self.store.rename_run(record_id, name)
+        except (NotFound, StoreError) as exc:
+            self._say(f"Not renamed: {exc}", error=True)
+            return
+        self.refresh()
+        self._say(f"Renamed to “{name}”.")
+
+    def delete_run(self) -> None:
+        record_id = self._selected(self.runs, "run")
+        if record_id is None:
+            return
+        try:
+            self.session.context.runs.delete(record_id)
+        except (NotFound, RunStateError) as exc:
+            self._say(str(exc), error=True)
+            return
+        self.refresh()
+        self._say(f"Deleted run #{record_id}.")

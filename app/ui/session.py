@@ -1,0 +1,163 @@
+"""One browser tab: its own pitch, game, rulebase and editor, and the loop that plays at FRAME_RATE.
+
+Every control callback and the play loop take the session's lock, so a click never sees a half-made
+tick. Evolution runs elsewhere (the RunManager's threads); the session only listens.
+"""
+
+from __future__ import annotations
+
+import logging
+import threading
+import time
+
+import viser
+
+from app.ui import style
+from app.ui.context import UiContext
+from app.ui.game import Game
+from app.ui.panels.editor import EditorPanel
+from app.ui.panels.evolve import EvolvePanel
+from app.ui.panels.inference import InferencePanel
+from app.ui.panels.library import LibraryPanel
+from app.ui.panels.play import PlayControls
+from app.ui.panels.policy_view import PolicyPanel
+from app.ui.pitch import PitchGeometry, PitchView
+from fuzzy.rule import Rulebase
+
+log = logging.getLogger(__name__)
+GAME_OVER_PAUSE = 2.0  # seconds the final position stays on screen before the next start
+
+
+class Session:
+    def __init__(self, client: viser.ClientHandle, context: UiContext):
+        self.client = client
+        self.context = context
+        self.lock = threading.RLock()
+        self.playing = True  # the first minute: the demo player is already playing
+        self._tick_budget = 0.0
+        self._game_over_since: float | None = None
+        self._closed = threading.Event()
+        self.game = Game(context, context.demo_rulebase(), context.demo_name, seed=style.DEFAULT_SEED)
+        self._build()
+        self._thread = threading.Thread(target=self._loop, name=f"ui-session-{client.client_id}", daemon=True)
+        self._thread.start()
+
+    # ---- layout ---------------------------------------------------------------------------
+    def _build(self) -> None:
+        gui = self.client.gui
+        gui.configure_theme(dark_mode=False, show_logo=False, show_share_button=False, brand_color=(25, 118, 210))
+        main = gui.main_panel
+        main.dock_left()
+        main.set_width(style.LEFT_PANEL_WIDTH)
+        self.pitch = PitchView(self.client.scene, PitchGeometry.from_world(self.context.game.world))
+        tabs = gui.add_tab_group()
+        with tabs.add_tab("Play", viser.Icon.PLAYER_PLAY):
+            self.controls = PlayControls(
+                gui, on_play=self.set_playing, on_step=self.step_once, on_new_start=self.new_start,
+                on_reset_view=lambda: self.pitch.fit_camera(self.client.camera),
+            )
+        with tabs.add_tab("Rules", viser.Icon.PENCIL):
+            self.editor = EditorPanel(gui, self)
+        with tabs.add_tab("Evolve", viser.Icon.DNA):
+            self.evolve = EvolvePanel(gui, self)
+        with tabs.add_tab("Library", viser.Icon.BOOKS):
+            self.library = LibraryPanel(gui, self)
+        right = gui.add_panel()
+        with right.add_tab("Inference", viser.Icon.BRAIN):
+            self.inference = InferencePanel(gui, self.context.vocabulary)
+        with right.add_tab("Policy map", viser.Icon.MAP):
+            self.policy = PolicyPanel(gui, self)
+        right.dock_right()
+        right.set_width(style.RIGHT_PANEL_WIDTH)
+        self._aspect = 0.0
+
+        @self.client.camera.on_update
+        def _(camera: viser.CameraHandle) -> None:
+            # Refit when the canvas changes shape (panels docked, window resized), not when the user pans.
+            if abs(camera.aspect - self._aspect) > 0.01:
+                self._aspect = camera.aspect
+                self.pitch.fit_camera(camera)
+
+        self.editor.show_rulebase(self.game.rulebase)
+        self._render()
+
+    # ---- controls -------------------------------------------------------------------------
+    def set_playing(self, playing: bool) -> None:
+        with self.lock:
+            self.playing = playing
+            self._tick_budget = 0.0
+
+    def step_once(self) -> None:
+        with self.lock:
+            if self.game.done:
+                self.game.restart(self.game.seed)
+            self.game.step()
+            self._render()
+
+    def new_start(self, seed: int) -> None:
+        with self.lock:
+            self.game.restart(seed)
+            self._game_over_since = None
+            self._render()
+
+    def load_rulebase(self, rulebase: Rulebase, name: str, *, restart: bool = False) -> None:
+        """Put `rulebase` on the pitch (the game goes on from where it is unless `restart`)."""
+        with self.lock:
+            self.game.set_rulebase(rulebase, name)
+            if restart:
+                self.game.restart(self.game.seed)
+            self.editor.show_rulebase(rulebase)
+            self.policy.invalidate()
+            self._render()
+
+    def close(self) -> None:
+        self._closed.set()
+        self.evolve.close()
+
+    # ---- the loop -------------------------------------------------------------------------
+    def _loop(self) -> None:
+        period = 1.0 / style.FRAME_RATE
+        next_frame = time.perf_counter()
+        while not self._closed.is_set():
+            try:
+                with self.lock:
+                    self._advance()
+            except Exception:  # a broken frame must not kill the tab's loop
+                log.exception("session frame failed")
+            next_frame += period
+            delay = next_frame - time.perf_counter()
+            if delay < 0:  # fell behind (a busy machine): drop frames instead of bursting
+                next_frame = time.perf_counter()
+                delay = 0.0
+            self._closed.wait(delay)
+
+    def _advance(self) -> None:
+        if not self.playing:
+            return
+        if self.game.done:
+            if self._game_over_since is None:
+                self._game_over_since = time.perf_counter()
+            elif time.perf_counter() - self._game_over_since > GAME_OVER_PAUSE:
+                self._game_over_since = None
+                self.controls.seed.value = self.game.seed + 1
+                self.game.restart(self.game.seed + 1)
+                self._render()
+            return
+        self._tick_budget += float(self.controls.speed.value) * style.TICKS_PER_SECOND / style.FRAME_RATE
+        ticks = int(self._tick_budget)
+        if ticks == 0:
+            return
+        self._tick_budget -= ticks
+        for _ in range(ticks):
+            if self.game.done:
+                break
+            self.game.step()
+        self._render()
+
+    def _render(self) -> None:
+        game = self.game
+        with self.client.atomic():
+            self.pitch.show(game.frame())
+            self.controls.show_status(game.status_html())
+            self.inference.show(game.inputs(), game.rule_texts, game.inference())
+            self.policy.show_current(game.inputs())

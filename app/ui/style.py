@@ -1,0 +1,62 @@
+"""Every tunable of the UI's look and pacing in one place: colours, sizes, frame rate, speeds.
+
+Sizes are chosen for a projector: large type, thick lines, strong contrast.
+"""
+
+from __future__ import annotations
+
+FRAME_RATE = 30.0  # frames per second the session loop aims for
+TICKS_PER_SECOND = 10.0  # one simulator tick = 100 ms, so 1x speed is 10 ticks a second
+DEFAULT_SPEED = 2.0  # times real time: a 1000-tick game takes 50 s, watchable and lively
+SPEED_RANGE = (0.25, 20.0)
+DEFAULT_SEED = 1
+PANEL_REFRESH_EVERY = 1  # redraw the inference panels every this many frames
+
+# Player and ball are drawn larger than life so they read on a projector; the legend says so.
+PLAYER_DRAW_RADIUS = 1.6
+BALL_DRAW_RADIUS = 0.9
+VIEW_CONE_LENGTH = 30.0  # the view is unbounded in distance; the cone shows its angle
+LINE_THICKNESS = 0.35
+PITCH_MARGIN = 5.0  # grass beyond the lines, metres
+
+# Standard pitch markings (metres); the simulator's own dimensions come from soccer's parameters.
+CENTRE_CIRCLE_RADIUS = 9.15
+PENALTY_AREA = (16.5, 40.32)  # depth, width
+GOAL_AREA = (5.5, 18.32)
+
+GRASS = (46, 125, 50)
+GRASS_STRIPE = (56, 142, 60)
+LINE = (245, 245, 245)
+PLAYER = (25, 118, 210)
+PLAYER_FACING = (255, 255, 255)
+BALL = (255, 193, 7)
+BALL_TRAIL = (255, 224, 130)
+VIEW_CONE = (255, 255, 255)
+VIEW_CONE_OPACITY = 0.18
+GOAL_NET = (230, 230, 230)
+KICKABLE_RING = (144, 202, 249)
+
+# Panel palette (HTML/SVG): hex strings.
+INK = "#1f2933"
+MUTED = "#9aa5b1"
+GRID = "#e4e7eb"
+ACCENT = "#1976d2"
+FIRED = "#2e7d32"
+SELECTED = "#e65100"
+ERROR = "#c62828"
+TERM_FILL = "#bbdefb"
+CLIP_FILL = "#ff9800"
+FONT = "font-family: Inter, 'Segoe UI', Helvetica, Arial, sans-serif"
+FONT_SIZE = 15  # px, panel body text
+SMALL_FONT_SIZE = 12
+
+# One colour per action, for the policy map and the rule list (index = vocabulary action order).
+ACTION_COLOURS = (
+    "#8e24aa", "#3949ab", "#e53935", "#00897b", "#1e88e5",
+    "#43a047", "#fb8c00", "#f4511e", "#6d4c41", "#9e9e9e",
+)
+HUNT_COLOUR = "#cfd8dc"
+
+LEFT_PANEL_WIDTH = 380
+RIGHT_PANEL_WIDTH = 500
+POLICY_REFRESH_SECONDS = 0.2  # the policy map's marker follows the player at 5 Hz (the map is ~12 kB)

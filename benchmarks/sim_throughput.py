@@ -1,0 +1,62 @@
+"""Microseconds per game-tick of SimpleSoccer with the full controller (spec 9): 200 random rulebases
+played (a) together by the batched engine in one pymunk Space and (b) one Space per game in a Python
+loop (each game its own batch of one, the same kernel), and the ratio, in one run.
+
+    python benchmarks/sim_throughput.py [--games 200] [--rules 10] [--seed 0] [--loop-games 40]
+
+The per-game loop plays the first --loop-games of the games (it is the slow side) and is scaled per
+game-tick. Both sides are warmed up first so numba compilation is not timed.
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+
+import numpy as np
+
+from fuzzy.random_rulebase import random_rulebase
+from soccer.config import GameConfig
+from soccer.engine import GameBatch
+
+
+def time_batched(rulebases, seeds, config) -> tuple[float, int]:
+    batch = GameBatch(rulebases, seeds, config)
+    start = time.perf_counter()
+    results = batch.run()
+    return time.perf_counter() - start, sum(r.ticks for r in results)
+
+
+def time_per_game(rulebases, seeds, config) -> tuple[float, int]:
+    batches = [GameBatch([r], [s], config) for r, s in zip(rulebases, seeds)]
+    start = time.perf_counter()
+    ticks = sum(b.run()[0].ticks for b in batches)
+    return time.perf_counter() - start, ticks
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--games", type=int, default=200)
+    parser.add_argument("--rules", type=int, default=10)
+    parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--loop-games", type=int, default=40)
+    args = parser.parse_args()
+    rng = np.random.default_rng(args.seed)
+    rulebases = [random_rulebase(rng, rules=args.rules) for _ in range(args.games)]
+    seeds = [args.seed * 1_000_003 + g for g in range(args.games)]
+    config = GameConfig()
+    time_batched(rulebases[:2], seeds[:2], config)  # compile / load the numba cache
+
+    batched_s, batched_ticks = time_batched(rulebases, seeds, config)
+    loop_n = min(args.loop_games, args.games)
+    loop_s, loop_ticks = time_per_game(rulebases[:loop_n], seeds[:loop_n], config)
+    batched_us = 1e6 * batched_s / batched_ticks
+    loop_us = 1e6 * loop_s / loop_ticks
+    print(f"games: {args.games} random rulebases of {args.rules} rules, {batched_ticks} game-ticks")
+    print(f"batched engine (one Space):     {batched_us:7.3f} us per game-tick ({batched_s:.2f} s)")
+    print(f"one Space per game, Python loop: {loop_us:7.3f} us per game-tick ({loop_n} games, {loop_ticks} game-ticks)")
+    print(f"speed-up: {loop_us / batched_us:.1f}x")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,60 @@
+"""Rulebase -> rule text (spec 2.3): the exact inverse of fuzzy/parser.py.
+
+Display names come from the vocabulary (CamelCase). The strict left-to-right grouping is made
+explicit: the running group is parenthesised wherever the connector changes, e.g.
+`if (Ball is Near or Ball is not Far) and Goal is Near then RunTowardBall Low`.
+"""
+
+from __future__ import annotations
+
+from fuzzy.parser import IF, IS, NOT, THEN
+from fuzzy.rule import Consequent, Premise, Rule, Rulebase
+from fuzzy.vocabulary import Vocabulary
+
+
+def format_premise(premise: Premise, vocabulary: Vocabulary | None = None) -> str:
+    vocabulary = vocabulary or Vocabulary.default()
+    words = [vocabulary.display(premise.object), IS] + ([NOT] if premise.negated else [])
+    return " ".join(words + [vocabulary.display(premise.term)])
+
+
+def format_antecedent(rule: Rule, vocabulary: Vocabulary | None = None) -> str:
+    """Premises joined left to right; a group is closed in parentheses before a different connector."""
+    vocabulary = vocabulary or Vocabulary.default()
+    text = format_premise(rule.premises[0], vocabulary)
+    previous = None
+    for connector, premise in zip(rule.connectors, rule.premises[1:]):
+        if previous is not None and connector != previous:
+            text = f"({text})"
+        text = f"{text} {connector.lower()} {format_premise(premise, vocabulary)}"
+        previous = connector
+    return text
+
+
+def format_consequent(consequent: Consequent, vocabulary: Vocabulary | None = None) -> str:
+    """`Kick SlightlyRight High`; Null parameters are left out; unused ones go in brackets: `Turn Left [power High]`."""
+    vocabulary = vocabulary or Vocabulary.default()
+    uses = vocabulary.actions[consequent.action]
+    words = [vocabulary.display(consequent.action)]
+    unused = []
+    for output in vocabulary.output_names:
+        term = getattr(consequent, output)
+        if term is None:
+            continue
+        if output in uses:
+            words.append(vocabulary.display(term))
+        else:
+            unused.append(f"{output} {vocabulary.display(term)}")
+    if unused:
+        words.append(f"[{', '.join(unused)}]")
+    return " ".join(words)
+
+
+def format_rule(rule: Rule, vocabulary: Vocabulary | None = None) -> str:
+    vocabulary = vocabulary or Vocabulary.default()
+    return f"{IF} {format_antecedent(rule, vocabulary)} {THEN} {format_consequent(rule.consequent, vocabulary)}"
+
+
+def format_rulebase(rulebase: Rulebase, vocabulary: Vocabulary | None = None) -> str:
+    """One rule a line (no trailing newline)."""
+    return "\n".join(format_rule(rule, vocabulary) for rule in rulebase)

@@ -1,0 +1,125 @@
+"""The evolution loop and the random-search baseline (spec 3.2).
+
+Generation 0 is the evaluated initial population; a run evaluates at most `max_generations`
+generations, i.e. population_size x max_generations evaluations. Each generation: breed (or, for
+random search, draw fresh individuals), draw one game seed per individual, evaluate, record
+statistics, checkpoint, call the callbacks. Everything random comes from one Generator seeded
+by config.seed and saved in every checkpoint, so a resumed run continues bit for bit.
+"""
+
+from __future__ import annotations
+
+import threading
+import time
+from dataclasses import replace
+from pathlib import Path
+from typing import Any, Iterable
+
+import numpy as np
+
+from fuzzy.vocabulary import Vocabulary
+from ga.checkpoint import load_checkpoint, save_checkpoint
+from ga.codec import ChromosomeCodec
+from ga.config import GAConfig
+from ga.evaluation import Evaluation, Evaluator
+from ga.genes import GeneSpace
+from ga.individual import Individual
+from ga.initialisation import random_population
+from ga.reproduction import next_generation
+from ga.result import GENERATIONS_DONE, STOPPED, TARGET_REACHED, RunResult
+from ga.state import GA, RANDOM_SEARCH, RunState
+from ga.statistics import generation_stats
+
+SEED_BOUND = 2**63  # game seeds are drawn uniformly from [0, SEED_BOUND)
+
+# A callback is a function (stats, population) or an object with on_generation(stats, population).
+Callback = Any
+
+
+def evolve(config: GAConfig, evaluate: Evaluator, *, callbacks: Iterable[Callback] = (),
+           checkpoint: str | Path | None = None, stop: threading.Event | None = None,
+           vocabulary: Vocabulary | None = None) -> RunResult:
+    """Run the messy-coded GA; `stop` ends it after the generation in progress."""
+    return _run(_fresh_state(GA, config, vocabulary), evaluate, callbacks, checkpoint, stop)
+
+
+def random_search(config: GAConfig, evaluate: Evaluator, *, callbacks: Iterable[Callback] = (),
+                  checkpoint: str | Path | None = None, stop: threading.Event | None = None,
+                  vocabulary: Vocabulary | None = None) -> RunResult:
+    """The baseline: each "generation" is population_size fresh random individuals, same statistics."""
+    return _run(_fresh_state(RANDOM_SEARCH, config, vocabulary), evaluate, callbacks, checkpoint, stop)
+
+
+def resume(checkpoint_path: str | Path, evaluate: Evaluator, *, callbacks: Iterable[Callback] = (),
+           stop: threading.Event | None = None, workers: int | None = None) -> RunResult:
+    """Continue a run from its last checkpoint; it finishes exactly as if never interrupted.
+    `workers` may differ from the original run's: results do not depend on it."""
+    state = load_checkpoint(checkpoint_path)
+    if workers is not None:
+        state = replace(state, config=GAConfig.from_values({**state.config.model_dump(), "workers": workers}))
+    return _run(state, evaluate, callbacks, checkpoint_path, stop)
+
+
+def _fresh_state(algorithm: str, config: GAConfig, vocabulary: Vocabulary | None) -> RunState:
+    rng = np.random.default_rng(config.seed)
+    return RunState(algorithm, config, vocabulary or Vocabulary.default(), [], rng.bit_generator.state, [], None)
+
+
+def _run(state: RunState, evaluate: Evaluator, callbacks: Iterable[Callback], checkpoint: str | Path | None,
+         stop: threading.Event | None) -> RunResult:
+    config = state.config
+    rng = np.random.default_rng()
+    rng.bit_generator.state = state.rng_state
+    codec = ChromosomeCodec(state.vocabulary)
+    listeners = [getattr(callback, "on_generation", callback) for callback in callbacks]
+    started = time.perf_counter() - state.wall_time
+    with Evaluation(evaluate, config.workers) as evaluation:
+        while (reason := _stop_reason(state, stop)) is None:
+            population = _next_population(state, codec.space, rng)
+            population = _evaluated(population, evaluation, codec, rng)
+            state = _recorded(state, population, rng, time.perf_counter() - started)
+            if checkpoint is not None:
+                save_checkpoint(checkpoint, state)
+            for listener in listeners:
+                listener(state.history[-1], state.population)
+    return RunResult(config, state.vocabulary, state.history, state.population, state.best,
+                     codec.decode(state.best.chromosome), reason)
+
+
+def _stop_reason(state: RunState, stop: threading.Event | None) -> str | None:
+    if not state.history:
+        return None  # generation 0 always runs, so a result always has a best individual
+    if state.history[-1].best <= state.config.target_fitness:
+        return TARGET_REACHED
+    if len(state.history) >= state.config.max_generations:
+        return GENERATIONS_DONE
+    if stop is not None and stop.is_set():
+        return STOPPED
+    return None
+
+
+def _next_population(state: RunState, space: GeneSpace, rng: np.random.Generator) -> list[Individual]:
+    config = state.config
+    if state.history and state.algorithm == GA:
+        return next_generation(state.population, config, space, rng)
+    chromosomes = random_population(space, config.population_size, config.max_length,
+                                    config.consequent_probability, rng)
+    return [Individual(chromosome) for chromosome in chromosomes]
+
+
+def _evaluated(population: list[Individual], evaluation: Evaluation, codec: ChromosomeCodec,
+               rng: np.random.Generator) -> list[Individual]:
+    seeds = rng.integers(0, SEED_BOUND, size=len(population)).tolist()
+    scores = evaluation([codec.decode(individual.chromosome) for individual in population], seeds)
+    return [individual.evaluated(score.fitness, score.goals) for individual, score in zip(population, scores)]
+
+
+def _recorded(state: RunState, population: list[Individual], rng: np.random.Generator,
+              wall_time: float) -> RunState:
+    stats = generation_stats(len(state.history), population, state.evaluations + len(population), wall_time)
+    contender = min(population, key=lambda individual: individual.fitness)  # first of equals
+    best = contender if state.best is None or contender.fitness < state.best.fitness else state.best
+    return RunState(state.algorithm, state.config, state.vocabulary, population, rng.bit_generator.state,
+                    [*state.history, stats], best)
+
+

@@ -1,0 +1,61 @@
+"""GAConfig: every GA parameter in one validated object; defaults = the chapter's Table 2 + spec 3.2."""
+
+from __future__ import annotations
+
+from typing import Any, Literal
+
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+
+
+class ConfigError(ValueError):
+    """One line naming the parameter and what is wrong with it."""
+
+
+class GAConfig(BaseModel):
+    model_config = ConfigDict(frozen=True, extra="forbid")
+
+    population_size: int = Field(200, ge=2, le=100_000, description="individuals per generation")
+    max_generations: int = Field(25, ge=1, le=100_000,
+                                 description="generations evaluated, the initial population (generation 0) included")
+    max_length: int = Field(64, ge=2, le=10_000, description="maximum genes per chromosome")
+    consequent_probability: float = Field(0.25, gt=0, lt=1,
+                                          description="chance that an initial gene is a consequent")
+    crossover: Literal["one-point", "two-point"] = "one-point"
+    crossover_probability: float = Field(0.8, ge=0, le=1)
+    mutation_probability: float = Field(0.35, ge=0, le=1, description="chance that a child is mutated")
+    mutation_rate: float = Field(0.10, ge=0, le=1, description="chance that each gene of a mutated child is hit")
+    selection: Literal["roulette", "tournament", "elitist"] = "roulette"
+    tournament_size: int = Field(2, ge=2, le=1_000)
+    tournament_selector: float = Field(0.75, ge=0, le=1, description="chance that the better entrant wins")
+    elite_fraction: float = Field(0.05, ge=0, lt=1, description="share of the population copied unchanged (elitist)")
+    target_fitness: float = Field(0.05, ge=0, le=1, description="stop once the best fitness reaches this")
+    seed: int = Field(0, ge=0, lt=2**63)
+    workers: int = Field(1, ge=1, le=256, description="evaluation processes; results do not depend on it")
+
+    @model_validator(mode="after")
+    def _elites_leave_room_to_breed(self) -> "GAConfig":
+        if self.selection == "elitist" and self.elite_count >= self.population_size:
+            raise ValueError("elite_fraction leaves no room to breed: elites must be fewer than the population")
+        return self
+
+    @property
+    def elite_count(self) -> int:
+        """Individuals copied unchanged each generation (elitist selection only; at least one)."""
+        if self.selection != "elitist":
+            return 0
+        return max(1, round(self.elite_fraction * self.population_size))
+
+    @classmethod
+    def from_values(cls, values: dict[str, Any]) -> "GAConfig":
+        """Validate user-supplied values; ConfigError with one line per problem, no traceback needed."""
+        try:
+            return cls(**values)
+        except ValidationError as exc:
+            raise ConfigError("; ".join(_describe(e) for e in exc.errors())) from None
+
+
+def _describe(error: dict[str, Any]) -> str:
+    where = ".".join(str(part) for part in error["loc"])
+    given = f" (got {error['input']!r})" if "input" in error and not isinstance(error["input"], dict) else ""
+    message = error["msg"].removeprefix("Value error, ")
+    return f"{where}: {message}{given}" if where else f"{message}"

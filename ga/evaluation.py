@@ -1,0 +1,87 @@
+"""Scoring rulebases with the caller's evaluator, serially or across worker processes.
+
+The evaluator is any picklable callable `evaluate(rulebases, seeds) -> results`, each result with
+`.fitness` and `.goals`, whose result for one (rulebase, seed) does not depend on the rest of the
+batch. Then splitting a generation into contiguous chunks, one per worker, gives exactly the
+serial results, whatever the number of workers.
+"""
+
+from __future__ import annotations
+
+import math
+import multiprocessing
+from concurrent.futures import ProcessPoolExecutor
+from typing import Any, Callable, NamedTuple, Sequence
+
+import numpy as np
+
+from fuzzy.rule import Rulebase
+
+INVALID_FITNESS = 1.0  # a ruleset with no valid rule is never played (spec 3.1)
+
+Evaluator = Callable[[list[Rulebase], list[int]], Sequence[Any]]
+
+
+class EvaluationError(RuntimeError):
+    pass
+
+
+class Score(NamedTuple):
+    fitness: float
+    goals: int
+
+
+INVALID_SCORE = Score(INVALID_FITNESS, 0)
+
+
+class Evaluation:
+    """Use as a context manager: worker processes (spawned, so safe beside threads) live for one run."""
+
+    def __init__(self, evaluate: Evaluator, workers: int = 1):
+        self.evaluate = evaluate
+        self.workers = workers
+        self._pool: ProcessPoolExecutor | None = None
+
+    def __enter__(self) -> "Evaluation":
+        if self.workers > 1:
+            self._pool = ProcessPoolExecutor(self.workers, mp_context=multiprocessing.get_context("spawn"))
+        return self
+
+    def __exit__(self, *exc_info: object) -> None:
+        if self._pool is not None:
+            self._pool.shutdown(cancel_futures=True)
+            self._pool = None
+
+    def __call__(self, rulebases: list[Rulebase], seeds: list[int]) -> list[Score]:
+        """One Score per rulebase; empty (invalid) rulebases score INVALID_SCORE without being played."""
+        playable = [i for i, rulebase in enumerate(rulebases) if len(rulebase)]
+        scores = [INVALID_SCORE] * len(rulebases)
+        for i, result in zip(playable, self._play([rulebases[i] for i in playable], [seeds[i] for i in playable])):
+            scores[i] = _score(result)
+        return scores
+
+    def _play(self, rulebases: list[Rulebase], seeds: list[int]) -> list[Any]:
+        if not rulebases:
+            return []
+        if self._pool is None:
+            return _checked(self.evaluate(rulebases, seeds), len(rulebases))
+        bounds = np.linspace(0, len(rulebases), min(self.workers, len(rulebases)) + 1).astype(int)
+        futures = [self._pool.submit(self.evaluate, rulebases[lo:hi], seeds[lo:hi])
+                   for lo, hi in zip(bounds[:-1], bounds[1:])]
+        return [r for (lo, hi), f in zip(zip(bounds[:-1], bounds[1:]), futures) for r in _checked(f.result(), hi - lo)]
+
+
+def _checked(results: Sequence[Any], expected: int) -> Sequence[Any]:
+    if len(results) != expected:
+        raise EvaluationError(f"the evaluator returned {len(results)} results for {expected} rulebases")
+    return results
+
+
+def _score(result: Any) -> Score:
+    try:
+        fitness, goals = float(result.fitness), int(result.goals)
+    except (AttributeError, TypeError, ValueError) as exc:
+        raise EvaluationError(f"an evaluator result needs a numeric .fitness and .goals: {exc}") from None
+    if not math.isfinite(fitness):
+        raise EvaluationError(f"the evaluator returned a non-finite fitness {fitness}")
+    return Score(fitness, goals)

@@ -1,0 +1,149 @@
+"""The chapter's compact chromosome notation (Figs. 6 and 7), both ways.
+
+`(B,N,O) (B,nF,A) (G,N,A) (RB,n,L)`: a premise gene is (object, [n]term, connector), a
+consequent gene is (action, direction|n, power|n). The first field tells the kind (objects and
+actions have disjoint abbreviations); the position of a field tells which table reads it, so
+`M` is MediumDistant in a premise and MediumPower in a consequent, and `n` prefixing a term
+means not while `n` alone means Null.
+"""
+
+from __future__ import annotations
+
+import re
+from functools import cache
+
+import numpy as np
+
+from ga.genes import (ACTION, CONNECTOR, CONSEQUENT, DIRECTION, GENE_DTYPE, GENE_WIDTH, IS, IS_NOT, KIND,
+                      OBJECT, POWER, PREMISE, QUALIFIER, TERM, GeneSpace)
+
+# The one abbreviation table (spec 3.1), keyed by canonical vocabulary name.
+ABBREVIATIONS = {
+    "BALL": "B", "GOAL": "G",
+    "AND": "A", "OR": "O",
+    "AT": "A", "VERYNEAR": "vN", "NEAR": "N", "SLIGHTLYNEAR": "sN", "MEDIUMDISTANT": "M",
+    "SLIGHTLYFAR": "sF", "FAR": "F", "VERYFAR": "vF",
+    "LEFT180": "L180", "VERYLEFT": "vL", "LEFT": "L", "SLIGHTLYLEFT": "sL", "STRAIGHT": "S",
+    "SLIGHTLYRIGHT": "sR", "RIGHT": "R", "VERYRIGHT": "vR", "RIGHT180": "R180",
+    "VERYLOW": "vL", "LOW": "L", "SLIGHTLYLOW": "sL", "MEDIUMPOWER": "M", "SLIGHTLYHIGH": "sH",
+    "HIGH": "H", "VERYHIGH": "vH",
+    "TURN": "T", "DASH": "D", "KICK": "K", "RUNTOWARDGOAL": "RG", "RUNTOWARDBALL": "RB",
+    "GOTOBALL": "GB", "KICKTOWARDGOAL": "KG", "DRIBBLETOWARDGOAL": "DG", "DRIBBLE": "Dr",
+    "DONOTHING": "DN",
+}
+NOT = "n"  # prefixes a premise term
+NULL = "n"  # an empty consequent field
+FIELDS_PER_GENE = 3
+
+_GENE = re.compile(r"\s*\(([^()]*)\)\s*")
+
+
+class NotationError(ValueError):
+    pass
+
+
+class CompactNotation:
+    """Reads and writes chromosomes over one GeneSpace in the compact notation."""
+
+    def __init__(self, space: GeneSpace):
+        self.space = space
+        self.objects = self._reader("object", space.objects)
+        self.terms = self._reader("term", space.terms)
+        self.connectors = self._reader("connector", space.connectors)
+        self.actions = self._reader("action", space.actions)
+        self.directions = self._reader("direction", space.directions)
+        self.powers = self._reader("power", space.powers)
+        if set(self.objects) & set(self.actions):
+            raise NotationError("object and action abbreviations must differ: the first field tells the kind")
+
+    @staticmethod
+    def _reader(field: str, names: tuple[str, ...]) -> dict[str, int]:
+        missing = [n for n in names if n not in ABBREVIATIONS]
+        if missing:
+            raise NotationError(f"no abbreviation for {field} {', '.join(missing)}")
+        reader = {ABBREVIATIONS[n]: i for i, n in enumerate(names)}
+        if len(reader) != len(names):
+            raise NotationError(f"two {field}s share an abbreviation")
+        return reader
+
+    # ---- writing --------------------------------------------------------------------------
+    def format(self, chromosome: np.ndarray) -> str:
+        return " ".join(self.format_gene(gene) for gene in chromosome.tolist())
+
+    def format_gene(self, gene: list[int]) -> str:
+        s = self.space
+        if gene[KIND] == PREMISE:
+            negation = NOT if gene[QUALIFIER] == IS_NOT else ""
+            fields = (ABBREVIATIONS[s.objects[gene[OBJECT]]], negation + ABBREVIATIONS[s.terms[gene[TERM]]],
+                      ABBREVIATIONS[s.connectors[gene[CONNECTOR]]])
+        else:
+            fields = (ABBREVIATIONS[s.actions[gene[ACTION]]], _abbreviation_or_null(s.directions, gene[DIRECTION]),
+                      _abbreviation_or_null(s.powers, gene[POWER]))
+        return "(" + ",".join(fields) + ")"
+
+    # ---- reading --------------------------------------------------------------------------
+    def parse(self, text: str) -> np.ndarray:
+        genes, position = [], 0
+        while position < len(text):
+            match = _GENE.match(text, position)
+            if match is None:
+                if not text[position:].strip():
+                    break
+                found = text[position:].lstrip()[:12]
+                column = len(text) - len(text[position:].lstrip()) + 1
+                raise NotationError(f"column {column}: expected a gene like (B,N,O) or (RB,n,L), found {found!r}")
+            try:
+                genes.append(self.parse_gene(match.group(1)))
+            except NotationError as exc:
+                raise NotationError(f"gene {len(genes) + 1} ({match.group(1)}) at column "
+                                    f"{match.start(1)}: {exc}") from None
+            position = match.end()
+        if not genes:
+            raise NotationError("empty chromosome: expected genes like (B,N,O) (RB,n,L)")
+        return np.array(genes, dtype=GENE_DTYPE)
+
+    def parse_gene(self, inside: str) -> list[int]:
+        fields = [f.strip() for f in inside.split(",")]
+        if len(fields) != FIELDS_PER_GENE:
+            raise NotationError(f"a gene has {FIELDS_PER_GENE} comma-separated fields, found {len(fields)}")
+        first, second, third = fields
+        gene = [0] * GENE_WIDTH
+        if first in self.objects:
+            negated = second.startswith(NOT) and second[len(NOT):] in self.terms
+            term = second[len(NOT):] if negated else second
+            gene[KIND], gene[OBJECT] = PREMISE, self.objects[first]
+            gene[QUALIFIER] = IS_NOT if negated else IS
+            gene[TERM] = _read(self.terms, term, "term", ", each optionally prefixed by n for not")
+            gene[CONNECTOR] = _read(self.connectors, third, "connector")
+        elif first in self.actions:
+            gene[KIND], gene[ACTION] = CONSEQUENT, self.actions[first]
+            gene[DIRECTION] = self.space.null_direction if second == NULL else _read(self.directions, second, "direction", f", or {NULL} for Null")
+            gene[POWER] = self.space.null_power if third == NULL else _read(self.powers, third, "power", f", or {NULL} for Null")
+        else:
+            raise NotationError(f"unknown object or action {first!r} "
+                                f"(expected one of {', '.join([*self.objects, *self.actions])})")
+        return gene
+
+
+def _abbreviation_or_null(names: tuple[str, ...], index: int) -> str:
+    return ABBREVIATIONS[names[index]] if index < len(names) else NULL
+
+
+def _read(reader: dict[str, int], word: str, what: str, note: str = "") -> int:
+    if word not in reader:
+        raise NotationError(f"unknown {what} {word!r} (expected one of {', '.join(reader)}{note})")
+    return reader[word]
+
+
+@cache
+def _notation(space: GeneSpace) -> CompactNotation:
+    return CompactNotation(space)
+
+
+def parse_compact(text: str, space: GeneSpace | None = None) -> np.ndarray:
+    """`parse_compact("(B,N,O) (RB,n,L)")` -> chromosome array; NotationError says what is wrong where."""
+    return _notation(space or GeneSpace.from_vocabulary()).parse(text)
+
+
+def format_compact(chromosome: np.ndarray, space: GeneSpace | None = None) -> str:
+    return _notation(space or GeneSpace.from_vocabulary()).format(chromosome)

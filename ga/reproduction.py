@@ -1,0 +1,45 @@
+"""Breeding the next generation from an evaluated one (spec 3.2)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ga.config import GAConfig
+from ga.crossover import CROSSOVERS
+from ga.genes import GeneSpace
+from ga.individual import Individual
+from ga.mutation import mutate
+from ga.selection import elite, roulette, tournament
+
+
+def next_generation(population: list[Individual], config: GAConfig, space: GeneSpace,
+                    rng: np.random.Generator) -> list[Individual]:
+    """Elites (elitist selection) pass unchanged; the rest are children of selected pairs. A child that
+    went through neither crossover nor mutation is its parent, running mean and all."""
+    fitness = np.array([individual.fitness for individual in population])
+    elites = [population[i] for i in elite(fitness, config.elite_count)]
+    needed = config.population_size - len(elites)
+    parents = select_parents(fitness, needed + needed % 2, config, rng)
+    crossover = CROSSOVERS[config.crossover]
+    offspring: list[Individual] = []
+    for a, b in zip(parents[0::2], parents[1::2]):
+        if rng.random() < config.crossover_probability:
+            children = [Individual(child) for child in
+                        crossover(population[a].chromosome, population[b].chromosome, config.max_length, rng)]
+        else:
+            children = [population[a], population[b]]
+        offspring += [_maybe_mutated(child, config, space, rng) for child in children]
+    return elites + offspring[:needed]
+
+
+def select_parents(fitness: np.ndarray, count: int, config: GAConfig, rng: np.random.Generator) -> np.ndarray:
+    if config.selection == "tournament":
+        return tournament(fitness, count, rng, config.tournament_size, config.tournament_selector)
+    return roulette(fitness, count, rng)  # roulette, and elitist's non-elite part
+
+
+def _maybe_mutated(individual: Individual, config: GAConfig, space: GeneSpace,
+                   rng: np.random.Generator) -> Individual:
+    if rng.random() < config.mutation_probability:
+        return Individual(mutate(individual.chromosome, config.mutation_rate, space, rng))
+    return individual

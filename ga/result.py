@@ -1,0 +1,28 @@
+"""What a finished (or stopped) run hands back."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from fuzzy.rule import Rulebase
+from fuzzy.vocabulary import Vocabulary
+from ga.config import GAConfig
+from ga.individual import Individual
+from ga.statistics import GenerationStats
+
+TARGET_REACHED, GENERATIONS_DONE, STOPPED = "target reached", "max generations", "stopped"
+
+
+@dataclass(frozen=True)
+class RunResult:
+    config: GAConfig
+    vocabulary: Vocabulary
+    history: list[GenerationStats]
+    population: list[Individual]  # the last evaluated generation
+    best: Individual  # best running mean seen in the run: chromosome, fitness, evaluations, goals
+    best_rulebase: Rulebase
+    stop_reason: str  # TARGET_REACHED, GENERATIONS_DONE or STOPPED
+
+    @property
+    def evaluations(self) -> int:
+        return self.history[-1].evaluations if self.history else 0

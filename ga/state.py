@@ -1,0 +1,33 @@
+"""The full state of a run after a generation: what a checkpoint holds and a resume continues from."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+from fuzzy.vocabulary import Vocabulary
+from ga.config import GAConfig
+from ga.individual import Individual
+from ga.statistics import GenerationStats
+
+GA, RANDOM_SEARCH = "ga", "random-search"
+ALGORITHMS = (GA, RANDOM_SEARCH)
+
+
+@dataclass(frozen=True)
+class RunState:
+    algorithm: str  # GA or RANDOM_SEARCH
+    config: GAConfig
+    vocabulary: Vocabulary
+    population: list[Individual]  # the last evaluated generation (empty before generation 0)
+    rng_state: dict[str, Any]  # the run's Generator, after the last generation's draws
+    history: list[GenerationStats]
+    best: Individual | None  # best running mean seen so far (kept when a later mean is only equal)
+
+    @property
+    def evaluations(self) -> int:
+        return self.history[-1].evaluations if self.history else 0
+
+    @property
+    def wall_time(self) -> float:
+        return self.history[-1].wall_time if self.history else 0.0

@@ -1,0 +1,141 @@
+"""Every SimpleSoccer constant in one place (spec 4.1): the world (rcssserver 19 defaults plus the
+few decisions that are ours) and the game rules. Both are frozen, validated pydantic models, so the
+REST API and the UI publish them with `.model_dump()` and a changed value reaches every kernel."""
+
+from __future__ import annotations
+
+from typing import Literal, NamedTuple
+
+from pydantic import BaseModel, ConfigDict, Field, PositiveFloat, PositiveInt, model_validator
+
+FitnessName = Literal["simple-composite", "goals-only", "robocup-composite"]
+FITNESS_NAMES: tuple[str, ...] = ("simple-composite", "goals-only", "robocup-composite")
+
+
+class WorldConstants(NamedTuple):
+    """WorldConfig as a flat tuple of floats: the form numba kernels take (attribute access compiles)."""
+
+    half_length: float
+    half_width: float
+    goal_half_width: float
+    goal_depth: float
+    post_radius: float
+    ball_size: float
+    ball_decay: float
+    ball_speed_max: float
+    ball_accel_max: float
+    ball_rand: float
+    player_size: float
+    player_decay: float
+    player_speed_max: float
+    player_accel_max: float
+    player_rand: float
+    inertia_moment: float
+    dash_power_rate: float
+    kick_power_rate: float
+    kickable_margin: float
+    max_power: float
+    max_moment: float
+    view_half_angle: float
+    tick_seconds: float
+    turn_threshold: float
+    dribble_power_fraction: float
+    hunt_turn: float
+
+
+class WorldConfig(BaseModel):
+    """rcssserver's defaults (server.conf, player type 0) so behaviour carries over to the real server.
+    Distances in metres, speeds and accelerations per tick, angles in degrees."""
+
+    model_config = ConfigDict(frozen=True, extra="forbid")
+
+    # pitch (centre origin; the player attacks the goal at x = +pitch_length/2)
+    pitch_length: PositiveFloat = 105.0
+    pitch_width: PositiveFloat = 68.0
+    goal_width: PositiveFloat = 14.02
+    goal_depth: PositiveFloat = 2.0  # our decision: the net behind the goal mouth
+    post_radius: PositiveFloat = 0.06
+    # ball
+    ball_size: PositiveFloat = 0.085
+    ball_decay: float = Field(0.94, gt=0.0, le=1.0)
+    ball_speed_max: PositiveFloat = 3.0
+    ball_accel_max: PositiveFloat = 2.7
+    ball_rand: float = Field(0.05, ge=0.0, lt=1.0)
+    # player
+    player_size: PositiveFloat = 0.3
+    player_decay: float = Field(0.4, gt=0.0, le=1.0)
+    player_speed_max: PositiveFloat = 1.05
+    player_accel_max: PositiveFloat = 1.0
+    player_rand: float = Field(0.1, ge=0.0, lt=1.0)
+    inertia_moment: float = Field(5.0, ge=0.0)
+    dash_power_rate: PositiveFloat = 0.006
+    kick_power_rate: PositiveFloat = 0.027
+    kickable_margin: PositiveFloat = 0.7
+    max_power: PositiveFloat = 100.0
+    max_moment: PositiveFloat = 180.0
+    view_width: float = Field(90.0, gt=0.0, le=360.0)  # normal view: +-45 degrees
+    tick_seconds: PositiveFloat = 0.1
+    # pymunk contact model (ours: rcssserver has no elastic collisions)
+    elasticity: float = Field(0.5, ge=0.0, le=1.0)
+    ball_mass: PositiveFloat = 0.45
+    player_mass: PositiveFloat = 70.0
+    # mid-level skills (spec 4.2, 4.3)
+    turn_threshold: float = Field(10.0, ge=0.0, le=180.0)  # turn instead of dash when further off than this
+    dribble_power_fraction: float = Field(0.3, gt=0.0, le=1.0)
+    hunt_turn: float = Field(45.0, gt=0.0, le=180.0)
+
+    @model_validator(mode="after")
+    def _goal_fits(self) -> "WorldConfig":
+        if self.goal_width >= self.pitch_width:
+            raise ValueError("goal_width must be smaller than pitch_width")
+        return self
+
+    @property
+    def kickable_distance(self) -> float:
+        """Largest centre-to-centre distance at which the ball can be kicked."""
+        return self.player_size + self.ball_size + self.kickable_margin
+
+    def constants(self) -> WorldConstants:
+        return WorldConstants(
+            half_length=self.pitch_length / 2,
+            half_width=self.pitch_width / 2,
+            goal_half_width=self.goal_width / 2,
+            goal_depth=self.goal_depth,
+            post_radius=self.post_radius,
+            ball_size=self.ball_size,
+            ball_decay=self.ball_decay,
+            ball_speed_max=self.ball_speed_max,
+            ball_accel_max=self.ball_accel_max,
+            ball_rand=self.ball_rand,
+            player_size=self.player_size,
+            player_decay=self.player_decay,
+            player_speed_max=self.player_speed_max,
+            player_accel_max=self.player_accel_max,
+            player_rand=self.player_rand,
+            inertia_moment=self.inertia_moment,
+            dash_power_rate=self.dash_power_rate,
+            kick_power_rate=self.kick_power_rate,
+            kickable_margin=self.kickable_margin,
+            max_power=self.max_power,
+            max_moment=self.max_moment,
+            view_half_angle=self.view_width / 2,
+            tick_seconds=self.tick_seconds,
+            turn_threshold=self.turn_threshold,
+            dribble_power_fraction=self.dribble_power_fraction,
+            hunt_turn=self.hunt_turn,
+        )
+
+
+class GameConfig(BaseModel):
+    """The rules of one SimpleSoccer game (spec 4.1, 4.4)."""
+
+    model_config = ConfigDict(frozen=True, extra="forbid")
+
+    max_ticks: PositiveInt = 1000
+    goal_cap: PositiveInt = 10
+    idle_ticks: PositiveInt = 100  # consecutive ticks without moving more than idle_distance nor kicking
+    idle_distance: float = Field(0.01, ge=0.0)
+    fitness: FitnessName = "simple-composite"
+    games_per_evaluation: PositiveInt = 1
+    noise: bool = False  # rcssserver-like velocity and turn noise
+    world: WorldConfig = WorldConfig()

@@ -1,0 +1,108 @@
+"""`SoccerEnv`: one game, Gymnasium-style, for the UI (spec 4.5, 7). It is a batch of one through the
+same engine as evolution, so what the UI shows is exactly what the GA scored. No rendering here."""
+
+from __future__ import annotations
+
+from collections import deque
+from dataclasses import dataclass
+
+import numpy as np
+
+from fuzzy.rule import Rulebase
+from soccer.config import GameConfig
+from soccer.engine import END_REASONS, GameBatch
+
+TRAIL_LENGTH = 60  # ball positions kept for the trail (6 s)
+
+
+@dataclass(frozen=True)
+class SoccerState:
+    tick: int
+    player: tuple[float, float]
+    facing: float  # degrees; 0 = +x (toward the goal), positive = turned to the right
+    ball: tuple[float, float]
+    ball_trail: tuple[tuple[float, float], ...]  # oldest first, ending with the ball's position
+    visible: dict[str, bool]  # object -> in view at the last decision
+    inputs: dict[str, float | None]  # input -> crisp value at the last decision (None: out of view)
+    strengths: tuple[float, ...]  # every rule's strength at the last decision
+    action: str | None  # the last selected action (None: no rule fired, the player hunted)
+    parameters: dict[str, float]  # the selected action's outputs it uses
+    goals: int
+    kicks: int
+    done: bool
+    end_reason: str
+    fitness: float | None  # once done
+
+
+class SoccerEnv:
+    """reset(seed) -> state; step() -> state plays one tick with the player's own controller."""
+
+    def __init__(self, rulebase: Rulebase, config: GameConfig = GameConfig()):
+        self.config = config
+        self.rulebase = rulebase
+        self._batch: GameBatch | None = None
+        self._trail: deque[tuple[float, float]] = deque(maxlen=TRAIL_LENGTH)
+        self._seed = 0
+
+    def set_rulebase(self, rulebase: Rulebase) -> SoccerState:
+        """Swap the controller; the running game goes on where it is."""
+        self.rulebase = rulebase
+        if self._batch is None:
+            return self.reset(self._seed)
+        self._batch.set_rulebases([rulebase])
+        return self.state
+
+    def reset(self, seed: int) -> SoccerState:
+        self._seed = int(seed)
+        self._batch = GameBatch([self.rulebase], [self._seed], self.config)
+        self._trail.clear()
+        return self.state
+
+    def step(self) -> SoccerState:
+        if self._batch is None:
+            raise RuntimeError("call reset(seed) before step()")
+        self._batch.step()
+        return self.state
+
+    @property
+    def state(self) -> SoccerState:
+        batch = self._batch
+        if batch is None:
+            raise RuntimeError("call reset(seed) first")
+        vocabulary = batch.vocabulary
+        player, ball = self._positions()
+        if not self._trail or self._trail[-1] != ball:
+            self._trail.append(ball)
+        decided = batch.ticks[0] > 0
+        action_index = int(batch.action[0])
+        action = vocabulary.action_names[action_index] if decided and action_index >= 0 else None
+        uses = vocabulary.actions[action] if action else ()
+        done = bool(batch.done[0])
+        return SoccerState(
+            tick=int(batch.ticks[0]),
+            player=player,
+            facing=float(batch.facing[0]),
+            ball=ball,
+            ball_trail=tuple(self._trail),
+            visible={o: bool(batch.visible[0, i]) for i, o in enumerate(vocabulary.object_names)},
+            inputs={n: None if np.isnan(v) else float(v) for n, v in zip(vocabulary.input_names, batch.inputs[0])},
+            strengths=tuple(float(s) for s in batch.strengths[0, : len(self.rulebase)]) if decided
+            else (0.0,) * len(self.rulebase),
+            action=action,
+            parameters={o: float(batch.values[0, vocabulary.output_names.index(o)]) for o in uses},
+            goals=int(batch.goals[0]),
+            kicks=int(batch.kicks[0]),
+            done=done,
+            end_reason=END_REASONS[batch.end_reason[0]],
+            fitness=batch.result(0).fitness if done else None,
+        )
+
+    def _positions(self) -> tuple[tuple[float, float], tuple[float, float]]:
+        """Current local positions (from pymunk, or the last known ones once the game left the space)."""
+        batch = self._batch
+        ox, oy = batch.world.offsets[0]
+        if batch.world.player_slot[0] < 0:
+            o = batch.observed[0]
+            return (float(o[0]), float(o[1])), (float(o[3]), float(o[4]))
+        player, _, ball, _ = batch.world.objects(0)
+        return ((player.position.x - ox, player.position.y - oy), (ball.position.x - ox, ball.position.y - oy))

@@ -1,0 +1,49 @@
+"""The three fitness functions of spec 4.4 (lower is better; 1.0 = the ball was never kicked)."""
+
+from __future__ import annotations
+
+from typing import Callable
+
+WORST_FITNESS = 1.0
+# spec 4.4: 0.5 + d / (2 x 105), 105 m being the pitch length; a fixed part of the formula, not a world setting
+DISTANCE_SCALE = 2 * 105.0
+
+
+def goals_fitness(goals: int) -> float:
+    """1 / (2 x goals): the chapter's Table 1 (0.5, 0.25, 0.1667, ..., 0.05 for 1..10 goals)."""
+    return 1.0 / (2 * goals)
+
+
+def simple_composite(goals: int, kicks: int, ticks: int, min_ball_goal_distance: float) -> float:
+    if kicks == 0:
+        return WORST_FITNESS
+    if goals > 0:
+        return goals_fitness(goals)
+    return 0.5 + min_ball_goal_distance / DISTANCE_SCALE
+
+
+def goals_only(goals: int, kicks: int, ticks: int, min_ball_goal_distance: float) -> float:
+    return goals_fitness(goals) if goals > 0 else WORST_FITNESS
+
+
+def robocup_composite(goals: int, kicks: int, ticks: int, min_ball_goal_distance: float) -> float:
+    if kicks == 0:
+        return WORST_FITNESS
+    if goals > 0:
+        return goals_fitness(goals)
+    return 1.0 - kicks / (2 * ticks)
+
+
+FITNESS_FUNCTIONS: dict[str, Callable[[int, int, int, float], float]] = {
+    "simple-composite": simple_composite,
+    "goals-only": goals_only,
+    "robocup-composite": robocup_composite,
+}
+
+
+def fitness(name: str, goals: int, kicks: int, ticks: int, min_ball_goal_distance: float) -> float:
+    try:
+        function = FITNESS_FUNCTIONS[name]
+    except KeyError:
+        raise ValueError(f"unknown fitness {name!r}; expected one of {', '.join(FITNESS_FUNCTIONS)}") from None
+    return function(goals, kicks, ticks, min_ball_goal_distance)

@@ -1,0 +1,323 @@
+"""UDP clients for rcssserver: one player and the offline trainer, in synch mode.
+
+Protocol facts (../shared/rcss/NOTES.md): init goes to the well-known port (6000 player, 6001
+trainer); every later message goes to the address the replies came from; every datagram ends in NUL.
+In synch mode each cycle ends with `(think)`; the server then waits for `(done)` from the player and,
+while its eye is on, from the trainer. Every wait has a deadline, so a silent server gives an
+RcssError within seconds instead of a hang.
+"""
+
+from __future__ import annotations
+
+import socket
+import time
+from collections import deque
+from dataclasses import dataclass, field
+
+from soccer.rcss.errors import (
+    RcssCommandError,
+    RcssConfigError,
+    RcssNoServerError,
+    RcssRefusedError,
+    RcssTimeoutError,
+)
+from soccer.rcss.messages import (
+    ErrorReply,
+    Hear,
+    Message,
+    Ok,
+    PlayerInit,
+    See,
+    SeeGlobal,
+    SenseBody,
+    ServerParamMessage,
+    Think,
+    TrainerInit,
+    parse_message,
+)
+from soccer.rcss.params import ServerParams
+
+PROTOCOL_VERSION = 19
+DEFAULT_HOST = "127.0.0.1"
+DEFAULT_PLAYER_PORT = 6000
+DEFAULT_TEAM = "SoccerLab"
+DATAGRAM_SIZE = 8192
+
+
+@dataclass(frozen=True)
+class Timeouts:
+    """Seconds. A server that withholds a cycle for a missing (done) waits 1.25 s, so `cycle` > 1.25."""
+
+    connect: float = 2.0
+    cycle: float = 3.0
+
+
+def parse_server(address: str) -> tuple[str, int]:
+    """'HOST:PORT' (or 'HOST', port 6000) -> (host, port); ValueError with a clear message."""
+    host, _, port_text = address.rpartition(":") if ":" in address else (address, "", str(DEFAULT_PLAYER_PORT))
+    try:
+        port = int(port_text)
+    except ValueError:
+        raise ValueError(f"bad server address {address!r}: expected HOST:PORT, e.g. 127.0.0.1:6000") from None
+    if not host or not 0 < port < 65535:
+        raise ValueError(f"bad server address {address!r}: expected HOST:PORT, e.g. 127.0.0.1:6000")
+    return host, port
+
+
+class Endpoint:
+    """One UDP conversation with the server: init to the well-known port, then to the reply port."""
+
+    def __init__(self, role: str, host: str, port: int, timeouts: Timeouts):
+        self.role = role
+        self.init_address = (host, port)
+        self.address = self.init_address
+        self.timeouts = timeouts
+        self.sent: list[str] = []  # every message we sent, for tests and debugging
+        self.socket = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+        self.socket.bind(("0.0.0.0", 0))
+
+    def send(self, text: str) -> None:
+        self.sent.append(text)
+        self.socket.sendto(text.encode("ascii") + b"\x00", self.address)
+
+    def receive(self, timeout: float, waiting_for: str) -> Message:
+        self.socket.settimeout(timeout)
+        try:
+            data, source = self.socket.recvfrom(DATAGRAM_SIZE)
+        except (TimeoutError, socket.timeout):
+            raise RcssTimeoutError(
+                f"{self.role}: rcssserver at {self._where()} sent nothing for {self.timeouts.cycle:g} s "
+                f"while we waited for {waiting_for} (did the server quit?)"
+            ) from None
+        except OSError as exc:  # e.g. ICMP port unreachable reported on the socket
+            raise RcssNoServerError(f"{self.role}: cannot talk to rcssserver at {self._where()}: {exc}") from None
+        self.address = source  # after init, talk to the port the replies come from
+        return parse_message(data)
+
+    def initialise(self, text: str) -> Message:
+        """Send init and return the first reply; RcssNoServerError when nobody answers in time."""
+        self.send(text)
+        try:
+            return self.receive(self.timeouts.connect, "the reply to init")
+        except RcssTimeoutError:
+            raise RcssNoServerError(
+                f"{self.role}: no reply from rcssserver at {self._where()} within {self.timeouts.connect:g} s "
+                "(is it running, on this host and port?)"
+            ) from None
+
+    def _where(self) -> str:
+        return f"{self.init_address[0]}:{self.init_address[1]}"
+
+    def close(self) -> None:
+        self.socket.close()
+
+
+@dataclass
+class PlayerCycle:
+    """What the player received during one cycle, up to and including (think)."""
+
+    sense_body: SenseBody
+    see: See | None = None
+    hears: list[Hear] = field(default_factory=list)
+
+
+@dataclass
+class TrainerCycle:
+    see_global: SeeGlobal | None = None
+    hears: list[Hear] = field(default_factory=list)
+
+
+class PlayerClient:
+    def __init__(self, host: str, port: int, team: str = DEFAULT_TEAM, timeouts: Timeouts = Timeouts()):
+        self.team = team
+        self.endpoint = Endpoint("player", host, port, timeouts)
+        self.timeouts = timeouts
+        self.side = ""
+        self.unum = 0
+        self.params: ServerParams | None = None
+
+    def connect(self) -> PlayerCycle:
+        """Init, read the server's parameters, and return the first cycle (time 0, before kick-off)."""
+        reply = self.endpoint.initialise(f"(init {self.team} (version {PROTOCOL_VERSION}))")
+        if isinstance(reply, ErrorReply):
+            raise RcssRefusedError(f"player: rcssserver refused init: {reply.reason}")
+        if not isinstance(reply, PlayerInit):
+            raise RcssRefusedError(f"player: unexpected reply to init: {reply!r}"[:200])
+        self.side, self.unum = reply.side, reply.unum
+        return self.read_cycle()
+
+    def read_cycle(self) -> PlayerCycle:
+        """Messages up to the next (think). A server_param on the way sets `params` (and is checked)."""
+        deadline = time.monotonic() + self.timeouts.cycle
+        sense_body, see, hears = None, None, []
+        while True:
+            message = self.endpoint.receive(max(deadline - time.monotonic(), 0.001), "(think)")
+            if isinstance(message, Think):
+                if sense_body is None:
+                    raise RcssConfigError("player: (think) without sense_body; is the server in synch mode?")
+                return PlayerCycle(sense_body, see, hears)
+            if isinstance(message, SenseBody):
+                sense_body = message
+            elif isinstance(message, See):
+                see = message
+            elif isinstance(message, Hear):
+                hears.append(message)
+            elif isinstance(message, ServerParamMessage):
+                self.params = ServerParams.from_message(message.values)
+                self.params.check_usable()
+            elif isinstance(message, ErrorReply):
+                raise RcssCommandError(f"player: rcssserver rejected a command: {message.reason}")
+
+    def act(self, commands: list[str]) -> None:
+        """This cycle's body commands, then (done)."""
+        for command in commands:
+            self.endpoint.send(command)
+        self.endpoint.send("(done)")
+
+    def bye(self) -> None:
+        self.endpoint.send("(bye)")
+
+    def close(self) -> None:
+        self.endpoint.close()
+
+
+class TrainerClient:
+    """The offline trainer: places ball and player, sets play modes, sees everything (eye on)."""
+
+    def __init__(self, host: str, port: int, timeouts: Timeouts = Timeouts()):
+        self.endpoint = Endpoint("trainer", host, port, timeouts)
+        self.timeouts = timeouts
+        self.pending: deque[str] = deque()  # commands awaiting (ok ...), oldest first
+
+    def connect(self) -> None:
+        reply = self.endpoint.initialise(f"(init (version {PROTOCOL_VERSION}))")
+        if isinstance(reply, ErrorReply):
+            raise RcssRefusedError(
+                f"trainer: rcssserver refused the offline trainer ({reply.reason}); "
+                "start it with server::coach=true server::coach_w_referee=true"
+            )
+        if not isinstance(reply, TrainerInit):
+            raise RcssRefusedError(f"trainer: unexpected reply to init: {reply!r}"[:200])
+
+    def command(self, text: str) -> None:
+        """Send a command that the server acknowledges with (ok NAME ...)."""
+        self.pending.append(text)
+        self.endpoint.send(text)
+
+    def move_ball(self, x: float, y: float) -> None:
+        self.command(f"(move (ball) {x:.4f} {y:.4f} 0 0)")
+
+    def move_player(self, team: str, unum: int, x: float, y: float, body: float) -> None:
+        self.command(f"(move (player {team} {unum}) {x:.4f} {y:.4f} {body:.2f} 0 0)")
+
+    def change_mode(self, mode: str) -> None:
+        self.command(f"(change_mode {mode})")
+
+    def done(self) -> None:
+        self.endpoint.send("(done)")
+
+    def read_cycle(self) -> TrainerCycle:
+        """Messages up to the next (think); every pending command must have been acknowledged."""
+        deadline = time.monotonic() + self.timeouts.cycle
+        cycle = TrainerCycle()
+        while True:
+            message = self.endpoint.receive(max(deadline - time.monotonic(), 0.001), "(think)")
+            if isinstance(message, Think):
+                if self.pending:
+                    raise RcssCommandError(f"trainer: no reply from rcssserver to {self.pending[0]}")
+                return cycle
+            if isinstance(message, SeeGlobal):
+                cycle.see_global = message
+            elif isinstance(message, Hear):
+                cycle.hears.append(message)
+            elif isinstance(message, Ok):
+                self._acknowledge(message.command)
+            elif isinstance(message, ErrorReply):
+                command = self.pending[0] if self.pending else "a command"
+                raise RcssCommandError(f"trainer: rcssserver rejected {command}: {message.reason}")
+
+    def _acknowledge(self, name: str) -> None:
+        for index, command in enumerate(self.pending):
+            if command[1:].split(" ", 1)[0].rstrip(")") == name:
+                del self.pending[index]
+                return
+        # an ok we did not ask for (another tool talking to this trainer): nothing to match
+
+    def close(self) -> None:
+        self.endpoint.close()
+
+
+class Session:
+    """A player and the trainer on one server, stepping cycle by cycle in synch mode."""
+
+    def __init__(
+        self,
+        server: str = f"{DEFAULT_HOST}:{DEFAULT_PLAYER_PORT}",
+        trainer_port: int | None = None,
+        team: str = DEFAULT_TEAM,
+        timeouts: Timeouts = Timeouts(),
+    ):
+        host, port = parse_server(server)
+        self.server = server
+        self.player = PlayerClient(host, port, team, timeouts)
+        self._trainer_address = (host, trainer_port)
+        self.trainer: TrainerClient | None = None
+        self.last_player_cycle: PlayerCycle | None = None
+        self.time = 0
+
+    @property
+    def params(self) -> ServerParams:
+        if self.player.params is None:
+            raise RcssConfigError("player: rcssserver sent no server_param after init")
+        return self.player.params
+
+    def open(self) -> PlayerCycle:
+        """Connect player then trainer; the trainer turns its eye and ear on (sent with the next done)."""
+        try:
+            first = self.player.connect()
+            params = self.params
+            host, port = self._trainer_address
+            self.trainer = TrainerClient(host, port or params.coach_port, self.player.timeouts)
+            self.trainer.connect()
+        except BaseException:
+            self.close()
+            raise
+        self.trainer.command("(eye on)")
+        self.trainer.command("(ear on)")
+        self.last_player_cycle = first
+        return first
+
+    def step(self, player_commands: list[str]) -> tuple[PlayerCycle, TrainerCycle]:
+        """Send this cycle's commands and both (done)s; return what arrived by the next (think)."""
+        assert self.trainer is not None, "open() the session first"
+        self.player.act(player_commands)
+        self.trainer.done()
+        player_cycle = self.player.read_cycle()
+        trainer_cycle = self.trainer.read_cycle()
+        self.last_player_cycle = player_cycle
+        self.time = player_cycle.sense_body.time
+        return player_cycle, trainer_cycle
+
+    def close(self) -> None:
+        """Leave politely: ear and eye off first so the server does not free-run, then bye."""
+        if self.trainer is not None:
+            try:
+                self.trainer.endpoint.send("(ear off)")
+                self.trainer.endpoint.send("(eye off)")
+            except OSError:
+                pass
+        try:
+            self.player.bye()
+            if self.trainer is not None:
+                self.trainer.done()
+        except OSError:
+            pass
+        self.player.close()
+        if self.trainer is not None:
+            self.trainer.close()
+
+    def __enter__(self) -> "Session":
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()

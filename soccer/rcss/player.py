@@ -1,0 +1,185 @@
+"""The fuzzy player on rcssserver: a world model built from see/sense_body, the fuzzy controller,
+and the shared skills (soccer/skills.py) turned into `(turn M)`, `(dash P)`, `(kick P D)`.
+
+With the normal view width a see arrives every second cycle. In between, the world model predicts:
+the body turns by the moment actually made (moment / (1 + inertia_moment x speed)), the player moves
+by its last velocity, and the ball stays where it was last seen. An object is visible when it lies
+in the view cone (and, for the ball, was in the last see); premises about an invisible object have
+degree 0, exactly as in SimpleSoccer.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from fuzzy.engine import Engine, Inference
+from fuzzy.rule import Rulebase
+from fuzzy.vocabulary import Vocabulary
+from soccer.config import WorldConfig, WorldConstants
+from soccer.rcss.client import PlayerCycle
+from soccer.rcss.localisation import Pose, goal_relative, localise, normalise_angle
+from soccer.rcss.params import VIEW_HALF_ANGLE, ServerParams
+from soccer.skills import DASH, HUNT, KICK, LEFT, RIGHT, TURN, skill_command
+
+
+def world_constants(params: ServerParams, view_width: str = "normal") -> WorldConstants:
+    """The skills' constants with the server's own physics (and our skill tunables from WorldConfig)."""
+    return WorldConfig(
+        ball_size=params.ball_size,
+        ball_decay=params.ball_decay,
+        ball_speed_max=params.ball_speed_max,
+        ball_accel_max=params.ball_accel_max,
+        player_size=params.player_size,
+        player_decay=params.player_decay,
+        player_speed_max=params.player_speed_max,
+        inertia_moment=params.inertia_moment,
+        dash_power_rate=params.dash_power_rate,
+        kick_power_rate=params.kick_power_rate,
+        kickable_margin=params.kickable_margin,
+        max_power=params.maxpower,
+        max_moment=params.maxmoment,
+        view_width=2 * VIEW_HALF_ANGLE[view_width],
+    ).constants()
+
+
+@dataclass(frozen=True)
+class Perception:
+    """The controller's inputs this cycle (None = not visible) plus what the skills need."""
+
+    ball_distance: float | None
+    ball_direction: float | None
+    goal_distance: float | None
+    goal_direction: float | None
+    goal_direction_known: float  # from the pose, even out of view: skills steer by it
+    kickable: bool
+    speed: float
+
+    def inputs(self) -> dict[str, float | None]:
+        return {
+            "ball_distance": self.ball_distance,
+            "ball_direction": self.ball_direction,
+            "goal_distance": self.goal_distance,
+            "goal_direction": self.goal_direction,
+        }
+
+
+class WorldModel:
+    """Own pose and the ball's global position, from see messages and prediction in between."""
+
+    def __init__(self, params: ServerParams):
+        self.params = params
+        self.pose: Pose | None = None
+        self.ball: tuple[float, float] | None = None  # global, where last seen
+        self.ball_in_last_see = False
+        self.near_ball_distance: float | None = None  # from (b) or (B) in the last see
+        self.last_ball_side = LEFT
+        self.pending_turn = 0.0  # moment sent last cycle, applied in the step just made
+        self.previous_speed = 0.0  # the speed when that turn was applied
+
+    def update(self, cycle: PlayerCycle) -> None:
+        body = cycle.sense_body
+        head = body.head_angle
+        if self.pose is not None:
+            self.pose = self._predicted(self.pose, body)
+        self.pending_turn = 0.0
+        see = cycle.see
+        if see is None:
+            return
+        self.pose = localise(see, head) or self.pose
+        ball = see.ball
+        near = ball or see.find("B")
+        self.near_ball_distance = near.distance if near is not None else None
+        self.ball_in_last_see = ball is not None
+        if ball is not None:
+            direction = normalise_angle(ball.direction + head)
+            self.last_ball_side = LEFT if direction < 0 else RIGHT
+            if self.pose is not None:
+                self.ball = self.pose.to_global(ball.distance, direction)
+
+    def _predicted(self, pose: Pose, body) -> Pose:
+        """The pose one step on: the turn actually made, and the move the player's velocity made."""
+        turned = self.pending_turn / (1.0 + self.params.inertia_moment * self.previous_speed)
+        facing = normalise_angle(pose.body + turned)
+        moved = body.speed / self.params.player_decay  # sense_body reports the velocity after decay
+        angle = math.radians(facing + body.head_angle + body.speed_direction)
+        return Pose(pose.x + moved * math.cos(angle), pose.y + moved * math.sin(angle), facing)
+
+    def note_command(self, kind: int, value: float, speed: float) -> None:
+        if kind == TURN:
+            self.pending_turn = value
+        self.previous_speed = speed
+
+    def perceive(self, speed: float, view_half_angle: float) -> Perception:
+        ball_distance = ball_direction = goal_distance = goal_direction = None
+        goal_known = 0.0
+        kickable = self.near_ball_distance is not None and self.near_ball_distance <= self.params.kickable_distance
+        if self.pose is not None:
+            distance, goal_known = goal_relative(self.pose)
+            if abs(goal_known) <= view_half_angle:
+                goal_distance, goal_direction = distance, goal_known
+            if self.ball is not None and self.ball_in_last_see:
+                distance, direction = self.pose.relative(*self.ball)
+                if abs(direction) <= view_half_angle:
+                    ball_distance, ball_direction = distance, direction
+                    kickable = kickable or distance <= self.params.kickable_distance
+        return Perception(ball_distance, ball_direction, goal_distance, goal_direction, goal_known, kickable, speed)
+
+
+class RcssPlayer:
+    """One fuzzy player: `decide(cycle)` returns this cycle's body command(s) as text."""
+
+    def __init__(self, rulebase: Rulebase, params: ServerParams, vocabulary: Vocabulary | None = None):
+        self.vocabulary = vocabulary or Vocabulary.default()
+        self.engine = Engine(rulebase, self.vocabulary)
+        self.params = params
+        self.world = WorldModel(params)
+        self.constants = world_constants(params)
+        self.view_half_angle = VIEW_HALF_ANGLE["normal"]
+        self.last_inference: Inference | None = None
+        self.last_perception: Perception | None = None
+
+    def decide(self, cycle: PlayerCycle) -> list[str]:
+        self.world.update(cycle)
+        if self.world.pose is None:  # nothing seen yet this trial: wait for the first see
+            return []
+        self.view_half_angle = VIEW_HALF_ANGLE.get(cycle.sense_body.view_width, self.view_half_angle)
+        perception = self.world.perceive(cycle.sense_body.speed, self.view_half_angle)
+        inference = self.engine.infer(perception.inputs())
+        selected = inference.selected
+        if selected is None:
+            action, direction, power = HUNT, 0.0, 0.0
+        else:
+            action = self.vocabulary.action_names.index(selected.action)
+            direction = selected.parameters.get("direction", self.vocabulary.output_default("direction"))
+            power = selected.parameters.get("power", self.vocabulary.output_default("power"))
+        kind, value, kick_direction = skill_command(
+            action,
+            direction,
+            power,
+            perception.ball_direction is not None,
+            perception.ball_distance if perception.ball_distance is not None else 0.0,
+            perception.ball_direction if perception.ball_direction is not None else 0.0,
+            perception.goal_direction_known,
+            perception.kickable,
+            self.world.last_ball_side,
+            perception.speed,
+            self.constants,
+        )
+        self.world.note_command(kind, value, perception.speed)
+        self.last_inference, self.last_perception = inference, perception
+        if kind not in (TURN, DASH, KICK):
+            return []
+        return [command_text(kind, value, kick_direction, self.params)]
+
+
+def command_text(kind: int, value: float, direction: float, params: ServerParams) -> str:
+    """A skill's body command as rcssserver text, clamped to the server's own limits."""
+    if kind == TURN:
+        return f"(turn {min(max(value, params.minmoment), params.maxmoment):.2f})"
+    if kind == DASH:
+        return f"(dash {min(max(value, params.minpower), params.maxpower):.2f})"
+    if kind == KICK:
+        power = min(max(value, params.minpower), params.maxpower)
+        return f"(kick {power:.2f} {normalise_angle(direction):.2f})"
+    raise ValueError(f"not a body command: {kind}")

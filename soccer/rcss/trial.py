@@ -1,0 +1,148 @@
+"""Trials as the chapter ran them on rcssserver (spec 5), driven cycle by cycle in synch mode.
+
+A trial: the trainer puts the player at a random point of its own half facing the goal it attacks
+and the ball at the centre spot, then `(change_mode play_on)`. It ends after `max_cycles` cycles,
+at the goal cap, after `idle_cycles` cycles in which the player neither moved more than
+`idle_distance` (from the trainer's see_global) nor kicked, or when the referee takes the ball out of
+play (kick-in, goal kick, corner, own goal, ...). After a goal the server freezes time; the trainer
+waits `restart_wait_cycles` cycles, then puts the ball on a random point of the centre line and sets
+play_on again, as the recorded trainer did (../shared/rcss/trial_goals.txt). Kicks are the server's
+own count of kicks that reached the ball (sense_body's kick counter).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from fuzzy.rule import Rulebase
+from soccer.fitness import fitness as fitness_of
+from soccer.rcss.client import PlayerCycle, Session, TrainerCycle
+from soccer.rcss.localisation import PITCH_HALF_LENGTH, PITCH_HALF_WIDTH
+from soccer.rcss.player import RcssPlayer
+
+PLAY_ON = "play_on"
+CONTINUING_MODES = frozenset({PLAY_ON, "drop_ball"})  # the ball stays in play
+OUR_SIDE = "l"  # the player is the left team's only player: it attacks (g r)
+
+
+@dataclass(frozen=True)
+class TrialConfig:
+    max_cycles: int = 1200  # 120 s of server time at 100 ms per cycle, as the chapter
+    idle_cycles: int = 100  # the chapter's 10 s without movement or action
+    idle_distance: float = 0.01  # metres: less than this is "not moved"
+    goal_cap: int = 10  # 10 goals = the target fitness 0.05
+    restart_wait_cycles: int = 5  # after a goal, cycles before the trainer restarts play
+    fitness: str = "robocup-composite"
+
+    def __post_init__(self) -> None:
+        for name in ("max_cycles", "idle_cycles", "goal_cap", "restart_wait_cycles"):
+            if getattr(self, name) < 1:
+                raise ValueError(f"{name} must be at least 1, got {getattr(self, name)}")
+
+
+@dataclass(frozen=True)
+class TrialResult:
+    fitness: float
+    goals: int
+    kicks: int
+    ticks: int
+    end: str  # why the trial ended: "time", "goal cap", "idle", "out of play (MODE)", "no rules"
+    seed: int
+
+
+def start_position(rng: np.random.Generator) -> tuple[float, float]:
+    """Uniform in the player's own half."""
+    return float(rng.uniform(-PITCH_HALF_LENGTH, 0.0)), float(rng.uniform(-PITCH_HALF_WIDTH, PITCH_HALF_WIDTH))
+
+
+def centre_line_point(rng: np.random.Generator) -> tuple[float, float]:
+    return 0.0, float(rng.uniform(-PITCH_HALF_WIDTH, PITCH_HALF_WIDTH))
+
+
+class Trial:
+    """One trial's bookkeeping: goals, kicks, idleness, the restart after a goal, and the end."""
+
+    def __init__(self, session: Session, rulebase: Rulebase, seed: int, config: TrialConfig = TrialConfig()):
+        self.session = session
+        self.config = config
+        self.seed = seed
+        self.rng = np.random.default_rng(seed)
+        self.player = RcssPlayer(rulebase, session.params)
+        self.goals = self.kicks = self.ticks = self.idle = 0
+        self.cycles_since_goal: int | None = None  # None: no goal freeze under way
+        self.end: str | None = None
+        self.kick_count = session.last_player_cycle.sense_body.kick_count if session.last_player_cycle else 0
+        self.position: tuple[float, float] | None = None
+
+    def run(self) -> TrialResult:
+        """Place ball and player (answering the cycle we are in), then play until the trial ends."""
+        trainer = self.session.trainer
+        player_x, player_y = start_position(self.rng)
+        trainer.move_ball(0.0, 0.0)
+        trainer.move_player(self.session.player.team, self.session.player.unum, player_x, player_y, 0.0)
+        trainer.change_mode(PLAY_ON)
+        commands: list[str] = []
+        while self.end is None:
+            player_cycle, trainer_cycle = self.session.step(commands)
+            self.ticks += 1
+            self.observe(player_cycle, trainer_cycle)
+            commands = self.respond(player_cycle) if self.end is None else []
+        return TrialResult(self.score(), self.goals, self.kicks, self.ticks, self.end, self.seed)
+
+    def observe(self, player_cycle: PlayerCycle, trainer_cycle: TrainerCycle) -> None:
+        config = self.config
+        for hear in trainer_cycle.hears:
+            if not hear.from_referee:
+                continue
+            goal = hear.goal
+            if goal is not None and goal[0] == OUR_SIDE:
+                self.goals += 1
+                self.cycles_since_goal = 0
+            elif hear.message not in CONTINUING_MODES:
+                self.end = f"out of play ({hear.message})"
+        kick_count = player_cycle.sense_body.kick_count
+        kicked = kick_count > self.kick_count
+        self.kicks += max(kick_count - self.kick_count, 0)
+        self.kick_count = kick_count
+        self._note_movement(trainer_cycle, kicked)
+        if self.end is not None:
+            return
+        if self.goals >= config.goal_cap:
+            self.end = "goal cap"
+        elif self.idle >= config.idle_cycles:
+            self.end = "idle"
+        elif self.ticks >= config.max_cycles:
+            self.end = "time"
+
+    def _note_movement(self, trainer_cycle: TrainerCycle, kicked: bool) -> None:
+        seen = trainer_cycle.see_global
+        me = seen.player(self.session.player.team, self.session.player.unum) if seen else None
+        if me is None:
+            return
+        moved = self.position is None or math.dist(self.position, (me.x, me.y)) > self.config.idle_distance
+        self.idle = 0 if (moved or kicked) else self.idle + 1
+        self.position = (me.x, me.y)
+
+    def respond(self, player_cycle: PlayerCycle) -> list[str]:
+        """The player's commands for this cycle; during a goal freeze the trainer restarts play instead."""
+        if self.cycles_since_goal is None:
+            return self.player.decide(player_cycle)
+        self.cycles_since_goal += 1
+        if self.cycles_since_goal >= self.config.restart_wait_cycles:
+            self.session.trainer.move_ball(*centre_line_point(self.rng))
+            self.session.trainer.change_mode(PLAY_ON)
+            self.cycles_since_goal = None
+        return []
+
+    def score(self) -> float:
+        return fitness_of(self.config.fitness, self.goals, self.kicks, max(self.ticks, 1), math.inf)
+
+
+def run_trial(session: Session, rulebase: Rulebase, seed: int, config: TrialConfig = TrialConfig()) -> TrialResult:
+    """Play one trial on an open session. A rulebase without rules scores the worst fitness unplayed."""
+    if len(rulebase) == 0:
+        return TrialResult(fitness_of(config.fitness, 0, 0, 1, math.inf), 0, 0, 0, "no rules", seed)
+    return Trial(session, rulebase, seed, config).run()

@@ -1,0 +1,134 @@
+"""Evolution runs through the API: start, statistics arriving, stop, resume, restart of the app."""
+
+from __future__ import annotations
+
+from app.paths import DATABASE_FILE
+from app.runs import RunManager
+from app.store import RunStatus, Store
+from fuzzy.parser import parse_rulebase
+from fuzzy.printer import format_rulebase
+from tests.app.api_client import SHORT_GAMES, TINY_GA, api_client, wait_for
+
+LONG_GA = {**TINY_GA, "max_generations": 10_000}  # runs until stopped
+
+
+def finished(client, run_id: int) -> dict | None:
+    run = client.get(f"/api/runs/{run_id}").json()
+    return run if run["status"] != "running" else None
+
+
+def test_small_run_reports_statistics_best_and_recording(tmp_path):
+    with api_client(tmp_path) as client:
+        response = client.post("/api/runs", json={"name": "tiny", "ga": TINY_GA, "game": SHORT_GAMES})
+        assert response.status_code == 201
+        run = response.json()
+        assert run["status"] == "running" and run["config"]["ga"]["population_size"] == 4
+        assert run["config"]["game"]["max_ticks"] == 40
+
+        done = wait_for(lambda: finished(client, run["id"]), what="the run to finish")
+        assert done["status"] == "finished" and done["generations"] == 2 and done["error"] is None
+
+        statistics = client.get(f"/api/runs/{run['id']}/statistics").json()
+        assert [row["generation"] for row in statistics] == [0, 1]
+        assert statistics[-1]["evaluations"] == 8
+        assert all(0.0 <= row["best"] <= row["mean"] <= row["worst"] <= 1.0 for row in statistics)
+
+        best = client.get(f"/api/runs/{run['id']}/best").json()
+        assert best["fitness"] == done["best_fitness"] == min(row["best"] for row in statistics)
+        parse_rulebase(best["rules"])  # the best is stored as valid rule text
+        assert best["chromosome"].startswith("(")
+
+        assert done["recording"].endswith(f"/api/runs/{run['id']}/recording.rrd")
+        recording = client.get(done["recording"])
+        assert recording.status_code == 200 and recording.content[:4] == b"RRF2"
+        assert [r["id"] for r in client.get("/api/runs").json()] == [run["id"]]
+
+        conflict = client.post(f"/api/runs/{run['id']}/resume")
+        assert conflict.status_code == 409 and "nothing to resume" in conflict.json()["detail"]
+        assert client.post(f"/api/runs/{run['id']}/stop").status_code == 409
+
+
+def test_out_of_range_parameters_are_refused_and_no_run_starts(tmp_path):
+    with api_client(tmp_path) as client:
+        for body in (
+            {"ga": {"population_size": 1}},
+            {"ga": {"mutation_rate": 1.5}},
+            {"ga": {"selection": "lottery"}},
+            {"game": {"max_ticks": 0}},
+            {"game": {"fitness": "style points"}},
+            {"ga": {"populationsize": 10}},
+        ):
+            response = client.post("/api/runs", json=body)
+            assert response.status_code == 422, body
+            assert next(iter(body)) in response.json()["detail"]
+        assert client.get("/api/runs").json() == []
+
+
+def test_stop_keeps_generations_and_restart_finds_everything_resumable(tmp_path):
+    with api_client(tmp_path) as client:
+        saved = client.post("/api/rulebases", json={"name": "kept", "text": "if Ball is At then Kick Straight High"})
+        run = client.post("/api/runs", json={"ga": LONG_GA, "game": SHORT_GAMES}).json()
+        wait_for(lambda: client.get(f"/api/runs/{run['id']}").json()["generations"] >= 2, what="two generations")
+        stopped = client.post(f"/api/runs/{run['id']}/stop").json()
+        assert stopped["status"] == "stopped" and stopped["resumable"] and stopped["generations"] >= 2
+        kept_generations = stopped["generations"]
+
+    # The next app on the same data folder finds the rulebase and the run with its statistics.
+    with api_client(tmp_path) as client:
+        assert client.get(f"/api/rulebases/{saved.json()['id']}").json() == saved.json()
+        again = client.get(f"/api/runs/{run['id']}").json()
+        assert again["status"] == "stopped" and again["generations"] == kept_generations
+
+        resumed = client.post(f"/api/runs/{run['id']}/resume")
+        assert resumed.status_code == 200 and resumed.json()["status"] == "running"
+        wait_for(lambda: client.get(f"/api/runs/{run['id']}").json()["generations"] > kept_generations,
+                 what="a generation after the resume")
+        client.post(f"/api/runs/{run['id']}/stop")
+        generations = [row["generation"] for row in client.get(f"/api/runs/{run['id']}/statistics").json()]
+        assert generations == list(range(len(generations)))  # continued where it stopped, no gap
+
+
+def test_run_cut_off_by_the_app_ending_is_interrupted_then_resumes_to_the_end(tmp_path):
+    store = Store(tmp_path / DATABASE_FILE)
+    runs = RunManager(store, tmp_path)
+    record = runs.start("cut off", {**TINY_GA, "max_generations": 4}, SHORT_GAMES)
+    wait_for(lambda: len(store.statistics(record.id)) >= 1, what="a generation")
+    runs.stop(record.id)
+    kept = len(store.statistics(record.id))
+    # As if the process had died mid-run: its row still says running.
+    store.set_run_status(record.id, RunStatus.RUNNING)
+    store.close()
+
+    with api_client(tmp_path) as client:
+        interrupted = client.get(f"/api/runs/{record.id}").json()
+        assert interrupted["status"] == "interrupted" and interrupted["resumable"]
+        assert interrupted["generations"] == kept
+        client.post(f"/api/runs/{record.id}/resume")
+        done = wait_for(lambda: finished(client, record.id), what="the resumed run to finish")
+        assert done["status"] == "finished"
+        generations = [row["generation"] for row in client.get(f"/api/runs/{record.id}/statistics").json()]
+        assert generations == [0, 1, 2, 3]
+
+
+def test_listeners_hear_generations_and_status_and_best_rulebase_plays(tmp_path):
+    store = Store(tmp_path / DATABASE_FILE)
+    runs = RunManager(store, tmp_path)
+    events = []
+    remove = runs.add_listener(events.append)
+    record = runs.start("listened", TINY_GA, SHORT_GAMES)
+    runs.wait(record.id, timeout=120)
+    remove()
+    generations = [e.stats["generation"] for e in events if e.stats is not None]
+    assert generations == [0, 1]
+    assert events[0].status is RunStatus.RUNNING and events[-1].status is RunStatus.FINISHED
+    assert format_rulebase(runs.best_rulebase(record.id)) == store.best_individual(record.id).rules
+    store.close()
+
+
+def test_too_many_concurrent_runs_is_a_conflict(tmp_path):
+    with api_client(tmp_path, max_concurrent_runs=1) as client:
+        first = client.post("/api/runs", json={"ga": LONG_GA, "game": SHORT_GAMES}).json()
+        second = client.post("/api/runs", json={"ga": TINY_GA, "game": SHORT_GAMES})
+        assert second.status_code == 409 and "already running" in second.json()["detail"]
+        client.post(f"/api/runs/{first['id']}/stop")
+        assert [r["id"] for r in client.get("/api/runs").json()] == [first["id"]]

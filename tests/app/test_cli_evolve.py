@@ -1,0 +1,246 @@
+"""`soccer-lab evolve`, `random-search` and `play` driven through the real CLI (tiny runs, short games)."""
+
+from __future__ import annotations
+
+import csv
+import json
+from pathlib import Path
+
+import pytest
+from typer.testing import CliRunner
+
+import app.recording
+from app.cli import _register, app
+from app.run_outputs import RunFolder
+from fuzzy.export import rulebase_from_json
+from fuzzy.parser import parse_rulebase
+from ga.statistics import GenerationStats
+from soccer.demo import demo_rulebase
+from soccer.engine import play_game
+
+_register()
+TINY = ["--population-size", "8", "--generations", "3", "--max-ticks", "60", "--workers", "1", "--seed", "5"]
+DETERMINISTIC = [name for name in GenerationStats.field_names() if name != "wall_time"]
+
+
+def run(*args: str):
+    return CliRunner().invoke(app, [str(a) for a in args])
+
+
+def statistics(folder: Path) -> list[dict[str, str]]:
+    with (folder / "statistics.csv").open(newline="") as handle:
+        return [{k: row[k] for k in DETERMINISTIC} for row in csv.DictReader(handle)]
+
+
+def assert_one_line_error(result, *fragments: str) -> None:
+    assert result.exit_code == 2, result.output
+    lines = result.output.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("error: "), result.output
+    for fragment in fragments:
+        assert fragment in lines[0]
+
+
+@pytest.fixture(scope="module")
+def evolved(tmp_path_factory) -> tuple[Path, object]:
+    folder = tmp_path_factory.mktemp("runs") / "tiny"
+    return folder, run("evolve", *TINY, "--out", folder)
+
+
+def test_evolve_writes_every_output(evolved):
+    folder, result = evolved
+    assert result.exit_code == 0, result.output
+    for name in ("best.rules", "best.json", "statistics.csv", "checkpoint", "run.rrd", "run.json"):
+        assert (folder / name).is_file(), name
+    rows = statistics(folder)
+    assert [int(r["generation"]) for r in rows] == [0, 1, 2]
+    assert [int(r["evaluations"]) for r in rows] == [8, 16, 24]
+    with (folder / "statistics.csv").open() as handle:
+        assert next(csv.reader(handle)) == list(GenerationStats.field_names())
+    # The best rulebase, as text and as JSON, is one and the same and what the summary prints.
+    text_rules = parse_rulebase((folder / "best.rules").read_text())
+    json_rules, _ = rulebase_from_json((folder / "best.json").read_text())
+    assert text_rules == json_rules and len(text_rules) > 0
+    assert "best fitness" in result.output and f"outputs in {folder}" in result.output
+    first_rule = (folder / "best.rules").read_text().splitlines()[0]
+    assert f"  {first_rule}" in result.output
+    assert json.loads((folder / "run.json").read_text())["game"]["max_ticks"] == 60
+
+
+def test_the_best_fitness_reported_is_the_lowest_of_the_run(evolved):
+    folder, result = evolved
+    best = min(float(r["best"]) for r in statistics(folder))
+    assert f"best fitness {best:.4f}" in result.output
+
+
+def test_same_seed_same_run(evolved, tmp_path):
+    folder, _ = evolved
+    again = run("evolve", *TINY, "--out", tmp_path / "again")
+    assert again.exit_code == 0, again.output
+    assert statistics(tmp_path / "again") == statistics(folder)
+    assert (tmp_path / "again" / "best.rules").read_text() == (folder / "best.rules").read_text()
+
+
+def read_recording(path: Path) -> dict[str, dict]:
+    """entity path -> {timelines, columns as python lists}, read with rerun's own RRD reader."""
+    from rerun.chunk import RrdReader
+
+    entities: dict[str, dict] = {}
+    for chunk in RrdReader(path).stream():
+        batch = chunk.to_record_batch().to_pydict()
+        entry = entities.setdefault(chunk.entity_path, {"timelines": set(chunk.timeline_names), "columns": {}})
+        for column, values in batch.items():
+            entry["columns"].setdefault(column, []).extend(values)
+    return entities
+
+
+def test_recording_reads_back_with_every_statistic_and_the_replay(evolved):
+    folder, _ = evolved
+    entities = read_recording(folder / "run.rrd")
+    rows = statistics(folder)
+    for name in GenerationStats.field_names():
+        if name == "generation":
+            continue
+        entity = "/" + app.recording.statistic_entity(name)
+        assert entities[entity]["timelines"] == {"generation"}, entity
+        assert entities[entity]["columns"]["generation"] == [0, 1, 2]
+        if name != "wall_time":
+            assert [v[0] for v in entities[entity]["columns"]["Scalars:scalars"]] == pytest.approx(
+                [float(r[name]) for r in rows])
+    histogram = entities["/statistics/goal_histogram"]["columns"]["BarChart:values"]
+    assert len(histogram) == 3
+    assert histogram[0][0]["buffer"] == pytest.approx([float(rows[0][b]) for b in app.recording.GOAL_BINS])
+    # The best player's replay: static pitch and goal, the moving parts on the tick timeline only.
+    assert entities["/replay/pitch"]["timelines"] == set()
+    assert entities["/replay/goal"]["timelines"] == set()
+    for moving in ("/replay/player", "/replay/ball", "/replay/player/view_cone", "/replay/player/facing"):
+        assert entities[moving]["timelines"] == {"tick"}, moving
+    ticks = entities["/replay/ball"]["columns"]["tick"]
+    assert ticks == list(range(len(ticks))) and 0 < len(ticks) <= 60
+
+
+def test_resume_finishes_a_killed_run_as_the_uninterrupted_one(evolved, tmp_path, monkeypatch):
+    folder, _ = evolved
+    killed = tmp_path / "killed"
+    original = app.recording.RunRecorder.on_generation
+
+    def killed_after_generation_1(self, stats, population=None):
+        original(self, stats, population)
+        if stats.generation == 1:
+            raise KeyboardInterrupt
+
+    monkeypatch.setattr(app.recording.RunRecorder, "on_generation", killed_after_generation_1)
+    interrupted = run("evolve", *TINY, "--out", killed)
+    assert interrupted.exit_code == 130
+    assert f"soccer-lab evolve --resume {killed}" in interrupted.output
+    assert [r["generation"] for r in statistics(killed)] == ["0", "1"]
+    monkeypatch.setattr(app.recording.RunRecorder, "on_generation", original)
+
+    resumed = run("evolve", "--resume", killed)
+    assert resumed.exit_code == 0, resumed.output
+    assert statistics(killed) == statistics(folder)
+    assert (killed / "best.rules").read_text() == (folder / "best.rules").read_text()
+    recorded = read_recording(killed / "run.rrd")
+    assert recorded["/statistics/fitness/best"]["columns"]["generation"] == [0, 1, 2]
+
+
+def test_random_search_has_the_same_outputs(tmp_path):
+    folder = tmp_path / "random"
+    result = run("random-search", "--population-size", "6", "--generations", "2", "--max-ticks", "40",
+                 "--workers", "1", "--out", folder)
+    assert result.exit_code == 0, result.output
+    for name in ("best.rules", "best.json", "statistics.csv", "checkpoint", "run.rrd"):
+        assert (folder / name).is_file(), name
+    assert [r["evaluations"] for r in statistics(folder)] == ["6", "12"]
+    assert json.loads((folder / "run.json").read_text())["algorithm"] == "random-search"
+
+
+@pytest.mark.parametrize("args, fragments", [
+    (["--population-size", "1"], ["--population-size", "greater than or equal to 2"]),
+    (["--generations", "0"], ["--generations"]),
+    (["--selection", "best"], ["--selection", "'best'"]),
+    (["--mutation-rate", "1.5"], ["--mutation-rate"]),
+    (["--fitness", "speed"], ["--fitness", "'speed'"]),
+    (["--max-ticks", "0"], ["--max-ticks"]),
+    (["--population-size", "many"], ["--population-size", "'many' is not a valid integer"]),
+    (["--no-such-option"], ["No such option: --no-such-option"]),
+])
+def test_evolve_rejects_bad_options_in_one_line(args, fragments, tmp_path):
+    assert_one_line_error(run("evolve", *args, "--out", tmp_path / "run"), *fragments)
+    assert not (tmp_path / "run").exists()
+
+
+def test_evolve_refuses_to_overwrite_a_run(evolved):
+    folder, _ = evolved
+    assert_one_line_error(run("evolve", *TINY, "--out", folder), "already holds a run", "--resume")
+
+
+def test_resume_rejects_bad_folders_and_extra_options(evolved, tmp_path):
+    folder, _ = evolved
+    assert_one_line_error(run("evolve", "--resume", tmp_path / "nowhere"), "is not a run folder")
+    assert_one_line_error(run("evolve", "--resume", folder, "--generations", "9"), "drop --generations")
+    broken = tmp_path / "broken"
+    broken.mkdir()
+    (broken / "run.json").write_text((folder / "run.json").read_text())
+    (broken / "checkpoint").write_text("{not json")
+    assert_one_line_error(run("evolve", "--resume", broken), "cannot read checkpoint")
+
+
+# ---- play ------------------------------------------------------------------------------------
+@pytest.fixture
+def demo_file(tmp_path) -> Path:
+    path = tmp_path / "demo.rules"
+    from app.rulebase_files import rulebase_text
+
+    path.write_text(rulebase_text(demo_rulebase()))
+    return path
+
+
+def test_play_prints_one_line_per_game_and_the_mean(demo_file):
+    result = run("play", demo_file, "--games", "3", "--seed", "11", "--max-ticks", "150")
+    assert result.exit_code == 0, result.output
+    lines = result.output.strip().splitlines()
+    assert lines[0].split() == ["game", "seed", "goals", "kicks", "ticks", "fitness"]
+    games = [line.split() for line in lines[1:4]]
+    assert [g[:2] for g in games] == [["1", "11"], ["2", "12"], ["3", "13"]]
+    from soccer.config import GameConfig
+
+    config = GameConfig(max_ticks=150)
+    for game in games:  # each line is that seed's game, as the engine plays it
+        expected, _ = play_game(demo_rulebase(), int(game[1]), config, trace=False)
+        assert game[2:] == [str(expected.goals), str(expected.kicks), str(expected.ticks), f"{expected.fitness:.4f}"]
+    mean = lines[4].split()
+    assert mean[0] == "mean"
+    assert float(mean[-1]) == pytest.approx(sum(float(g[5]) for g in games) / 3, abs=1e-4)
+
+
+def test_play_reads_json_and_writes_replays(demo_file, tmp_path):
+    from app.rulebase_files import rulebase_json
+
+    as_json = tmp_path / "demo.json"
+    as_json.write_text(rulebase_json(demo_rulebase()))
+    rrd = tmp_path / "games.rrd"
+    result = run("play", as_json, "--games", "2", "--max-ticks", "40", "--rrd", rrd)
+    assert result.exit_code == 0, result.output
+    from_text = run("play", demo_file, "--games", "2", "--max-ticks", "40")
+    assert result.output.splitlines()[:4] == from_text.output.splitlines()[:4]
+    entities = read_recording(rrd)
+    for game in ("game_1", "game_2"):
+        assert entities[f"/{game}/pitch"]["timelines"] == set()
+        assert entities[f"/{game}/ball"]["timelines"] == {"tick"}
+
+
+@pytest.mark.parametrize("content, fragments", [
+    ("if Ball is Nearr then Turn Left\n", ["line 1, column 12", "Nearr"]),
+    ('{"format": "soccer-lab-rulebase", "version": 1, "rules": 3}', ["rules: expected a list"]),
+    ("# only a comment\n", ["holds no rule"]),
+])
+def test_play_rejects_bad_files_in_one_line(content, fragments, tmp_path):
+    path = tmp_path / "bad.rules"
+    path.write_text(content)
+    assert_one_line_error(run("play", path), str(path), *fragments)
+
+
+def test_play_rejects_missing_files_and_bad_options(demo_file, tmp_path):
+    assert_one_line_error(run("play", tmp_path / "none.rules"), "no such file")
+    assert_one_line_error(run("play", demo_file, "--games", "0"), "--games")
+    assert_one_line_error(run("play", demo_file, "--rrd", tmp_path / "no" / "x.rrd"), "does not exist")

@@ -1,0 +1,230 @@
+"""The viser UI driven in headless Chromium: what a teacher does in the first minutes.
+
+The browser clicks and types; assertions read the page and, where the page cannot say it (did the
+player move?), the tab's own session in this process. Screenshots of each view go to
+artifacts/screenshots/ (git-ignored).
+"""
+
+from __future__ import annotations
+
+import shutil
+import socket
+import time
+from pathlib import Path
+
+import pytest
+
+CHROMIUM = "/usr/bin/chromium"
+CHROMIUM_ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
+                 "--disable-component-update", "--disable-sync", "--no-first-run"]
+SCREENSHOTS = Path(__file__).resolve().parents[2] / "artifacts" / "screenshots"
+VIEWPORT = {"width": 1600, "height": 900}
+TIMEOUT_MS = 20_000
+
+pytestmark = [
+    pytest.mark.browser,
+    pytest.mark.skipif(shutil.which(CHROMIUM) is None and not Path(CHROMIUM).exists(),
+                       reason=f"Chromium not installed at {CHROMIUM} (scripts/test installs it with apt)"),
+]
+
+
+def free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+@pytest.fixture(scope="module")
+def ui(tmp_path_factory):
+    from app.runs import RunManager
+    from app.store import Store
+    from app.ui import start_ui
+
+    data = tmp_path_factory.mktemp("ui-data")
+    store = Store(data / "db.sqlite3")
+    runs = RunManager(store, data)
+    handle = start_ui(store, runs, port=free_port())
+    yield handle
+    handle.stop()
+    runs.shutdown(wait=10)
+    store.close()
+
+
+@pytest.fixture(scope="module")
+def browser():
+    from playwright.sync_api import sync_playwright
+
+    with sync_playwright() as playwright:
+        launched = playwright.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS)
+        yield launched
+        launched.close()
+
+
+@pytest.fixture(scope="module")
+def page(ui, browser):
+    page = browser.new_page(viewport=VIEWPORT)
+    page.set_default_timeout(TIMEOUT_MS)
+    page.goto(ui.url)
+    page.locator(".game-status").wait_for()
+    dismiss_notifications(page)
+    yield page
+    page.close()
+
+
+def dismiss_notifications(page) -> None:
+    """Headless Chromium renders WebGL in software and viser says so in a toast; close it for screenshots."""
+    close = page.locator(".mantine-Notification-closeButton")
+    try:
+        close.first.wait_for(timeout=3000)
+        for i in range(close.count()):
+            close.nth(i).click()
+    except Exception:  # no toast: nothing to close
+        pass
+
+
+def shot(page, name: str) -> None:
+    SCREENSHOTS.mkdir(parents=True, exist_ok=True)
+    page.screenshot(path=str(SCREENSHOTS / f"{name}.png"))
+
+
+def session_of(ui):
+    """The session of the most recent tab."""
+    with ui.lock:
+        return list(ui.sessions.values())[-1]
+
+
+def field(page, label: str, kind: str):
+    """A viser input by its label (viser's labels are not linked to their inputs for get_by_label)."""
+    return page.locator(
+        f"xpath=//label[normalize-space(text())='{label}']/ancestor::div[contains(@class,'mantine-Flex-root')][1]//{kind}"
+    ).first
+
+
+def tick(page) -> int:
+    return int(page.locator(".game-status").get_attribute("data-tick"))
+
+
+def wait_until(condition, timeout: float = 20.0, interval: float = 0.1):
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        value = condition()
+        if value:
+            return value
+        time.sleep(interval)
+    raise AssertionError("condition not met in time")
+
+
+def pause(page) -> None:
+    page.get_by_role("tab", name="Play").click()
+    page.get_by_role("button", name="Pause").click()
+
+
+def test_pitch_renders_and_the_demo_player_plays(ui, page):
+    canvas = page.locator("canvas").first
+    first_tick = tick(page)
+    before = canvas.screenshot()
+    wait_until(lambda: tick(page) >= first_tick + 10)
+    after = canvas.screenshot()
+    assert before != after  # player and ball moved on the pitch
+    player = session_of(ui).game.state.player
+    assert player != (0.0, 0.0)
+    assert page.locator(".decision").count() == 1
+    shot(page, "1-pitch-and-inference")
+
+
+def test_stepping_changes_membership_and_rule_panels(ui, page):
+    pause(page)
+    time.sleep(0.3)
+    session = session_of(ui)
+    start = tick(page)
+    membership = page.locator(".membership-input").first.inner_html()
+    rules = page.locator(".rules").inner_html()
+    step = page.get_by_role("button", name="Step one tick")
+    for clicks in range(1, 6):
+        step.click()
+        wait_until(lambda: tick(page) == start + clicks)
+    assert session.game.state.tick == start + 5 and not session.playing
+    assert page.locator(".membership-input").first.inner_html() != membership
+    # Strengths or the deciding rule change as the ball gets nearer; at least the HTML differs.
+    shown = [float(s) for s in page.locator(".rule").evaluate_all("rows => rows.map(r => r.dataset.strength)")]
+    assert shown == pytest.approx(list(session.game.state.strengths), abs=5e-5)
+    assert page.locator(".rules").inner_html() != rules or shown
+    page.get_by_role("checkbox", name="Only rules that fired").check() if page.get_by_role(
+        "checkbox", name="Only rules that fired").count() else None
+    shot(page, "2-stepping")
+
+
+def test_a_rule_with_an_error_shows_line_and_column(ui, page):
+    page.get_by_role("tab", name="Rules").click()
+    rulebase_before = session_of(ui).game.rulebase
+    field(page, "Rules", "textarea").fill("if Ball is Near then Kick Left High\nif Ball is Nearish then Turn Left")
+    page.get_by_role("button", name="Apply").click()
+    message = page.locator('.editor-message[data-error="true"]')
+    message.wait_for()
+    assert "line 2, column 12" in message.inner_text()
+    assert session_of(ui).game.rulebase is rulebase_before  # nothing applied
+    shot(page, "3-editor-error")
+
+
+def test_applying_a_valid_rule_changes_the_behaviour(ui, page):
+    page.get_by_role("tab", name="Rules").click()
+    field(page, "Rules", "textarea").fill("if Ball is not VeryFar then Turn Right")
+    page.get_by_role("button", name="Apply").click()
+    page.locator('.editor-message[data-error="false"]').wait_for()
+    session = session_of(ui)
+    wait_until(lambda: session.game.name == "edited")
+    page.get_by_role("tab", name="Play").click()
+    page.get_by_role("button", name="New random start").click()
+    wait_until(lambda: session.game.state.tick == 0)
+    start_player = session.game.state.player
+    for _ in range(15):
+        page.get_by_role("button", name="Step one tick").click()
+    wait_until(lambda: session.game.state.tick == 15)
+    # Turning (and hunting, which also only turns) never moves the player; the demo's GoToBall did.
+    assert session.game.state.player == pytest.approx(start_player, abs=1e-9)
+    assert session.game.state.kicks == 0
+    assert page.locator(".decision").get_attribute("data-action") in ("TURN", "HUNT")
+    shot(page, "4-edited-rule")
+
+
+def test_a_small_evolution_shows_progress_and_its_best_player_can_be_loaded(ui, page):
+    page.get_by_role("tab", name="Evolve").click()
+    page.get_by_text("GA parameters (chapter's Table 2)").click()
+    field(page, "Population size", "input").fill("12")
+    field(page, "Generations (max)", "input").fill("2")
+    field(page, "Generations (max)", "input").press("Tab")
+    session = session_of(ui)
+    wait_until(lambda: session.evolve.config()["population_size"] == 12 and session.evolve.config()["max_generations"] == 2)
+    page.get_by_role("button", name="Start").click()
+    status = page.locator(".evolve-status")
+    wait_until(lambda: "generation 0 of 2" in status.inner_text() or "finished" in status.inner_text(), timeout=60)
+    load = page.get_by_role("button", name="Load best so far onto the pitch")
+    wait_until(lambda: load.is_enabled())
+    load.click()
+    wait_until(lambda: session.game.name.startswith("run #"))
+    wait_until(lambda: "finished" in status.inner_text(), timeout=60)
+    assert len(session.evolve.best) == 3  # generations 0, 1 and 2
+    assert all(0.0 <= b <= m <= 1.0 for b, m in zip(session.evolve.best, session.evolve.mean))
+    shot(page, "5-evolve")
+    page.get_by_role("tab", name="Library").click()
+    shot(page, "6-library")
+
+
+def test_policy_map_marks_the_current_input(ui, page):
+    page.get_by_role("tab", name="Policy map").click()
+    page.locator(".policy-map").wait_for()
+    assert page.locator(".policy-map svg").count() == 2
+    shot(page, "7-policy-map")
+
+
+def test_each_tab_has_its_own_game(ui, browser, page):
+    second = browser.new_page(viewport=VIEWPORT)
+    try:
+        second.goto(ui.url)
+        second.locator(".game-status").wait_for()
+        wait_until(lambda: len(ui.sessions) == 2)
+        first_session, second_session = list(ui.sessions.values())
+        assert first_session.game is not second_session.game
+        assert second_session.game.name != first_session.game.name or first_session.game.env is not second_session.game.env
+    finally:
+        second.close()

@@ -1,0 +1,114 @@
+"""The UI's panels as pure renderers: what they show for hand-computed inferences (no browser)."""
+
+from __future__ import annotations
+
+import math
+import re
+
+import numpy as np
+import pytest
+
+from app.ui.panels.membership import membership_html
+from app.ui.panels.outputs import outputs_html
+from app.ui.panels.policy import COLUMNS, ROWS, policy_grid, policy_map_html
+from app.ui.panels.rules import HUNT_TEXT, decision_html, rules_html
+from app.ui.pitch import PitchGeometry, marking_segments, to_scene, yaw_quaternion
+from fuzzy.batched import NO_ACTION
+from fuzzy.engine import Engine
+from fuzzy.parser import parse_rulebase
+from fuzzy.vocabulary import Vocabulary
+from soccer.config import WorldConfig
+
+VOCABULARY = Vocabulary.default()
+RULES = parse_rulebase(
+    "if Ball is Near then KickTowardGoal High\n"
+    "if Ball is SlightlyNear and Ball is SlightlyLeft then Kick Left Low\n"
+    "if Goal is Far then Turn Right\n"
+)
+INPUTS = {"ball_distance": 5.0, "ball_direction": -20.0, "goal_distance": None, "goal_direction": None}
+
+
+def degrees_of(html: str, input_name: str) -> dict[str, float]:
+    block = html.split(f'data-input="{input_name}"', 1)[1].split('class="membership-input"', 1)[0]
+    return {name: float(value) for value, name in re.findall(r'data-degree="([0-9.]+)"[^>]*>([A-Za-z0-9]+) ', block)}
+
+
+def test_membership_shows_hand_computed_degrees_and_greys_unseen_objects():
+    html = membership_html(VOCABULARY, INPUTS)
+    ball = degrees_of(html, "ball_distance")
+    # Near is (2, 4, 8): (8 - 5) / 4; SlightlyNear is (4, 8, 15): (5 - 4) / 4.
+    assert ball["Near"] == pytest.approx(0.75) and ball["SlightlyNear"] == pytest.approx(0.25)
+    assert sum(ball.values()) == pytest.approx(1.0)
+    direction = degrees_of(html, "ball_direction")
+    # SlightlyLeft is (-45, -15, 0): (-20 + 45) / 30; Left is (-90, -45, -15): (-15 + 20) / 30.
+    assert direction["SlightlyLeft"] == pytest.approx(25 / 30, abs=1e-4)
+    assert direction["Left"] == pytest.approx(5 / 30, abs=1e-4)
+    assert 'data-input="goal_distance" data-visible="false"' in html
+    assert set(degrees_of(html, "goal_distance").values()) == {0.0}
+    assert "not in view" in html
+
+
+def test_rules_panel_shows_strengths_and_only_fired_switch():
+    inference = Engine(RULES).infer(INPUTS)
+    all_rows = rules_html(["r1", "r2", "r3"], inference, only_fired=False)
+    fired_rows = rules_html(["r1", "r2", "r3"], inference, only_fired=True)
+    strengths = [float(s) for s in re.findall(r'data-strength="([0-9.]+)"', all_rows)]
+    assert strengths == pytest.approx([0.75, 0.25, 0.0])
+    assert re.findall(r'class="rule" data-index="(\d)"', fired_rows) == ["0", "1"]
+    assert "No rule fired" in rules_html(["r3"], Engine(parse_rulebase("if Goal is Far then Turn Right")).infer(INPUTS), True)
+
+
+def test_decision_names_the_selected_action_and_the_hunt():
+    inference = Engine(RULES).infer(INPUTS)
+    html = decision_html(VOCABULARY, inference)
+    assert 'data-action="KICKTOWARDGOAL"' in html and "KickTowardGoal" in html and "0.75" in html
+    unseen = {name: None for name in INPUTS}
+    assert HUNT_TEXT in decision_html(VOCABULARY, Engine(RULES).infer(unseen))
+
+
+def test_output_sets_mark_the_exact_mean_of_maximum():
+    rules = parse_rulebase("if Ball is Near then Kick Left Low\nif Ball is SlightlyNear then Kick Right High")
+    inference = Engine(rules).infer(INPUTS)
+    html = outputs_html(VOCABULARY, inference)
+    values = [float(v) for v in re.findall(r'class="mom" data-value="(-?[0-9.]+)"', html)]
+    # Only the strongest rule (0.75) reaches the maximum: Left (-90,-45,-15) cut at 0.75 is [-56.25, -37.5].
+    assert values[0] == pytest.approx((-56.25 - 37.5) / 2) == pytest.approx(inference.selected.parameters["direction"])
+    assert values[1] == pytest.approx(inference.selected.parameters["power"])
+    levels = sorted(float(v) for v in re.findall(r'class="clipped" data-term="[A-Z]+" data-level="([0-9.]+)"', html))
+    assert levels == pytest.approx([0.25, 0.25, 0.75, 0.75])
+
+
+def test_policy_grid_agrees_with_the_scalar_engine_and_hides_the_ball_out_of_view():
+    grid = policy_grid(VOCABULARY, RULES, 50.0, 10.0, True, 45.0, "power")
+    assert grid.actions.shape == (ROWS, COLUMNS)
+    engine = Engine(RULES)
+    for i, j in [(3, 25), (10, 29), (20, 30), (5, 2), (30, 58)]:
+        d, a = grid.distances[i], grid.directions[j]
+        seen = abs(a) <= 45.0
+        inputs = {"ball_distance": d if seen else None, "ball_direction": a if seen else None,
+                  "goal_distance": 50.0, "goal_direction": 10.0}
+        expected = engine.infer(inputs).selected
+        action = grid.actions[i, j]
+        if expected is None:
+            assert action == NO_ACTION
+        else:
+            assert VOCABULARY.action_names[action] == expected.action
+            if "power" in expected.parameters:
+                assert grid.values[i, j] == expected.parameters["power"]
+    # Beyond the view angle only the goal rule can fire: Turn (Goal is Far at 50 m: (60 - 50) / 20 > 0).
+    assert VOCABULARY.action_names[grid.actions[0, 0]] == "TURN"
+    assert math.isnan(grid.values[0, 0])  # Turn does not use power
+    html = policy_map_html(VOCABULARY, grid, "power", (5.0, -20.0))
+    assert 'class="current"' in html and "KickTowardGoal" in html
+
+
+def test_pitch_is_drawn_in_scene_coordinates_with_y_flipped():
+    geometry = PitchGeometry.from_world(WorldConfig())
+    assert (geometry.half_length, geometry.half_width, geometry.goal_half_width) == (52.5, 34.0, 7.01)
+    segments = marking_segments(geometry)
+    assert np.abs(segments[..., 0]).max() == pytest.approx(52.5 + geometry.goal_depth)
+    assert np.abs(segments[..., 1]).max() == pytest.approx(34.0)
+    assert to_scene(1.0, 2.0) == (1.0, -2.0, 0.0)
+    # Facing +y (the player's right) must look down the screen: a -90 degree turn about the scene's z.
+    w, x, y, z = yaw_quaternion(math.pi / 2)
+    assert (w, x, y) == pytest.approx((math.cos(math.pi / 4), 0.0, 0.0)) and z == pytest.approx(-math.sin(math.pi / 4))

@@ -1,0 +1,76 @@
+import numpy as np
+import pytest
+
+from ga.config import GAConfig
+from ga.genes import GeneSpace
+from ga.individual import Individual
+from ga.initialisation import random_population
+from ga.reproduction import next_generation
+from ga.selection import elite, roulette, tournament
+
+FITNESS = np.array([0.9, 0.1, 0.5, 0.25, 1.0])
+DRAWS = 200_000
+
+
+def shares(indices, n=len(FITNESS)):
+    return np.bincount(indices, minlength=n) / len(indices)
+
+
+def test_roulette_picks_in_proportion_to_inverse_fitness():
+    picked = shares(roulette(FITNESS, DRAWS, np.random.default_rng(0)))
+    expected = (1 / FITNESS) / (1 / FITNESS).sum()
+    np.testing.assert_allclose(picked, expected, atol=0.005)
+    assert FITNESS[roulette(FITNESS, DRAWS, np.random.default_rng(1))].mean() < FITNESS.mean()
+
+
+def test_roulette_survives_a_perfect_fitness_of_zero():
+    picked = roulette(np.array([0.0, 0.5, 1.0]), 1000, np.random.default_rng(0))
+    assert np.all(picked == 0)  # the floored weight dwarfs the others
+
+
+def test_tournament_of_two_lets_the_better_win_three_times_in_four():
+    two = np.array([0.2, 0.8])
+    # P(pick 0) = P(both entrants 0) + P(one each) * 0.75 = 0.25 + 0.5 * 0.75
+    picked = shares(tournament(two, DRAWS, np.random.default_rng(0), size=2, selector=0.75), 2)
+    assert picked[0] == pytest.approx(0.625, abs=0.005)
+
+
+def test_tournament_prefers_lower_fitness_in_expectation():
+    picked = tournament(FITNESS, DRAWS, np.random.default_rng(0))
+    assert FITNESS[picked].mean() < FITNESS.mean()
+    assert shares(picked).argmax() == FITNESS.argmin()
+
+
+def test_tournament_selector_one_always_takes_the_best_entrant():
+    picked = tournament(FITNESS, 5000, np.random.default_rng(0), size=5, selector=1.0)
+    entrants_best = shares(picked)
+    assert entrants_best[FITNESS.argmax()] == 0.0  # the worst only wins against itself five times
+    assert entrants_best[1] == pytest.approx(1 - 0.8**5, abs=0.02)
+
+
+def test_elite_takes_the_best_first_and_keeps_population_order_on_ties():
+    assert elite(np.array([0.5, 0.1, 0.5, 0.1, 0.9]), 3).tolist() == [1, 3, 0]
+
+
+def evaluated_population(size, seed):
+    rng = np.random.default_rng(seed)
+    chromosomes = random_population(GeneSpace.from_vocabulary(), size, 16, 0.25, rng)
+    return [Individual(c).evaluated(float(f), 0) for c, f in zip(chromosomes, rng.uniform(0.05, 1.0, size))]
+
+
+def test_elitism_copies_the_best_five_percent_unchanged_with_their_running_means():
+    config = GAConfig(population_size=40, selection="elitist", crossover_probability=1.0, mutation_probability=1.0)
+    population = evaluated_population(40, seed=3)
+    following = next_generation(population, config, GeneSpace.from_vocabulary(), np.random.default_rng(0))
+    best_two = sorted(population, key=lambda i: i.fitness)[:2]
+    assert len(following) == 40
+    assert following[:2] == best_two  # the same Individual objects: evaluations and running mean kept
+    assert all(child.evaluations == 0 for child in following[2:])  # every other child was crossed
+
+
+def test_children_untouched_by_crossover_and_mutation_are_their_parents():
+    config = GAConfig(population_size=41, crossover_probability=0.0, mutation_probability=0.0)
+    population = evaluated_population(41, seed=4)
+    following = next_generation(population, config, GeneSpace.from_vocabulary(), np.random.default_rng(0))
+    assert len(following) == 41
+    assert all(any(child is parent for parent in population) for child in following)

@@ -1,0 +1,50 @@
+"""Transcripts recorded from a real rcssserver 19 (../shared/rcss) and a player rulebase for replays."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from fuzzy.parser import parse_rulebase
+from soccer.rcss.transcript import Line, read_transcript
+
+TRANSCRIPTS = Path("/work/shared/rcss")
+GOALS = TRANSCRIPTS / "trial_goals.txt"
+OUT_OF_PLAY = TRANSCRIPTS / "trial_out_of_play.txt"
+ALL_TRANSCRIPTS = sorted(TRANSCRIPTS.glob("*.txt")) + sorted((TRANSCRIPTS / "extra").glob("*.txt"))
+
+CHASER = """
+if Ball is not At then GoToBall High
+if Ball is At then KickTowardGoal VeryHigh
+"""
+
+
+def without_error_probes(lines: list[Line]) -> list[Line]:
+    """The recordings start with deliberately bad commands; our client sends none, so drop their replies."""
+    return [line for line in lines if line.sent or not line.text.startswith("(error")]
+
+
+def player_thinks(lines: list[Line]) -> int:
+    return sum(1 for line in lines if not line.sent and line.role == "P" and line.text == "(think)")
+
+
+@pytest.fixture(scope="session")
+def transcripts_available() -> None:
+    if not GOALS.exists():
+        pytest.skip(f"rcssserver transcripts not found in {TRANSCRIPTS}")
+
+
+@pytest.fixture
+def goals_lines(transcripts_available) -> list[Line]:
+    return without_error_probes(read_transcript(GOALS))
+
+
+@pytest.fixture
+def out_of_play_lines(transcripts_available) -> list[Line]:
+    return without_error_probes(read_transcript(OUT_OF_PLAY))
+
+
+@pytest.fixture(scope="session")
+def chaser():
+    return parse_rulebase(CHASER)

@@ -1,0 +1,105 @@
+import pytest
+
+from soccer.rcss.errors import RcssParseError
+from soccer.rcss.messages import (
+    ErrorReply,
+    Hear,
+    Ok,
+    Other,
+    PlayerInit,
+    PlayerParamMessage,
+    PlayerTypeMessage,
+    See,
+    SeeGlobal,
+    SenseBody,
+    ServerParamMessage,
+    Think,
+    TrainerInit,
+    WarningReply,
+    parse_message,
+)
+from soccer.rcss.sexp import Quoted, parse
+from soccer.rcss.transcript import read_transcript
+
+from .conftest import ALL_TRANSCRIPTS
+
+
+def test_sexp_reads_atoms_numbers_quoted_and_minus_zero():
+    body = parse(b'(see 3 ((f r b) 38.1 -0 -0.27) ((p "12" 1) 2 3))\x00')
+    assert body[0] == "see" and body[1] == 3
+    assert body[2] == [["f", "r", "b"], 38.1, 0.0, -0.27]
+    assert isinstance(body[2][2], (int, float)) and body[2][2] == 0  # -0 is a number, not a name
+    assert body[3][0][1] == "12" and isinstance(body[3][0][1], Quoted)
+
+
+def test_sexp_strips_trailing_newline_and_nul():
+    assert parse(b"(ok team_names (team l LabTeam))\n\x00") == ["ok", "team_names", ["team", "l", "LabTeam"]]
+
+
+@pytest.mark.parametrize("text", ["(see 1 ((b) 1 2)", "(see))", "see 1", "", "(a) (b)"])
+def test_sexp_rejects_malformed(text):
+    with pytest.raises(RcssParseError):
+        parse(text)
+
+
+def test_every_received_message_in_every_transcript_parses_to_a_known_kind():
+    kinds = set()
+    for path in ALL_TRANSCRIPTS:
+        for line in read_transcript(path):
+            if not line.sent:
+                message = parse_message(line.text)
+                assert not isinstance(message, Other), (path.name, line.number, line.text[:60])
+                kinds.add(type(message))
+    assert kinds == {
+        PlayerInit, TrainerInit, ServerParamMessage, PlayerParamMessage, PlayerTypeMessage, Think, Ok,
+        ErrorReply, WarningReply, Hear, SenseBody, See, SeeGlobal,
+    }
+
+
+def test_hear_player_and_trainer_formats_give_the_same_goal():
+    player = parse_message("(hear 78 referee goal_l_1)")
+    trainer = parse_message("(hear referee 78 goal_l_1)")
+    assert player == trainer == Hear(78, "referee", "goal_l_1")
+    assert player.goal == ("l", 1)
+    assert parse_message("(hear 12 referee kick_in_r)").goal is None
+
+
+def test_sense_body_fields():
+    body = parse_message(
+        "(sense_body 5 (view_mode high normal) (stamina 7835 1 130465) (speed 0.37 1) (head_angle 0) (kick 2) "
+        "(dash 3) (turn 1) (say 0) (arm (movable 0) (expires 0) (target 0 0) (count 0)) (focus_point 0 0))"
+    )
+    assert (body.time, body.view_width, body.speed, body.speed_direction, body.head_angle) == (5, "normal", 0.37, 1, 0)
+    assert body.kick_count == 2 and body.counters["dash"] == 3
+
+
+def test_see_objects_with_two_or_four_numbers_and_near_objects():
+    see = parse_message("(see 78 ((f r b) 38.1 54) ((g r) 9.5 -4 -0.19 -0.2) ((B) 2.2 -160) ((l r) 9.7 68))")
+    assert see.find("f r b").distance_change is None
+    goal = see.find("g r")
+    assert (goal.distance, goal.direction, goal.distance_change, goal.direction_change) == (9.5, -4, -0.19, -0.2)
+    assert see.ball is None and not see.find("B").in_view
+    assert [s.key for s in see.flags] == ["f r b", "g r"]
+
+
+def test_see_global_ball_player_and_kick_flag():
+    seen = parse_message(
+        '(see_global 28 ((g r) 52.5 0) ((g l) -52.5 0) ((b) 2.31434 -17.5169 2.17548 0.71735) '
+        '((p "LabTeam" 1) 0.121786 -17.9228 0.0972024 -0.11277 -58 0 k))'
+    )
+    assert seen.ball.x == 2.31434 and seen.ball.vy == 0.71735
+    me = seen.player("LabTeam", 1)
+    assert (me.x, me.body, me.kicked) == (0.121786, -58, True)
+
+
+def test_replies():
+    assert parse_message("(init l 1 before_kick_off)") == PlayerInit("l", 1, "before_kick_off")
+    assert parse_message("(init ok)") == TrainerInit()
+    assert parse_message("(ok check_ball 0 in_field)") == Ok("check_ball", (0, "in_field"))
+    assert parse_message("(error illegal_mode)") == ErrorReply("illegal_mode")
+    assert parse_message("(warning message_not_null_terminated)") == WarningReply("message_not_null_terminated")
+
+
+def test_malformed_known_message_names_its_kind():
+    with pytest.raises(RcssParseError, match="sense_body"):
+        parse_message("(sense_body 5 (speed 0.3))")

@@ -1,0 +1,135 @@
+"""The batched engine: world geometry, goals, restarts, end conditions, determinism (spec 4.1, 4.5)."""
+
+import numpy as np
+import pytest
+
+from fuzzy.random_rulebase import random_rulebase
+from fuzzy.rule import Consequent, Premise, Rule, Rulebase
+from soccer.config import GameConfig
+from soccer.demo import demo_rulebase
+from soccer.engine import GameBatch, play_game, play_games
+
+C = GameConfig().world.constants()
+STILL = Rulebase((Rule((Premise("GOAL", "VERYFAR"), Premise("GOAL", "VERYFAR", True)), ("OR",),
+                       Consequent("DONOTHING")),))  # fires whenever the goal is in view
+EMPTY = Rulebase(())
+
+
+def scripted(ball, velocity, player=(-40.0, 0.0), rulebase=STILL, config=GameConfig()):
+    """A batch of one with the ball placed by hand (metres; velocity in metres per tick)."""
+    batch = GameBatch([rulebase], [1], config)
+    ox, oy = batch.world.offsets[0]
+    p, _, b, _ = batch.world.objects(0)
+    p.position = (ox + player[0], oy + player[1])
+    b.position = (ox + ball[0], oy + ball[1])
+    b.velocity = (velocity[0] / C.tick_seconds, velocity[1] / C.tick_seconds)
+    batch.last_ball[0] = ball
+    batch.last_player[0] = player
+    return batch
+
+
+def ball_position(batch):
+    ox, oy = batch.world.offsets[0]
+    b = batch.world.objects(0)[2]
+    return b.position.x - ox, b.position.y - oy, b.velocity.x * C.tick_seconds, b.velocity.y * C.tick_seconds
+
+
+def test_ball_rebounds_from_touch_line_with_elasticity():
+    batch = scripted((0.0, 32.0), (0.0, 2.5))
+    for _ in range(3):
+        batch.step()
+    x, y, vx, vy = ball_position(batch)
+    assert y < 34.0 - C.ball_size + 1e-6
+    assert vy < 0.0  # bounced back; about half the (decayed) speed
+    assert abs(vy) == pytest.approx(0.5 * 2.5 * C.ball_decay ** 2, rel=0.25)
+
+
+def test_ball_rebounds_from_end_line_beside_goal_and_does_not_score():
+    batch = scripted((50.0, 20.0), (2.5, 0.0))
+    for _ in range(5):
+        batch.step()
+    x, y, vx, _ = ball_position(batch)
+    assert x < 52.5 and vx < 0.0 and batch.goals[0] == 0
+
+
+def test_ball_rebounds_from_post():
+    batch = scripted((51.0, 7.01), (0.3, 0.0))
+    for _ in range(15):
+        batch.step()
+    x, _, vx, _ = ball_position(batch)
+    assert x < 52.5 and vx < 0.0 and batch.goals[0] == 0
+
+
+def test_ball_through_mouth_scores_and_restarts_on_centre_line():
+    batch = scripted((50.0, 3.0), (2.0, 0.0), player=(-30.0, 5.0))
+    ox, oy = batch.world.offsets[0]
+    player_before = batch.world.objects(0)[0].position
+    for _ in range(3):
+        batch.step()
+    assert batch.goals[0] == 1
+    x, y, vx, vy = ball_position(batch)
+    assert x == 0.0 and -34.0 <= y <= 34.0 and (vx, vy) == (0.0, 0.0)
+    assert batch.world.objects(0)[0].position == player_before  # the player stays
+
+
+def test_ball_in_net_cannot_leave_through_the_back():
+    batch = scripted((53.0, 0.0), (1.0, 0.0))
+    batch.last_ball[0] = (53.0, 0.0)  # already in: not a new crossing
+    for _ in range(10):
+        batch.step()
+    assert ball_position(batch)[0] < 54.5
+
+
+def test_idle_player_ends_the_game_after_idle_ticks():
+    result, trace = play_game(EMPTY, 5)
+    assert result.end_reason == "idle" and result.ticks == 100 and result.fitness == 1.0
+    assert (trace.action == -1).all()  # no rule fires: the hunt only turns
+
+
+def test_max_ticks_and_goal_cap():
+    demo = demo_rulebase()
+    short = play_games([demo], [3], GameConfig(max_ticks=40))[0]
+    assert short.end_reason == "max-ticks" and short.ticks == 40
+    capped = play_games([demo], [3], GameConfig(goal_cap=2))[0]
+    assert capped.end_reason == "goal-cap" and capped.goals == 2 and capped.fitness == 0.25
+
+
+def test_demo_rulebase_scores_from_most_random_starts():
+    results = play_games([demo_rulebase()] * 12, list(range(100, 112)))
+    assert sum(r.goals > 0 for r in results) >= 10
+    assert np.mean([r.fitness for r in results]) < 0.2
+
+
+def test_game_alone_equals_game_inside_a_batch_of_200():
+    rng = np.random.default_rng(7)
+    demo = demo_rulebase()
+    rulebases = [demo if g % 4 == 0 else random_rulebase(rng, rules=8) for g in range(200)]
+    seeds = [1000 + 17 * g for g in range(200)]
+    batched = play_games(rulebases, seeds)
+    assert sum(r.goals for r in batched) > 0
+    for g in (0, 1, 4, 57, 120, 199):
+        assert play_games([rulebases[g]], [seeds[g]]) == [batched[g]]
+
+
+def test_trace_matches_result_and_is_deterministic():
+    result, trace = play_game(demo_rulebase(), 11, GameConfig(max_ticks=200))
+    again, trace2 = play_game(demo_rulebase(), 11, GameConfig(max_ticks=200))
+    assert result == again and len(trace) == result.ticks == 200
+    np.testing.assert_array_equal(trace.player_x, trace2.player_x)
+    assert trace.goals[-1] <= result.goals and trace.player_x[0] <= 0.0 and trace.ball_x[0] == 0.0
+    seen = trace.visible[:, 0]
+    assert np.isnan(trace.inputs[~seen, 0]).all() and not np.isnan(trace.inputs[seen, 0]).any()
+    assert (np.isin(trace.action, [-1, 4, 5, 6])).all()  # hunt, GoToBall or KickTowardGoal
+
+
+def test_one_seed_per_game_is_required():
+    with pytest.raises(ValueError, match="one seed per game"):
+        play_games([EMPTY, EMPTY], [1])
+
+
+def test_noise_changes_the_game_but_stays_deterministic():
+    demo = demo_rulebase()
+    noisy = GameConfig(noise=True, max_ticks=300)
+    a = play_games([demo], [4], noisy)
+    assert a == play_games([demo], [4], noisy)
+    assert a != play_games([demo], [4], GameConfig(max_ticks=300))

@@ -1,0 +1,67 @@
+"""SoccerEnv (the UI's batch of one) and the GA's evaluator."""
+
+import pickle
+
+from fuzzy.parser import parse_rulebase
+from soccer.config import GameConfig
+from soccer.demo import demo_rulebase
+from soccer.engine import play_game, play_games
+from soccer.env import SoccerEnv
+from soccer.evaluate import SimpleSoccerEvaluator, game_seeds
+
+
+def run(env, seed, ticks):
+    env.reset(seed)
+    return [env.step() for _ in range(ticks)]
+
+
+def test_env_reset_step_is_deterministic_and_follows_the_engine():
+    env = SoccerEnv(demo_rulebase(), GameConfig(max_ticks=150))
+    first = run(env, 9, 150)
+    assert first == run(env, 9, 150)
+    assert first[0].tick == 1 and first[-1].tick == 150
+    result, trace = play_game(demo_rulebase(), 9, GameConfig(max_ticks=150))
+    assert [s.action for s in first[:20]] == [None if a < 0 else env._batch.vocabulary.action_names[a]
+                                             for a in trace.action[:20]]
+    final = env.step()  # closes the books of the 150th tick
+    assert final.done and final.end_reason == "max-ticks" and final.goals == result.goals
+    assert final.fitness == result.fitness
+    assert env.step() == final  # a finished game stays finished
+
+
+def test_env_state_shows_what_the_player_sees():
+    env = SoccerEnv(demo_rulebase())
+    start = env.reset(3)
+    assert start.tick == 0 and start.facing == 0.0 and start.ball[0] == 0.0 and not start.done
+    state = env.step()
+    assert state.visible["GOAL"] and state.inputs["goal_distance"] > 50.0
+    assert (state.inputs["ball_distance"] is None) == (not state.visible["BALL"])
+    assert len(state.strengths) == 2 and len(state.ball_trail) >= 1
+
+
+def test_env_set_rulebase_keeps_the_game_going():
+    env = SoccerEnv(demo_rulebase())
+    env.reset(3)
+    for _ in range(5):
+        env.step()
+    state = env.set_rulebase(parse_rulebase("if Goal is not At then Turn Right"))
+    assert state.tick == 5
+    after = env.step()
+    assert after.action == "TURN" and after.parameters == {"direction": 45.0}
+    assert after.facing != state.facing
+
+
+def test_evaluator_is_picklable_and_matches_play_games():
+    evaluator = pickle.loads(pickle.dumps(SimpleSoccerEvaluator(GameConfig(max_ticks=100))))
+    demo = demo_rulebase()
+    assert evaluator([demo, demo], [1, 2]) == play_games([demo, demo], [1, 2], GameConfig(max_ticks=100))
+
+
+def test_evaluator_means_over_several_games():
+    config = GameConfig(max_ticks=100, games_per_evaluation=3)
+    demo = demo_rulebase()
+    [mean] = SimpleSoccerEvaluator(config)([demo], [5])
+    games = play_games([demo] * 3, game_seeds(5, 3), GameConfig(max_ticks=100))
+    assert mean.fitness == sum(g.fitness for g in games) / 3
+    assert mean.min_ball_goal_distance == min(g.min_ball_goal_distance for g in games)
+    assert len(set(game_seeds(5, 3))) == 3 and game_seeds(5, 1) == [5]

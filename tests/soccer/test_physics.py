@@ -1,0 +1,63 @@
+"""rcssserver formulas against hand-computed values (spec 4.1)."""
+
+import math
+
+import pytest
+
+from soccer.config import WorldConfig
+from soccer.physics import cap_speed, dash, decay, is_kickable, kick, kick_acceleration, turn
+
+C = WorldConfig().constants()
+
+
+def test_dash_accelerates_power_times_rate_along_the_facing():
+    vx, vy = dash(0.0, 0.0, 90.0, 50.0, C)
+    assert vx == pytest.approx(0.0, abs=1e-12)
+    assert vy == pytest.approx(50 * 0.006)  # facing 90 degrees = +y, the player's right when it faced +x
+
+
+def test_dash_is_capped_at_player_speed_max():
+    vx, vy = dash(1.0, 0.0, 0.0, 100.0, C)  # 1.0 + 0.6 > 1.05
+    assert (vx, vy) == pytest.approx((1.05, 0.0))
+
+
+def test_decay_multiplies_velocity():
+    assert decay(1.0, -0.5, C.player_decay) == pytest.approx((0.4, -0.2))
+    assert decay(2.0, 0.0, C.ball_decay) == pytest.approx((1.88, 0.0))
+
+
+def test_turn_is_reduced_by_inertia_with_speed():
+    assert turn(0.0, 60.0, 0.0, C) == pytest.approx(60.0)
+    assert turn(0.0, 60.0, 0.5, C) == pytest.approx(60.0 / (1 + 5 * 0.5))  # 17.142857...
+    assert turn(170.0, 30.0, 0.0, C) == pytest.approx(-160.0)  # wraps into (-180, 180]
+    assert turn(0.0, 500.0, 0.0, C) == pytest.approx(180.0)  # moment clipped to max_moment
+
+
+def test_kick_power_falls_with_angle_and_gap():
+    # ball straight ahead, touching the player: full efficiency, 50 x 0.027 = 1.35
+    ax, ay = kick_acceleration(50.0, 0.0, 0.0, 0.385, 0.0, C)
+    assert (ax, ay) == pytest.approx((1.35, 0.0))
+    # ball 90 degrees off and 0.35 m gap: 1 - 0.25*90/180 - 0.25*0.35/0.7 = 0.75
+    ax, ay = kick_acceleration(50.0, 0.0, 0.0, 0.385 + 0.35, 90.0, C)
+    assert ax == pytest.approx(1.35 * 0.75)
+    # direction is relative to the facing
+    ax, ay = kick_acceleration(50.0, -90.0, 90.0, 0.385, 0.0, C)
+    assert (ax, ay) == pytest.approx((1.35, 0.0), abs=1e-12)
+
+
+def test_kick_acceleration_capped_and_ball_speed_capped():
+    ax, _ = kick_acceleration(100.0, 0.0, 0.0, 0.385, 0.0, C)
+    assert ax == pytest.approx(2.7)  # 100 x 0.027 = 2.7 = ball_accel_max
+    vx, vy = kick(2.0, 0.0, 100.0, 0.0, 0.0, 0.385, 0.0, C)
+    assert (vx, vy) == pytest.approx((3.0, 0.0))  # ball_speed_max
+
+
+def test_cap_speed_keeps_direction():
+    vx, vy = cap_speed(3.0, 4.0, 1.0)
+    assert (vx, vy) == pytest.approx((0.6, 0.8))
+    assert math.hypot(*cap_speed(0.3, 0.4, 1.0)) == pytest.approx(0.5)
+
+
+def test_kickable_within_player_ball_and_margin():
+    assert is_kickable(0.3 + 0.085 + 0.7, C)
+    assert not is_kickable(0.3 + 0.085 + 0.7001, C)
