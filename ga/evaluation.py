@@ -66,9 +66,9 @@ class Evaluation:
         if self._pool is None:
             return _checked(self.evaluate(rulebases, seeds), len(rulebases))
         bounds = np.linspace(0, len(rulebases), min(self.workers, len(rulebases)) + 1).astype(int)
-        futures = [self._pool.submit(self.evaluate, rulebases[lo:hi], seeds[lo:hi])
-                   for lo, hi in zip(bounds[:-1], bounds[1:])]
-        return [r for (lo, hi), f in zip(zip(bounds[:-1], bounds[1:]), futures) for r in _checked(f.result(), hi - lo)]
+        spans = list(zip(bounds[:-1], bounds[1:]))  # contiguous chunks, one per worker, in order
+        futures = [self._pool.submit(self.evaluate, rulebases[lo:hi], seeds[lo:hi]) for lo, hi in spans]
+        return [result for (lo, hi), future in zip(spans, futures) for result in _checked(future.result(), hi - lo)]
 
 
 def _checked(results: Sequence[Any], expected: int) -> Sequence[Any]:

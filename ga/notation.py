@@ -34,6 +34,8 @@ ABBREVIATIONS = {
 NOT = "n"  # prefixes a premise term
 NULL = "n"  # an empty consequent field
 FIELDS_PER_GENE = 3
+NOT_NOTE = f", each optionally prefixed by {NOT} for not"
+NULL_NOTE = f", or {NULL} for Null"
 
 _GENE = re.compile(r"\s*\(([^()]*)\)\s*")
 
@@ -113,12 +115,13 @@ class CompactNotation:
             term = second[len(NOT):] if negated else second
             gene[KIND], gene[OBJECT] = PREMISE, self.objects[first]
             gene[QUALIFIER] = IS_NOT if negated else IS
-            gene[TERM] = _read(self.terms, term, "term", ", each optionally prefixed by n for not")
+            gene[TERM] = _read(self.terms, term, "term", NOT_NOTE)
             gene[CONNECTOR] = _read(self.connectors, third, "connector")
         elif first in self.actions:
             gene[KIND], gene[ACTION] = CONSEQUENT, self.actions[first]
-            gene[DIRECTION] = self.space.null_direction if second == NULL else _read(self.directions, second, "direction", f", or {NULL} for Null")
-            gene[POWER] = self.space.null_power if third == NULL else _read(self.powers, third, "power", f", or {NULL} for Null")
+            gene[DIRECTION] = (self.space.null_direction if second == NULL
+                               else _read(self.directions, second, "direction", NULL_NOTE))
+            gene[POWER] = self.space.null_power if third == NULL else _read(self.powers, third, "power", NULL_NOTE)
         else:
             raise NotationError(f"unknown object or action {first!r} "
                                 f"(expected one of {', '.join([*self.objects, *self.actions])})")

@@ -26,3 +26,9 @@ class OneLineErrors(TyperCommand):
             return super().make_context(info_name, args, parent=parent, **extra)
         except click.UsageError as exc:
             fail(exc.format_message())
+
+    def invoke(self, ctx: click.Context) -> Any:
+        try:  # typer converts option values (int, float, ...) here, after parsing
+            return super().invoke(ctx)
+        except click.UsageError as exc:
+            fail(exc.format_message())

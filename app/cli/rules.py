@@ -9,7 +9,7 @@ from typing import Optional
 
 import typer
 
-from app.cli.common import fail
+from app.cli.common import OneLineErrors, fail
 from fuzzy.engine import Engine, Inference
 from fuzzy.export import FORMATS, RulebaseFormatError, export_rulebase, rulebase_from_json
 from fuzzy.parser import RuleSyntaxError, parse_rulebase
@@ -45,7 +45,7 @@ def load_rulebase(path: Path, vocabulary_path: Path | None = None) -> tuple[Rule
         raise typer.Exit(2)
 
 
-@app.command()
+@app.command(cls=OneLineErrors)
 def check(file: Path = typer.Argument(..., help="Rule text or rulebase JSON."),
           vocabulary: Optional[Path] = VOCABULARY_OPTION) -> None:
     """Parse FILE and print its rules normalised, or every error as FILE:LINE:COL: message (exit 2)."""
@@ -103,7 +103,7 @@ def inference_report(rulebase: Rulebase, vocabulary: Vocabulary, inputs: dict[st
     }
 
 
-@app.command()
+@app.command(cls=OneLineErrors)
 def infer(
     file: Path = typer.Argument(..., help="Rule text or rulebase JSON."),
     input: list[str] = typer.Option([], "--input", "-i", help="NAME=VALUE, e.g. ball_distance=3.5 (repeatable)."),
@@ -118,7 +118,7 @@ def infer(
     typer.echo(json.dumps(report, indent=2))
 
 
-@app.command()
+@app.command(cls=OneLineErrors)
 def export(
     file: Path = typer.Argument(..., help="Rule text or rulebase JSON."),
     format: str = typer.Option("json", "--format", "-f", help=f"One of {', '.join(FORMATS)}."),
@@ -140,7 +140,9 @@ def export(
 
 
 @app.command()
-def decode(notation: str = typer.Argument(..., help='A chromosome in compact notation, e.g. "(B,N,O) (RB,n,L)".')) -> None:
+def decode(
+    notation: str = typer.Argument(..., help='A chromosome in compact notation, e.g. "(B,N,O) (RB,n,L)".'),
+) -> None:
     """Decode a chromosome in the chapter's compact notation (Figs. 6, 7) and print its rules."""
     from ga.codec import ChromosomeCodec
     from ga.notation import NotationError, parse_compact

@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 from typer.testing import CliRunner
 
-import app.recording
+from app import recording
 from app.cli import _register, app
 from app.run_outputs import RunFolder
 from fuzzy.export import rulebase_from_json
@@ -100,7 +100,7 @@ def test_recording_reads_back_with_every_statistic_and_the_replay(evolved):
     for name in GenerationStats.field_names():
         if name == "generation":
             continue
-        entity = "/" + app.recording.statistic_entity(name)
+        entity = "/" + recording.statistic_entity(name)
         assert entities[entity]["timelines"] == {"generation"}, entity
         assert entities[entity]["columns"]["generation"] == [0, 1, 2]
         if name != "wall_time":
@@ -108,7 +108,7 @@ def test_recording_reads_back_with_every_statistic_and_the_replay(evolved):
                 [float(r[name]) for r in rows])
     histogram = entities["/statistics/goal_histogram"]["columns"]["BarChart:values"]
     assert len(histogram) == 3
-    assert histogram[0][0]["buffer"] == pytest.approx([float(rows[0][b]) for b in app.recording.GOAL_BINS])
+    assert histogram[0][0]["buffer"] == pytest.approx([float(rows[0][b]) for b in recording.GOAL_BINS])
     # The best player's replay: static pitch and goal, the moving parts on the tick timeline only.
     assert entities["/replay/pitch"]["timelines"] == set()
     assert entities["/replay/goal"]["timelines"] == set()
@@ -121,19 +121,19 @@ def test_recording_reads_back_with_every_statistic_and_the_replay(evolved):
 def test_resume_finishes_a_killed_run_as_the_uninterrupted_one(evolved, tmp_path, monkeypatch):
     folder, _ = evolved
     killed = tmp_path / "killed"
-    original = app.recording.RunRecorder.on_generation
+    original = recording.RunRecorder.on_generation
 
     def killed_after_generation_1(self, stats, population=None):
         original(self, stats, population)
         if stats.generation == 1:
             raise KeyboardInterrupt
 
-    monkeypatch.setattr(app.recording.RunRecorder, "on_generation", killed_after_generation_1)
+    monkeypatch.setattr(recording.RunRecorder, "on_generation", killed_after_generation_1)
     interrupted = run("evolve", *TINY, "--out", killed)
     assert interrupted.exit_code == 130
     assert f"soccer-lab evolve --resume {killed}" in interrupted.output
     assert [r["generation"] for r in statistics(killed)] == ["0", "1"]
-    monkeypatch.setattr(app.recording.RunRecorder, "on_generation", original)
+    monkeypatch.setattr(recording.RunRecorder, "on_generation", original)
 
     resumed = run("evolve", "--resume", killed)
     assert resumed.exit_code == 0, resumed.output
