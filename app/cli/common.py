@@ -4,8 +4,8 @@ from __future__ import annotations
 
 from typing import Any, NoReturn
 
-import click
 import typer
+from typer._click.exceptions import UsageError  # typer vendors click: its errors are not click's
 from typer.core import TyperCommand
 
 USAGE_ERROR = 2
@@ -20,15 +20,14 @@ class OneLineErrors(TyperCommand):
     """Use as `@app.command(cls=OneLineErrors)`: a malformed option or argument of the command (click's
     own checks: unknown option, not an integer...) prints one `error:` line too, not a usage box."""
 
-    def make_context(self, info_name: str | None, args: list[str], parent: click.Context | None = None,
-                     **extra: Any) -> click.Context:
+    def make_context(self, info_name: str | None, args: list[str], parent: Any = None, **extra: Any) -> Any:
         try:
             return super().make_context(info_name, args, parent=parent, **extra)
-        except click.UsageError as exc:
+        except UsageError as exc:
             fail(exc.format_message())
 
-    def invoke(self, ctx: click.Context) -> Any:
+    def invoke(self, ctx: Any) -> Any:
         try:  # typer converts option values (int, float, ...) here, after parsing
             return super().invoke(ctx)
-        except click.UsageError as exc:
+        except UsageError as exc:
             fail(exc.format_message())

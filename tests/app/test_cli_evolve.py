@@ -161,7 +161,7 @@ def test_random_search_has_the_same_outputs(tmp_path):
     (["--mutation-rate", "1.5"], ["--mutation-rate"]),
     (["--fitness", "speed"], ["--fitness", "'speed'"]),
     (["--max-ticks", "0"], ["--max-ticks"]),
-    (["--population-size", "many"], ["--population-size", "'many' is not a valid integer"]),
+    (["--population-size", "many"], ["--population-size", "valid integer"]),
     (["--no-such-option"], ["No such option: --no-such-option"]),
 ])
 def test_evolve_rejects_bad_options_in_one_line(args, fragments, tmp_path):
