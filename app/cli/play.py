@@ -154,15 +154,14 @@ def _open_replay_file(path: Path):
     return open_stream(path)
 
 
-ROW = "{:>5} {:>20} {:>6} {:>6} {:>6} {:>8}"
-
-
 def _print_table(seeds: list[int], results: list[Any]) -> None:
-    typer.echo(ROW.format("game", "seed", "goals", "kicks", "ticks", "fitness"))
+    seed_width = max(len("seed"), *(len(str(s)) for s in seeds))
+    row = "{:>5} {:>%d} {:>6} {:>6} {:>6} {:>8}" % seed_width
+    typer.echo(row.format("game", "seed", "goals", "kicks", "ticks", "fitness"))
     for number, (game_seed, result) in enumerate(zip(seeds, results), start=1):
-        typer.echo(ROW.format(number, game_seed, result.goals, result.kicks, result.ticks, f"{result.fitness:.4f}"))
+        typer.echo(row.format(number, game_seed, result.goals, result.kicks, result.ticks, f"{result.fitness:.4f}"))
     count = len(results)
-    typer.echo(ROW.format(
+    typer.echo(row.format(
         "mean", "",
         f"{sum(r.goals for r in results) / count:.2f}", f"{sum(r.kicks for r in results) / count:.1f}",
         f"{sum(r.ticks for r in results) / count:.0f}", f"{sum(r.fitness for r in results) / count:.4f}",
