@@ -24,12 +24,6 @@ class Strict(BaseModel):
 
 
 # ---- errors ------------------------------------------------------------------------------
-class ErrorLocation(BaseModel):
-    line: int
-    column: int
-    message: str
-
-
 class ErrorBody(BaseModel):
     detail: str
     errors: list[dict[str, Any]] = []

@@ -24,6 +24,9 @@ def _register() -> None:
     app.command("evolve", cls=OneLineErrors)(evolve.evolve_command)
     app.command("random-search", cls=OneLineErrors)(evolve.random_search_command)
     app.command("play", cls=OneLineErrors)(play.play_command)
+    from app.cli import experiment
+
+    app.command("experiment", cls=OneLineErrors)(experiment.experiment_command)
     from app.cli import serve
 
     app.command("serve")(serve.serve_command)

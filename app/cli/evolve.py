@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import os
 import time
+from types import SimpleNamespace
 from pathlib import Path
 from typing import Annotated, Any, Optional
 
@@ -148,7 +149,7 @@ def _drive(folder: RunFolder, config: GAConfig, game: GameConfig, algorithm: str
     recorder = RunRecorder(folder.recording, history=history)
     started = time.perf_counter()
     try:
-        with GenerationProgress(config.max_generations, done=len(history),
+        with GenerationProgress(config.max_generations, last=history[-1] if history else None,
                                 label="evolving" if algorithm == GA else "random search") as progress:
             result: RunResult = launch(SimpleSoccerEvaluator(game), [outputs, recorder, progress])
     except KeyboardInterrupt:
@@ -165,13 +166,16 @@ def _drive(folder: RunFolder, config: GAConfig, game: GameConfig, algorithm: str
 class GenerationProgress:
     """A progress bar over generations showing the best and mean fitness (on stderr)."""
 
-    def __init__(self, total: int, *, done: int = 0, label: str = "evolving"):
+    def __init__(self, total: int, *, last: dict[str, Any] | None = None, label: str = "evolving"):
+        """last: the statistics of the last finished generation, when resuming."""
         self.progress = Progress(
             TextColumn("[bold]{task.description}"), BarColumn(), MofNCompleteColumn(),
             TextColumn("best {task.fields[best]}  mean {task.fields[mean]}"), TimeElapsedColumn(),
             console=Console(stderr=True),
         )
-        self.task = self.progress.add_task(label, total=total, completed=done, best="-", mean="-")
+        self.task = self.progress.add_task(label, total=total, completed=0, best="-", mean="-")
+        if last is not None:
+            self.on_generation(SimpleNamespace(**last))
 
     def __enter__(self) -> "GenerationProgress":
         self.progress.start()

@@ -126,6 +126,7 @@ def play_command(
             log_replay(stream, trace, config.world, entity=f"game_{number}")
             results.append(result)
         stream.flush()
+        stream.disconnect()  # writes the file's footer
     _print_table(seeds, results)
     if rrd is not None:
         typer.echo(f"replays written to {rrd} (open with: rerun {rrd})")

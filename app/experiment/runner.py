@@ -128,6 +128,7 @@ class ExperimentOutcome:
     folder: Path
     plan: Plan
     table: StatisticsTable
+    report: Any  # app.experiment.report.Report
     ran: int  # trials computed now
     skipped: int  # trials found finished
     seconds: float
@@ -201,8 +202,8 @@ def run_experiment(preset_name: str, options: ExperimentOptions, folder: Path, e
     with executor:
         ran, skipped = run_trials(experiment, folder, executor, progress)
     table = assemble(experiment, folder)
-    write_report(table, experiment.presets, folder)
-    return ExperimentOutcome(folder, experiment, table, ran, skipped, time.perf_counter() - started)
+    report = write_report(table, experiment.presets, folder)
+    return ExperimentOutcome(folder, experiment, table, report, ran, skipped, time.perf_counter() - started)
 
 
 def _write_atomically(path: Path, text: str) -> None:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 from fastapi import APIRouter, Request
 from fastapi.responses import FileResponse
@@ -39,7 +40,7 @@ def read(run_id: RecordId, store: StoreDependency, request: Request) -> RunOut:
 
 
 @router.get("/{run_id}/statistics", summary="The run's statistics, one object per finished generation")
-def statistics(run_id: RecordId, store: StoreDependency) -> list[dict[str, float | int | None]]:
+def statistics(run_id: RecordId, store: StoreDependency) -> list[dict[str, Any]]:
     return store.statistics(run_id)
 
 

@@ -148,17 +148,17 @@ class EvolvePanel:
     def _on_event(self, event: RunEvent) -> None:
         if event.run_id != self.run_id:
             return
-        total = int(self.inputs["max_generations"].value)
+        total = int(self.inputs["max_generations"].value)  # generation 0 is the first of them
         if event.stats is not None:
             stats = event.stats
             self.generations.append(int(stats["generation"]))
             self.best.append(float(stats["best"]))
             self.mean.append(float(stats["mean"]))
             self._redraw_plot()
-            self.progress.value = min(100.0, 100.0 * (stats["generation"] + 1) / (total + 1))
+            self.progress.value = min(100.0, 100.0 * (stats["generation"] + 1) / total)
             self.load_best.disabled = False
             self.status.content = self._status_html(
-                f"Run #{event.run_id}: generation {stats['generation']} of {total} — best {stats['best']:.3f}, "
+                f"Run #{event.run_id}: generation {stats['generation'] + 1} of {total} — best {stats['best']:.3f}, "
                 f"mean {stats['mean']:.3f}, {stats.get('evaluations', 0)} games played"
             )
         elif event.status is not RunStatus.RUNNING:

@@ -1,0 +1,115 @@
+"""`soccer-lab experiment PRESET`: the chapter's SimpleSoccer study (spec 6) with one command."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated, Any, Optional
+
+import typer
+from rich.console import Console
+from rich.progress import BarColumn, Progress, TaskProgressColumn, TextColumn, TimeElapsedColumn, TimeRemainingColumn
+
+from app.cli.common import fail
+from app.cli.play import config_from_options
+from app.experiment.executors import EXECUTOR_NAMES, LOCAL, ExecutorError, make_executor
+from app.experiment.presets import CHOICES, ExperimentOptions
+from app.experiment.runner import ExperimentError, ExperimentOutcome, run_experiment
+
+DEFAULT_OUT_FOLDER = "experiments"
+
+
+def experiment_command(
+    preset: Annotated[str, typer.Argument(help=f"One of: {', '.join(CHOICES)}.", show_default=False)],
+    trials: Annotated[Optional[int], typer.Option(
+        "--trials", help="Trials per setting. (default: the chapter's, 10; 20 for initial)", show_default=False)] = None,
+    population: Annotated[Optional[int], typer.Option(
+        "--population", help="Table 2's population size; every setting scales with it. (default: 200)",
+        show_default=False)] = None,
+    generations: Annotated[Optional[int], typer.Option(
+        "--generations", help="Table 2's generations; every setting scales with it (long: 4x). (default: 25)",
+        show_default=False)] = None,
+    max_ticks: Annotated[Optional[int], typer.Option(
+        "--max-ticks", help="Ticks a game lasts at most. (default: 1000)", show_default=False)] = None,
+    seed: Annotated[Optional[int], typer.Option(
+        "--seed", help="Experiment seed; each trial's seed derives from it. (default: 0)", show_default=False)] = None,
+    out: Annotated[Optional[Path], typer.Option(
+        "--out", help="Output folder; running again into it resumes. (default: experiments/PRESET-seedN)",
+        show_default=False)] = None,
+    workers: Annotated[Optional[int], typer.Option(
+        "--workers", min=1, help="Trials run at once. (default: all cores)", show_default=False)] = None,
+    executor: Annotated[str, typer.Option(
+        "--executor", help=f"Where trials run: {' or '.join(EXECUTOR_NAMES)}.")] = LOCAL,
+    address: Annotated[Optional[str], typer.Option(
+        "--address", help="Ray cluster address (with --executor ray); default: start Ray here.",
+        show_default=False)] = None,
+    library: Annotated[bool, typer.Option(
+        "--library/--no-library", help="Record the experiment in the app's library.")] = True,
+) -> None:
+    """Reproduce the chapter's SimpleSoccer experiments: statistics.csv, figures, report.md and report.html."""
+    if preset not in CHOICES:
+        fail(f"unknown preset {preset!r}; choose one of {', '.join(CHOICES)}")
+    options: ExperimentOptions = config_from_options(ExperimentOptions, {
+        "trials": trials, "population": population, "generations": generations, "max_ticks": max_ticks,
+        "seed": seed})
+    folder = out or Path(DEFAULT_OUT_FOLDER) / f"{preset}-seed{options.seed}"
+    try:
+        runner = make_executor(executor, workers=workers, address=address)
+        with ExperimentProgress(preset) as progress:
+            outcome = run_experiment(preset, options, folder, runner, progress=progress)
+    except (ExecutorError, ExperimentError) as exc:
+        fail(str(exc))
+    except KeyboardInterrupt:
+        typer.echo(f"\ninterrupted; finished trials are kept: run the same command again to resume", err=True)
+        raise typer.Exit(130)
+    if library:
+        _record(preset, options, outcome)
+    _summary(outcome)
+
+
+class ExperimentProgress:
+    """One bar for the whole experiment, counted in evaluations (trials differ in size)."""
+
+    def __init__(self, preset: str):
+        self.progress = Progress(TextColumn("[bold]experiment {task.description}"), BarColumn(),
+                                 TaskProgressColumn(), TextColumn("{task.fields[note]}"), TimeElapsedColumn(),
+                                 TimeRemainingColumn(), console=Console(stderr=True))
+        self.task = self.progress.add_task(preset, total=None, note="")
+
+    def __enter__(self) -> "ExperimentProgress":
+        self.progress.start()
+        return self
+
+    def __exit__(self, *exc_info: object) -> None:
+        self.progress.stop()
+
+    def update(self, completed: int, total: int, *, skipped: int = 0) -> None:
+        note = f"({skipped} finished trials skipped)" if skipped else ""
+        self.progress.update(self.task, completed=completed, total=total, note=note)
+
+
+def _record(preset: str, options: ExperimentOptions, outcome: ExperimentOutcome) -> None:
+    from app.paths import DATABASE_FILE, default_data_dir
+    from app.store import Store, StoreError
+
+    summary: dict[str, Any] = {
+        "presets": [p.name for p in outcome.plan.presets], "options": options.model_dump(),
+        "trials": len(outcome.plan.specs), "verdicts": outcome.report.verdicts(),
+        "statistics": "statistics.csv", "report": "report.html", "report_markdown": "report.md",
+        "figures": [f.path.as_posix() for f in outcome.report.figures],
+    }
+    try:
+        store = Store(default_data_dir() / DATABASE_FILE)
+        try:
+            store.record_experiment(preset, outcome.folder.resolve(), summary)
+        finally:
+            store.close()
+    except StoreError as exc:
+        typer.echo(f"warning: not recorded in the library: {exc}", err=True)
+
+
+def _summary(outcome: ExperimentOutcome) -> None:
+    trials = len(outcome.plan.specs)
+    typer.echo(f"{trials} trials ({outcome.ran} run, {outcome.skipped} already finished) in {outcome.seconds:.1f} s")
+    typer.echo("verdicts: " + ", ".join(f"{n} {v}" for v, n in outcome.report.verdicts().items() if n))
+    typer.echo(f"outputs in {outcome.folder}: statistics.csv, report.md, report.html, "
+               f"{len(outcome.report.figures)} figures, trials/ (per-trial CSV and .rrd)")

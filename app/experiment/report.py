@@ -1,0 +1,493 @@
+"""The report: for each SimpleSoccer finding of the chapter's section 6, our measured figure and a verdict
+computed from the statistics table, with the statistical test named (report.md and report.html).
+
+Tests (scipy.stats), at significance level ALPHA, on per-trial values (one value per trial, so the
+trials are the independent samples):
+- a claimed difference or its absence between settings: Kruskal-Wallis H (3+ settings) or
+  Mann-Whitney U (2 settings; one-sided where the chapter names a direction);
+- a claimed change within runs (first vs last generation of the same trial): Wilcoxon signed-rank, one-sided;
+- a claimed trend along the run: Spearman rank correlation of the trial-averaged curve with the generation;
+- a claimed difference in consistency: Brown-Forsythe (Levene's test about the median).
+"No difference" claims agree when the test finds none; with fewer than MIN_TRIALS trials per setting
+the verdict is "inconclusive": too few trials to tell absence of evidence from evidence of absence.
+Claims about a level (e.g. "plateaus around 0.75") have no test; the tolerance used is stated.
+"""
+
+from __future__ import annotations
+
+import base64
+import html
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Callable
+
+import numpy as np
+from scipy import stats
+
+from app.experiment.figures import Figure, write_figures
+from app.experiment.presets import Preset
+from app.experiment.table import StatisticsTable
+
+ALPHA = 0.05
+MIN_TRIALS = 5
+AGREES, DISAGREES, INCONCLUSIVE, NOT_RUN = "agrees", "disagrees", "inconclusive", "not run"
+GOAL_SCORING = 0.5  # fitness of one goal: at or below it a player scores (Table 1)
+PLATEAU_LEVEL, PLATEAU_TOLERANCE = 0.75, 0.10  # 6.2: average fitness plateaus "around 0.75"
+LENGTH_SHARE, LENGTH_TOLERANCE = 2 / 3, 0.10  # 6.4.1, 6.4.5: chromosome length settles at "about 2/3" of the maximum
+EARLY_SHARE = 0.2  # 6.2: "very few generations": within the first fifth of the run (5 of 25)
+LATE_START_SHARE = 0.10  # 6.4.4: "after the tenth generation" of 100
+EARLY_BEST_SHARE = 0.15  # 6.4.4: "the first 10 to 15 generations" of 100
+FLAT_IMPROVEMENT = 0.02  # fitness units: a smaller improvement of the average is "not significant" (6.4.4)
+EQUAL_BEST = 0.01  # fitness units: two best fitnesses this close are "equal" (6.4.4)
+CONSTANT_CHANGE = 0.15  # relative change under which a gene pool is "reasonably constant" (6.4.5)
+POOL_INITIAL, POOL_PLATEAU_END = 0.05, 0.40  # 6.4.5: constant "for close to 40 [of 100] generations after an initial decrease"
+REPORT_MD, REPORT_HTML = "report.md", "report.html"
+
+
+@dataclass(frozen=True)
+class Assessment:
+    measured: str
+    verdict: str
+    test: str
+
+
+@dataclass(frozen=True)
+class Finding:
+    preset: str
+    where: str  # section and figure of the chapter
+    claim: str
+    assess: Callable[[StatisticsTable, Preset], Assessment]
+
+
+@dataclass(frozen=True)
+class Report:
+    findings: list[tuple[Finding, Assessment]]
+    figures: list[Figure]
+
+    def verdicts(self) -> dict[str, int]:
+        counts = {v: 0 for v in (AGREES, DISAGREES, INCONCLUSIVE, NOT_RUN)}
+        for _, assessment in self.findings:
+            counts[assessment.verdict] += 1
+        return counts
+
+
+# ---- per-trial values ------------------------------------------------------------------------------
+def _final(column: str):
+    return lambda table, preset, setting: table.final(preset.name, setting, column)
+
+
+def _best_so_far(table: StatisticsTable, preset: Preset, setting: str) -> np.ndarray:
+    return table.best_so_far(preset.name, setting)
+
+
+def _groups(table: StatisticsTable, preset: Preset, values) -> dict[str, np.ndarray]:
+    return {setting: values(table, preset, setting) for setting in table.settings(preset.name)}
+
+
+def _medians(groups: dict[str, np.ndarray]) -> str:
+    return "; ".join(f"{setting}: {np.median(v):.3f}" for setting, v in groups.items()) + " (median over trials)"
+
+
+def _few(groups: dict[str, np.ndarray]) -> int | None:
+    smallest = min(len(v) for v in groups.values())
+    return smallest if smallest < MIN_TRIALS else None
+
+
+def _p_between(groups: dict[str, np.ndarray], alternative: str = "two-sided") -> tuple[float, str]:
+    samples = list(groups.values())
+    try:
+        if len(samples) == 2:
+            return float(stats.mannwhitneyu(*samples, alternative=alternative).pvalue), "Mann-Whitney U"
+        return float(stats.kruskal(*samples).pvalue), "Kruskal-Wallis H"
+    except ValueError:  # every value identical: no difference at all
+        return 1.0, "Kruskal-Wallis H" if len(samples) > 2 else "Mann-Whitney U"
+
+
+def _too_few(measured: str, trials: int) -> Assessment:
+    return Assessment(measured, INCONCLUSIVE, f"too few trials ({trials} per setting; the test needs {MIN_TRIALS})")
+
+
+# ---- claim shapes -----------------------------------------------------------------------------------
+def no_difference(*measures: tuple[str, Callable]) -> Callable[[StatisticsTable, Preset], Assessment]:
+    """The chapter claims the varied parameter makes no significant difference to each measure."""
+    def assess(table: StatisticsTable, preset: Preset) -> Assessment:
+        measured, tests, different, few = [], [], False, None
+        for name, values in measures:
+            groups = _groups(table, preset, values)
+            p, test = _p_between(groups)
+            measured.append(f"{name}: {_medians(groups)}")
+            tests.append(f"{test} on {name}, p = {p:.3g}")
+            different |= p < ALPHA
+            few = few or _few(groups)
+        text = " | ".join(measured)
+        if different:
+            return Assessment(text, DISAGREES, "; ".join(tests) + f": a significant difference (p < {ALPHA})")
+        if few:
+            return _too_few(text, few)
+        return Assessment(text, AGREES, "; ".join(tests) + f": no significant difference (p >= {ALPHA})")
+    return assess
+
+
+def improves(column: str, what: str, increase: bool) -> Callable[[StatisticsTable, Preset], Assessment]:
+    """The chapter claims `column` rises (or falls) from the first to the last generation, in every setting."""
+    def assess(table: StatisticsTable, preset: Preset) -> Assessment:
+        measured, tests, verdicts = [], [], []
+        for setting in table.settings(preset.name):
+            curves = table.curves(preset.name, setting, column)
+            start, end = curves[:, 0], table.final(preset.name, setting, column)
+            change = end - start if increase else start - end
+            try:
+                p = float(stats.wilcoxon(change, alternative="greater").pvalue)
+            except ValueError:  # no change at all
+                p = 1.0
+            measured.append(f"{setting}: {np.median(start):.3f} -> {np.median(end):.3f}")
+            tests.append(f"{setting} p = {p:.3g}")
+            if np.median(change) <= 0:
+                verdicts.append(DISAGREES)
+            elif p < ALPHA:
+                verdicts.append(AGREES)
+            else:
+                verdicts.append(INCONCLUSIVE)
+        verdict = DISAGREES if DISAGREES in verdicts else INCONCLUSIVE if INCONCLUSIVE in verdicts else AGREES
+        test = f"Wilcoxon signed-rank, one-sided, first vs last generation of each trial: {'; '.join(tests)}"
+        return Assessment(f"{what} (median first -> last): {'; '.join(measured)}", verdict, test)
+    return assess
+
+
+def trend(column: str, what: str, rising: bool, from_share: float = 0.0) -> Callable[[StatisticsTable, Preset], Assessment]:
+    """The chapter claims a steady rise (fall) of the trial-averaged curve from `from_share` of the run on."""
+    def assess(table: StatisticsTable, preset: Preset) -> Assessment:
+        curve = np.nanmean(table.curves(preset.name, table.settings(preset.name)[0], column), axis=0)
+        part = curve[int(from_share * len(curve)):]
+        if len(part) < MIN_TRIALS:
+            return Assessment(f"{what}: {len(part)} generations", INCONCLUSIVE, "too few generations for a trend")
+        rho, p = stats.spearmanr(np.arange(len(part)), part)
+        rho, p = (0.0, 1.0) if np.isnan(rho) else (float(rho), float(p))
+        measured = f"{what}: {part[0]:.1f} -> {part[-1]:.1f}, Spearman rho = {rho:+.2f}"
+        right_way = rho > 0 if rising else rho < 0
+        verdict = AGREES if right_way and p < ALPHA else DISAGREES if not right_way else INCONCLUSIVE
+        scope = f" from generation {int(from_share * len(curve))}" if from_share else ""
+        return Assessment(measured, verdict, f"Spearman rank correlation with the generation{scope}, p = {p:.3g}")
+    return assess
+
+
+# ---- the individual claims --------------------------------------------------------------------------
+def _plateau_level(table: StatisticsTable, preset: Preset) -> Assessment:
+    final = np.concatenate([table.final(preset.name, s, "mean") for s in table.settings(preset.name)])
+    level = float(np.median(final))
+    agrees = abs(level - PLATEAU_LEVEL) <= PLATEAU_TOLERANCE
+    return Assessment(f"final average fitness {level:.3f} (median over {len(final)} trials)",
+                      AGREES if agrees else DISAGREES, f"no test (a level): agreement within +-{PLATEAU_TOLERANCE}")
+
+
+def _early_goal_scorers(table: StatisticsTable, preset: Preset) -> Assessment:
+    curves = np.concatenate([table.curves(preset.name, s, "best") for s in table.settings(preset.name)])
+    firsts = [int(np.argmax(curve <= GOAL_SCORING)) if np.any(curve <= GOAL_SCORING) else None for curve in curves]
+    found = [f for f in firsts if f is not None]
+    limit = max(1, round(EARLY_SHARE * curves.shape[1]))
+    measured = (f"a goal scorer (best <= {GOAL_SCORING}) in {len(found)} of {len(firsts)} trials"
+                + (f", first at generation {np.median(found):.0f} (median)" if found else ""))
+    agrees = len(found) > len(firsts) / 2 and np.median(found) < limit
+    return Assessment(measured, AGREES if agrees else DISAGREES,
+                      f"no test: agreement if most trials find one before generation {limit}")
+
+
+def _high_scorers(table: StatisticsTable, preset: Preset) -> Assessment:
+    settings = table.settings(preset.name)
+    most = max(float(np.nanmax(table.curves(preset.name, s, "goals_more"))) for s in settings)
+    best = min(float(np.nanmin(table.curves(preset.name, s, "best"))) for s in settings)
+    measured = f"largest share scoring more than 4 goals {most:.1%}; lowest best fitness {best:.3f}"
+    return Assessment(measured, AGREES if most > 0 else DISAGREES, "no test: agreement if any individual scored > 4")
+
+
+def _few_scorers(table: StatisticsTable, preset: Preset) -> Assessment:
+    final = np.concatenate([table.final(preset.name, s, "goals_0") for s in table.settings(preset.name)])
+    share = float(np.median(final))
+    return Assessment(f"share scoring no goal in the last generation {share:.1%} (median over trials)",
+                      AGREES if share > 0.5 else DISAGREES, "no test: agreement if most of the population scores none")
+
+
+def _length_share(table: StatisticsTable, preset: Preset) -> Assessment:
+    maxima = {s.label: s.ga.max_length for s in preset.settings}
+    shares = {s: float(np.median(table.final(preset.name, s, "genes_mean"))) / maxima[s]
+              for s in table.settings(preset.name)}
+    agrees = all(abs(v - LENGTH_SHARE) <= LENGTH_TOLERANCE for v in shares.values())
+    measured = "final length / maximum: " + "; ".join(f"{s}: {v:.2f}" for s, v in shares.items())
+    return Assessment(measured, AGREES if agrees else DISAGREES,
+                      f"no test (a level): agreement within {LENGTH_SHARE:.2f} +- {LENGTH_TOLERANCE}")
+
+
+def _roulette_unstable(table: StatisticsTable, preset: Preset) -> Assessment:
+    def wobble(setting: str) -> np.ndarray:  # generation-to-generation movement of the best, second half
+        curves = table.curves(preset.name, setting, "best")
+        return np.nanmean(np.abs(np.diff(curves[:, curves.shape[1] // 2:], axis=1)), axis=1)
+
+    groups = {s: wobble(s) for s in table.settings(preset.name)}
+    others = np.concatenate([v for s, v in groups.items() if s != "roulette"])
+    p = float(stats.mannwhitneyu(groups["roulette"], others, alternative="greater").pvalue)
+    measured = "mean |change of best per generation|, second half: " + _medians(groups)
+    few = _few(groups)
+    if p < ALPHA:
+        verdict = AGREES
+    elif few:
+        return _too_few(measured, few)
+    else:
+        verdict = DISAGREES
+    return Assessment(measured, verdict, f"Mann-Whitney U, one-sided, roulette vs the others, p = {p:.3g}")
+
+
+def _elitist_like_tournament(table: StatisticsTable, preset: Preset) -> Assessment:
+    groups = {s: table.final(preset.name, s, "best") for s in ("tournament", "elitist")}
+    p, test = _p_between(groups)
+    measured = f"final best: {_medians(groups)}"
+    test = f"{test}, two-sided, p = {p:.3g}"
+    if p < ALPHA:
+        return Assessment(measured, DISAGREES, test + f": a significant difference (p < {ALPHA})")
+    few = _few(groups)
+    return _too_few(measured, few) if few else Assessment(measured, AGREES, test + ": no significant difference")
+
+
+def _best_mutation_rate(table: StatisticsTable, preset: Preset) -> Assessment:
+    groups = _groups(table, preset, _final("best"))
+    lowest = min(groups, key=lambda s: np.median(groups[s]))
+    p, test = _p_between(groups)
+    significance = "significant" if p < ALPHA else "not significant"
+    return Assessment(f"lowest final best fitness at {lowest}; {_medians(groups)}",
+                      AGREES if lowest == "15%" else DISAGREES, f"{test} on final best fitness, p = {p:.3g} ({significance})")
+
+
+def _flat_after_ten(table: StatisticsTable, preset: Preset) -> Assessment:
+    curves = table.curves(preset.name, table.settings(preset.name)[0], "mean")
+    tenth = max(1, round(LATE_START_SHARE * curves.shape[1]))
+    gains = curves[:, tenth] - np.array([row[~np.isnan(row)][-1] for row in curves])
+    flat = int(np.sum(gains < FLAT_IMPROVEMENT))
+    return Assessment(f"{flat} of {len(gains)} trials improve their average by less than {FLAT_IMPROVEMENT} "
+                      f"after generation {tenth}", AGREES if flat > len(gains) / 2 else DISAGREES,
+                      "no test: agreement if more than half the trials")
+
+
+def _early_best(table: StatisticsTable, preset: Preset) -> Assessment:
+    curves = table.curves(preset.name, table.settings(preset.name)[0], "best")
+    early = max(1, round(EARLY_BEST_SHARE * curves.shape[1]))
+    gaps = np.nanmin(curves[:, :early], axis=1) - np.nanmin(curves, axis=1)
+    equal = int(np.sum(gaps <= EQUAL_BEST))
+    return Assessment(f"{equal} of {len(gaps)} trials reach their best (within {EQUAL_BEST}) in the first {early} "
+                      f"generations", AGREES if equal >= 0.8 * len(gaps) else DISAGREES,
+                      "no test: agreement if at least 80% of the trials ('almost every case')")
+
+
+def _consequent_pool(table: StatisticsTable, preset: Preset) -> Assessment:
+    curve = np.nanmean(table.curves(preset.name, table.settings(preset.name)[0], "unique_consequent_genes"), axis=0)
+    start, end = max(1, round(POOL_INITIAL * len(curve))), max(1, round(POOL_PLATEAU_END * len(curve)))
+    dropped = curve[start] < curve[0]
+    change = abs(curve[end] - curve[start]) / curve[start]
+    agrees = dropped and change <= CONSTANT_CHANGE
+    return Assessment(f"unique consequent genes {curve[0]:.0f} -> {curve[start]:.0f} (generation {start}) -> "
+                      f"{curve[end]:.0f} (generation {end}), change {change:.0%}", AGREES if agrees else DISAGREES,
+                      f"no test: agreement if it drops first, then changes by at most {CONSTANT_CHANGE:.0%}")
+
+
+def _ga_better(column_values, what: str) -> Callable[[StatisticsTable, Preset], Assessment]:
+    def assess(table: StatisticsTable, preset: Preset) -> Assessment:
+        ga, search = table.settings(preset.name)
+        groups = {ga: column_values(table, preset, ga), search: column_values(table, preset, search)}
+        p = float(stats.mannwhitneyu(groups[ga], groups[search], alternative="less").pvalue)
+        measured = f"{what}: {_medians(groups)}"
+        if p < ALPHA:
+            return Assessment(measured, AGREES, f"Mann-Whitney U, one-sided (GA lower), p = {p:.3g}")
+        few = _few(groups)
+        if few and np.median(groups[ga]) < np.median(groups[search]):
+            return _too_few(measured, few)
+        return Assessment(measured, DISAGREES, f"Mann-Whitney U, one-sided (GA lower), p = {p:.3g}: "
+                                               f"the GA is not significantly better than random search")
+    return assess
+
+
+def _ga_consistent(table: StatisticsTable, preset: Preset) -> Assessment:
+    ga, search = table.settings(preset.name)
+    a, b = table.best_so_far(preset.name, ga), table.best_so_far(preset.name, search)
+    p = float(stats.levene(a, b, center="median").pvalue) if np.ptp(np.concatenate([a, b])) > 0 else 1.0
+    measured = f"std of the runs' best fitness: {ga} {np.std(a):.3f}; {search} {np.std(b):.3f}"
+    test = f"Brown-Forsythe (Levene, median-centred), p = {p:.3g}"
+    if np.std(a) >= np.std(b):
+        return Assessment(measured, DISAGREES, test)
+    return Assessment(measured, AGREES if p < ALPHA else INCONCLUSIVE, test)
+
+
+def _random_finds_scorers(table: StatisticsTable, preset: Preset) -> Assessment:
+    search = table.settings(preset.name)[-1]
+    best = table.best_so_far(preset.name, search)
+    found = int(np.sum(best <= GOAL_SCORING))
+    return Assessment(f"{found} of {len(best)} random-search trials find a goal scorer (best <= {GOAL_SCORING})",
+                      AGREES if found >= len(best) / 2 else DISAGREES,
+                      "no test: agreement if at least half the trials ('with some consistency')")
+
+
+FINDINGS: tuple[Finding, ...] = (
+    Finding("initial", "6.2, Fig. 11", "The population average fitness improves steadily, then plateaus.",
+            improves("mean", "average fitness", increase=False)),
+    Finding("initial", "6.2, Fig. 11", "The average fitness plateaus around 0.75 (ball kicking), not near 0.5 "
+            "(goal scoring).", _plateau_level),
+    Finding("initial", "6.2, Fig. 12", "Good (goal-scoring) individuals are found after very few generations.",
+            _early_goal_scorers),
+    Finding("initial", "6.2, Fig. 13", "Some individuals score more than 4 goals (the best scored 10).", _high_scorers),
+    Finding("initial", "6.2, Fig. 13", "The population's goal scoring stays little developed: most individuals "
+            "score none.", _few_scorers),
+    Finding("max-length", "6.4.1, Figs. 14-15", "The maximum chromosome length makes no significant difference to "
+            "the average or the best fitness.", no_difference(("final average", _final("mean")),
+                                                              ("run's best", _best_so_far))),
+    Finding("max-length", "6.4.1, Fig. 16", "The average chromosome length settles at about 2/3 of the maximum.",
+            _length_share),
+    Finding("max-length", "6.4.1, Fig. 17", "Valid rules per chromosome rise in every setting.",
+            improves("valid_rules_mean", "valid rules per chromosome", increase=True)),
+    Finding("population", "6.4.2, Figs. 18-19", "At equal evaluations, population size makes no significant "
+            "difference to the average or the best fitness.", no_difference(("final average", _final("mean")),
+                                                                            ("run's best", _best_so_far))),
+    Finding("selection", "6.4.3, Fig. 20", "The selection method is not a significant determinant of the average "
+            "fitness.", no_difference(("final average", _final("mean")))),
+    Finding("selection", "6.4.3, Fig. 21", "Elitist selection gives best fitness similar to tournament selection.",
+            _elitist_like_tournament),
+    Finding("selection", "6.4.3, Fig. 21", "Roulette-wheel selection gives a less stable best fitness.",
+            _roulette_unstable),
+    Finding("crossover", "6.4.4, Figs. 22-23", "One-point and two-point crossover do not differ meaningfully in "
+            "average or best fitness.", no_difference(("final average", _final("mean")), ("final best", _final("best")))),
+    Finding("mutation", "6.4.4, Fig. 24", "The mutation rate has only a marginal effect on the average fitness.",
+            no_difference(("final average", _final("mean")))),
+    Finding("mutation", "6.4.4, Fig. 25", "A mutation rate of 15% gives the best fitness.", _best_mutation_rate),
+    Finding("long", "6.4.4, Fig. 26", "For more than half the trials the average fitness does not improve "
+            "significantly after the tenth generation.", _flat_after_ten),
+    Finding("long", "6.4.4, Fig. 27", "In almost every trial an individual of the first 10-15 generations reaches "
+            "the best fitness seen in 100 generations.", _early_best),
+    Finding("long", "6.4.5, Fig. 28", "Chromosome length does not grow uncontrollably: it plateaus at about 2/3 of "
+            "the maximum.", _length_share),
+    Finding("long", "6.4.5, Fig. 28", "Rules per chromosome keep growing, still increasing after 100 generations.",
+            trend("rules_mean", "rules per chromosome (second half)", rising=True, from_share=0.5)),
+    Finding("long", "6.4.5, Fig. 29", "The pool of unique premise genes falls slowly but steadily.",
+            trend("unique_premise_genes", "unique premise genes", rising=False)),
+    Finding("long", "6.4.5, Fig. 29", "The pool of unique consequent genes stays reasonably constant for ~40 "
+            "generations after an initial decrease.", _consequent_pool),
+    Finding("random", "6.5, Fig. 31", "The GA finds better individuals than random search.",
+            _ga_better(_best_so_far, "run's best fitness")),
+    Finding("random", "6.5, Fig. 31", "The GA finds them more consistently (it is more robust).", _ga_consistent),
+    Finding("random", "6.5", "Random search still finds goal-scoring individuals, with some consistency.",
+            _random_finds_scorers),
+    Finding("random", "6.5, Fig. 30", "The GA improves its population's average fitness; random search does not.",
+            _ga_better(_final("mean"), "final average fitness")),
+)
+
+
+def assess_findings(table: StatisticsTable, presets: list[Preset]) -> list[tuple[Finding, Assessment]]:
+    """Every finding, assessed from the table ("not run" when its preset is not in it)."""
+    by_name = {p.name: p for p in presets}
+    present = set(table.presets())
+    results = []
+    for finding in FINDINGS:
+        if finding.preset in present and finding.preset in by_name:
+            results.append((finding, finding.assess(table, by_name[finding.preset])))
+        else:
+            results.append((finding, Assessment("-", NOT_RUN, "-")))
+    return results
+
+
+# ---- writing --------------------------------------------------------------------------------------
+METHOD = (f"Each verdict is computed from statistics.csv. Tests use one value per trial, at significance "
+          f"level {ALPHA}: Kruskal-Wallis H (3+ settings) or Mann-Whitney U (2 settings) for differences between "
+          f"settings; Wilcoxon signed-rank for a change from the first to the last generation of the same trials; "
+          f"Spearman rank correlation for a trend along the run; Brown-Forsythe for a difference in consistency. "
+          f"A claimed absence of difference agrees when no significant difference is found, and is inconclusive "
+          f"with fewer than {MIN_TRIALS} trials per setting. Claims about a level name their tolerance.")
+
+
+def write_report(table: StatisticsTable, presets: list[Preset], folder: Path) -> Report:
+    """Figures, report.md and report.html into `folder`."""
+    present = [p for p in presets if p.name in table.presets()]
+    figures = {p.name: write_figures(table, p, folder) for p in present}
+    report = Report(assess_findings(table, presets), [f for p in present for f in figures[p.name]])
+    blocks = _blocks(table, present, figures, report)
+    (folder / REPORT_MD).write_text(_markdown(blocks))
+    (folder / REPORT_HTML).write_text(_html(blocks, folder))
+    return report
+
+
+def _blocks(table: StatisticsTable, presets: list[Preset], figures: dict[str, list[Figure]], report: Report) -> list:
+    counts = report.verdicts()
+    blocks: list = [("h1", "soccer-lab: the chapter's SimpleSoccer study"),
+                    ("p", "Verdicts: " + ", ".join(f"{n} {v}" for v, n in counts.items() if n)),
+                    ("p", METHOD)]
+    for preset in presets:
+        blocks.append(("h2", f"{preset.title} ({preset.name})"))
+        rows = []
+        for setting in table.settings(preset.name):
+            trials = len(table.trials(preset.name, setting))
+            rows.append([setting, str(trials), str(table.curves(preset.name, setting, "generation").shape[1]),
+                         str(int(table.evaluations(preset.name, setting)[-1])),
+                         f"{np.median(table.final(preset.name, setting, 'mean')):.3f}",
+                         f"{np.median(table.final(preset.name, setting, 'best')):.3f}",
+                         f"{np.median(table.best_so_far(preset.name, setting)):.3f}"])
+        blocks.append(("table", [preset.varied, "trials", "generations", "evaluations", "final average (median)",
+                                 "final best (median)", "run's best (median)"], rows))
+        blocks.extend(("figure", f.path, f.caption) for f in figures[preset.name])
+        findings = [(f, a) for f, a in report.findings if f.preset == preset.name]
+        if findings:
+            blocks.append(("h3", "Findings"))
+            blocks.append(("table", ["chapter", "claim", "measured here", "verdict", "test"],
+                           [[f.where, f.claim, a.measured, a.verdict.upper() if a.verdict == DISAGREES else a.verdict,
+                             a.test] for f, a in findings]))
+    skipped = [f for f, a in report.findings if a.verdict == NOT_RUN]
+    if skipped:
+        blocks.append(("h2", "Findings not assessed (their preset was not run)"))
+        blocks.append(("table", ["preset", "chapter", "claim"], [[f.preset, f.where, f.claim] for f in skipped]))
+    return blocks
+
+
+def _cell(text: str) -> str:
+    return text.replace("|", "\\|")
+
+
+def _markdown(blocks: list) -> str:
+    lines = []
+    for block in blocks:
+        kind = block[0]
+        if kind in ("h1", "h2", "h3"):
+            lines += ["#" * int(kind[1]) + " " + block[1], ""]
+        elif kind == "p":
+            lines += [block[1], ""]
+        elif kind == "table":
+            header, rows = block[1], block[2]
+            lines.append("| " + " | ".join(header) + " |")
+            lines.append("|" + "---|" * len(header))
+            lines += ["| " + " | ".join(_cell(c) for c in row) + " |" for row in rows]
+            lines.append("")
+        elif kind == "figure":
+            lines += [f"![{block[2]}]({block[1].as_posix()})", ""]
+    return "\n".join(lines)
+
+
+STYLE = ("body{font-family:system-ui,sans-serif;max-width:1100px;margin:2em auto;padding:0 1em;color:#222}"
+         "table{border-collapse:collapse;margin:1em 0;font-size:0.9em}td,th{border:1px solid #ccc;padding:4px 8px;"
+         "vertical-align:top}th{background:#f3f3f3}figure{margin:1em 0}img{max-width:100%}"
+         ".agrees{color:#1a7f37;font-weight:bold}.DISAGREES{color:#c62828;font-weight:bold}"
+         ".inconclusive{color:#8a6d00}")
+
+
+def _html(blocks: list, folder: Path) -> str:
+    """Self-contained: the figures are inlined as base64 PNG."""
+    parts = ["<!doctype html><html><head><meta charset='utf-8'><title>soccer-lab experiment report</title>",
+             f"<style>{STYLE}</style></head><body>"]
+    for block in blocks:
+        kind = block[0]
+        if kind in ("h1", "h2", "h3", "p"):
+            parts.append(f"<{kind}>{html.escape(block[1])}</{kind}>")
+        elif kind == "table":
+            header, rows = block[1], block[2]
+            parts.append("<table><tr>" + "".join(f"<th>{html.escape(h)}</th>" for h in header) + "</tr>")
+            for row in rows:
+                parts.append("<tr>" + "".join(f"<td class='{html.escape(c)}'>{html.escape(c)}</td>" for c in row)
+                             + "</tr>")
+            parts.append("</table>")
+        elif kind == "figure":
+            data = base64.b64encode((folder / block[1]).read_bytes()).decode()
+            parts.append(f"<figure><img alt='{html.escape(block[2])}' src='data:image/png;base64,{data}'>"
+                         f"<figcaption>{html.escape(block[2])}</figcaption></figure>")
+    parts.append("</body></html>")
+    return "\n".join(parts)

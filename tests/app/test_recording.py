@@ -1,0 +1,141 @@
+"""app/recording.py (rerun) and app/run_outputs.py (the run folder), read back with rerun's own reader."""
+
+from __future__ import annotations
+
+import csv
+import math
+from datetime import datetime
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+from rerun.chunk import RrdReader
+
+from app.recording import (GOAL_BINS, GOAL_HISTOGRAM_ENTITY, VIEW_CONE_LENGTH, RunRecorder, goal_outline,
+                           log_replay, open_stream, statistic_entity, view_cone)
+from app.run_outputs import RunFolder, RunFolderError, StatisticsFile, default_run_dir
+from ga.statistics import GenerationStats
+from soccer.config import WorldConfig
+
+
+def columns(path, entity: str) -> dict[str, list]:
+    merged: dict[str, list] = {}
+    for chunk in RrdReader(path).stream():
+        if chunk.entity_path == entity:
+            for name, values in chunk.to_record_batch().to_pydict().items():
+                merged.setdefault(name, []).extend(values)
+    return merged
+
+
+def stats(generation: int, best: float) -> GenerationStats:
+    values = {name: 0.0 for name in GenerationStats.field_names()}
+    values.update(generation=generation, best=best, goals_0=0.5, goals_2=0.25, goals_more=0.25)
+    return GenerationStats.from_dict(values)
+
+
+def test_statistics_are_grouped_one_plot_per_kind():
+    assert statistic_entity("best") == "statistics/fitness/best"
+    assert statistic_entity("std") == "statistics/fitness/std"
+    assert statistic_entity("goals_more") == "statistics/goals/goals_more"
+    assert statistic_entity("valid_rules_std") == "statistics/chromosome/valid_rules_std"
+    assert statistic_entity("unique_genes") == "statistics/gene_pool/unique_genes"
+    assert statistic_entity("evaluations") == "statistics/run/evaluations"
+    entities = {statistic_entity(n) for n in GenerationStats.field_names()}
+    assert len(entities) == len(GenerationStats.field_names())  # no two statistics share a series
+
+
+def test_run_recorder_logs_history_then_new_generations(tmp_path):
+    path = tmp_path / "run.rrd"
+    recorder = RunRecorder(path, history=[stats(0, 0.9).to_dict(), stats(1, 0.7).to_dict()])
+    recorder.on_generation(stats(2, 0.5), population=[])
+    recorder.close()
+    best = columns(path, "/statistics/fitness/best")
+    assert best["generation"] == [0, 1, 2]
+    assert [v[0] for v in best["Scalars:scalars"]] == [0.9, 0.7, 0.5]
+    histogram = columns(path, "/" + GOAL_HISTOGRAM_ENTITY)["BarChart:values"]
+    assert histogram[2][0]["buffer"] == [0.5, 0.0, 0.25, 0.0, 0.0, 0.25]
+    assert len(GOAL_BINS) == 6
+
+
+def test_two_recordings_at_once_stay_apart(tmp_path):
+    first, second = RunRecorder(tmp_path / "a.rrd"), RunRecorder(tmp_path / "b.rrd")
+    first.on_generation(stats(0, 0.8))
+    second.on_generation(stats(0, 0.3))
+    second.on_generation(stats(1, 0.2))
+    first.close()
+    second.close()
+    assert [v[0] for v in columns(tmp_path / "a.rrd", "/statistics/fitness/best")["Scalars:scalars"]] == [0.8]
+    assert [v[0] for v in columns(tmp_path / "b.rrd", "/statistics/fitness/best")["Scalars:scalars"]] == [0.3, 0.2]
+
+
+def test_view_cone_edges_are_45_degrees_either_side_of_the_facing():
+    cone = view_cone(1.0, 2.0, 90.0, 45.0)  # facing +y (to the player's right when it faced +x)
+    np.testing.assert_allclose(cone[1], [1.0, 2.0])
+    edge = VIEW_CONE_LENGTH / math.sqrt(2)
+    np.testing.assert_allclose(cone[0], [1.0 + edge, 2.0 + edge])
+    np.testing.assert_allclose(cone[2], [1.0 - edge, 2.0 + edge])
+
+
+def test_goal_outline_runs_post_to_post_around_the_net():
+    world = WorldConfig()
+    outline = goal_outline(world)
+    np.testing.assert_allclose(outline[[0, -1]], [[52.5, -7.01], [52.5, 7.01]])
+    np.testing.assert_allclose(outline[1:3, 0], [54.5, 54.5])
+
+
+def test_replay_logs_each_tick_of_a_trace(tmp_path):
+    trace = SimpleNamespace(  # a three-tick trace in the engine's GameTrace layout
+        player_x=np.array([-10.0, -9.5, -9.0]), player_y=np.array([1.0, 1.0, 1.5]),
+        facing=np.array([0.0, 0.0, 30.0]), ball_x=np.array([0.0, 0.0, 0.5]), ball_y=np.array([3.0, 3.0, 3.0]),
+        action=np.array([-1, 1, 2]), goals=np.array([0, 0, 1]),
+    )
+    path = tmp_path / "replay.rrd"
+    stream = open_stream(path)
+    log_replay(stream, trace, WorldConfig(), entity="game")
+    stream.disconnect()
+    player = columns(path, "/game/player")
+    assert player["tick"] == [0, 1, 2]
+    assert [p[0] for p in player["Points2D:positions"]] == [[-10.0, 1.0], [-9.5, 1.0], [-9.0, 1.5]]
+    assert [p[0] for p in player["Points2D:labels"]] == ["Hunt", "Dash", "Kick"]  # -1 = no rule fired
+    ball = columns(path, "/game/ball")
+    assert [p[0] for p in ball["Points2D:positions"]] == [[0.0, 3.0], [0.0, 3.0], [0.5, 3.0]]
+    assert [v[0] for v in columns(path, "/game/score/goals")["Scalars:scalars"]] == [0.0, 0.0, 1.0]
+    cones = columns(path, "/game/player/view_cone")["LineStrips2D:strips"]
+    np.testing.assert_allclose(cones[2][0], view_cone(-9.0, 1.5, 30.0, 45.0))
+
+
+# ---- the run folder --------------------------------------------------------------------------
+def test_default_run_dir_is_a_timestamp_and_never_reuses_a_folder(tmp_path):
+    now = datetime(2024, 1, 31, 14, 25, 2)
+    first = default_run_dir(now, root=tmp_path)
+    assert first == tmp_path / "20240131-142502"
+    first.mkdir()
+    assert default_run_dir(now, root=tmp_path) == tmp_path / "20240131-142502-2"
+
+
+def test_statistics_file_restarts_from_the_history_it_is_given(tmp_path):
+    path = tmp_path / "statistics.csv"
+    written = StatisticsFile(path)
+    for generation in range(3):
+        written.append(stats(generation, 0.9 - generation / 10).to_dict())
+    rows = list(csv.DictReader(path.read_text().splitlines()))
+    assert [r["generation"] for r in rows] == ["0", "1", "2"]
+    # Resuming from a checkpoint holding generations 0..1: generation 2 goes, then comes back anew.
+    resumed = StatisticsFile(path, [stats(0, 0.9).to_dict(), stats(1, 0.8).to_dict()])
+    resumed.append(stats(2, 0.6).to_dict())
+    rows = list(csv.DictReader(path.read_text().splitlines()))
+    assert [(r["generation"], float(r["best"])) for r in rows] == [("0", 0.9), ("1", 0.8), ("2", 0.6)]
+    assert list(rows[0]) == list(GenerationStats.field_names())
+
+
+def test_run_folder_errors_name_the_problem(tmp_path):
+    folder = RunFolder.create(tmp_path / "run", {"algorithm": "ga"})
+    with pytest.raises(RunFolderError, match="already holds a run"):
+        RunFolder.create(tmp_path / "run", {"algorithm": "ga"})
+    with pytest.raises(RunFolderError, match="no checkpoint"):
+        RunFolder.open(folder.path)
+    with pytest.raises(RunFolderError, match="not a run folder"):
+        RunFolder.open(tmp_path / "elsewhere")
+    folder.manifest.write_text("[1, 2]")
+    with pytest.raises(RunFolderError, match="not a run manifest"):
+        folder.read_manifest()
