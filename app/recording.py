@@ -51,6 +51,8 @@ PLAYER_COLOUR = (30, 120, 255)
 BALL_COLOUR = (255, 255, 255)
 VIEW_CONE_COLOUR = (30, 120, 255, 90)
 LINE_RADIUS = 0.12
+CONE_RADIUS = 0.05
+HUNT = "HUNT"  # the label of ticks where no rule fired and the player hunted (spec 4.3)
 
 
 def open_stream(path: str | Path, recording_id: str | None = None) -> rr.RecordingStream:
@@ -146,24 +148,32 @@ def log_pitch(stream: rr.RecordingStream, world: WorldConfig, entity: str = REPL
 
 def log_replay(stream: rr.RecordingStream, trace: Any, world: WorldConfig, *, entity: str = REPLAY_ENTITY,
                vocabulary: Vocabulary | None = None) -> None:
-    """One game's trace (soccer.engine GameTrace) on the tick timeline under `entity`."""
+    """One game's trace (soccer.engine GameTrace) on the tick timeline under `entity`, sent as columns."""
     vocabulary = vocabulary or Vocabulary.default()
-    action_names = ("HUNT",) + vocabulary.action_names  # trace action -1 = no rule fired: hunt
+    labels = [vocabulary.display(name) for name in (HUNT,) + vocabulary.action_names]  # action -1 = hunt
     stream.reset_time()  # the replay lives on the tick timeline only, not at some generation
     log_pitch(stream, world, entity)
-    half_angle = world.view_width / 2
-    for tick in range(len(trace.ball_x)):
-        stream.set_time(TICK_TIMELINE, sequence=tick)
-        x, y, facing = float(trace.player_x[tick]), float(trace.player_y[tick]), float(trace.facing[tick])
-        action = action_names[int(trace.action[tick]) + 1]
-        stream.log(f"{entity}/player", rr.Points2D([[x, y]], radii=world.player_size, colors=PLAYER_COLOUR,
-                                                   labels=[vocabulary.display(action)]))
-        heading = math.radians(facing)
-        stream.log(f"{entity}/player/facing", rr.Arrows2D(
-            origins=[[x, y]], vectors=[[FACING_LENGTH * math.cos(heading), FACING_LENGTH * math.sin(heading)]],
-            colors=PLAYER_COLOUR))
-        stream.log(f"{entity}/player/view_cone",
-                   rr.LineStrips2D([view_cone(x, y, facing, half_angle)], colors=VIEW_CONE_COLOUR, radii=0.05))
-        stream.log(f"{entity}/ball", rr.Points2D([[float(trace.ball_x[tick]), float(trace.ball_y[tick])]],
-                                                 radii=world.ball_size, colors=BALL_COLOUR))
-        stream.log(f"{entity}/score/goals", rr.Scalars(float(trace.goals[tick])))
+    ticks = len(trace.action)
+    if ticks == 0:
+        return
+    timeline = [rr.TimeColumn(TICK_TIMELINE, sequence=np.arange(ticks))]
+    player = np.column_stack([trace.player_x, trace.player_y]).astype(float)
+    facing = np.radians(np.asarray(trace.facing, dtype=float))
+    cones = np.stack([view_cone(x, y, f, world.view_width / 2)
+                      for x, y, f in zip(player[:, 0], player[:, 1], trace.facing)])
+
+    def send(path: str, columns: Any) -> None:
+        stream.send_columns(f"{entity}/{path}", indexes=timeline, columns=columns)
+
+    send("player", rr.Points2D.columns(
+        positions=player, radii=np.full(ticks, world.player_size), colors=np.tile(PLAYER_COLOUR, (ticks, 1)),
+        labels=[labels[a + 1] for a in np.asarray(trace.action).tolist()]))
+    send("player/facing", rr.Arrows2D.columns(
+        origins=player, vectors=FACING_LENGTH * np.column_stack([np.cos(facing), np.sin(facing)]),
+        colors=np.tile(PLAYER_COLOUR, (ticks, 1))))
+    send("player/view_cone", rr.LineStrips2D.columns(
+        strips=list(cones), colors=np.tile(VIEW_CONE_COLOUR, (ticks, 1)), radii=np.full(ticks, CONE_RADIUS)))
+    send("ball", rr.Points2D.columns(
+        positions=np.column_stack([trace.ball_x, trace.ball_y]).astype(float),
+        radii=np.full(ticks, world.ball_size), colors=np.tile(BALL_COLOUR, (ticks, 1))))
+    send("score/goals", rr.Scalars.columns(scalars=np.asarray(trace.goals, dtype=float)))

@@ -5,7 +5,6 @@ a killed run (either kind) from its checkpoint."""
 from __future__ import annotations
 
 import os
-import time
 from types import SimpleNamespace
 from pathlib import Path
 from typing import Annotated, Any, Optional
@@ -147,7 +146,6 @@ def _drive(folder: RunFolder, config: GAConfig, game: GameConfig, algorithm: str
 
     outputs = RunOutputs(folder, vocabulary, history=history, best=best)
     recorder = RunRecorder(folder.recording, history=history)
-    started = time.perf_counter()
     try:
         with GenerationProgress(config.max_generations, last=history[-1] if history else None,
                                 label="evolving" if algorithm == GA else "random search") as progress:
@@ -160,7 +158,7 @@ def _drive(folder: RunFolder, config: GAConfig, game: GameConfig, algorithm: str
     game_result, trace = play_game(result.best_rulebase, config.seed, game, trace=True)
     recorder.log_replay(trace, game.world)
     recorder.close()
-    _summary(folder, result, game_result, time.perf_counter() - started)
+    _summary(folder, result, game_result)
 
 
 class GenerationProgress:
@@ -189,10 +187,10 @@ class GenerationProgress:
                              best=f"{stats.best:.4f}", mean=f"{stats.mean:.4f}")
 
 
-def _summary(folder: RunFolder, result: RunResult, replay: Any, seconds: float) -> None:
+def _summary(folder: RunFolder, result: RunResult, replay: Any) -> None:
     best = result.best
     typer.echo(f"{len(result.history)} generations, {result.evaluations} evaluations ({result.stop_reason}), "
-               f"{seconds:.1f} s")
+               f"{result.history[-1].wall_time:.1f} s")
     typer.echo(f"best fitness {best.fitness:.4f} (mean of {best.evaluations} evaluation"
                f"{'s' if best.evaluations != 1 else ''}; {best.goals} goal{'s' if best.goals != 1 else ''} "
                f"in its latest game)")

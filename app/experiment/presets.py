@@ -133,7 +133,7 @@ def _preset_settings(name: str, options: ExperimentOptions) -> tuple[Setting, ..
         settings = []
         for size in POPULATION_SIZES:
             population = options.scaled_population(size)
-            settings.append(Setting(str(size), GA, _config(options, {}, population_size=population,
+            settings.append(Setting(str(population), GA, _config(options, {}, population_size=population,
                                                            max_generations=max(1, round(budget / population)))))
         return tuple(settings)
     if name == "selection":

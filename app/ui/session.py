@@ -21,6 +21,7 @@ from app.ui.panels.inference import InferencePanel
 from app.ui.panels.library import LibraryPanel
 from app.ui.panels.play import PlayControls
 from app.ui.panels.policy_view import PolicyPanel
+from app.ui.panels.population import PopulationPanel
 from app.ui.pitch import PitchGeometry, PitchView
 from fuzzy.rule import Rulebase
 
@@ -64,9 +65,11 @@ class Session:
             self.library = LibraryPanel(gui, self)
         right = gui.add_panel()
         with right.add_tab("Inference", viser.Icon.BRAIN):
-            self.inference = InferencePanel(gui, self.context.vocabulary)
+            self.inference = InferencePanel(gui, self.context.vocabulary, on_change=self.refresh)
         with right.add_tab("Policy map", viser.Icon.MAP):
             self.policy = PolicyPanel(gui, self)
+        with right.add_tab("Population", viser.Icon.LAYOUT_GRID):
+            self.population = PopulationPanel(gui, self)
         right.dock_right()
         right.set_width(style.RIGHT_PANEL_WIDTH)
         self._aspect = 0.0
@@ -110,6 +113,10 @@ class Session:
             self.policy.invalidate()
             self._render()
 
+    def refresh(self) -> None:
+        with self.lock:
+            self._render()
+
     def close(self) -> None:
         self._closed.set()
         self.evolve.close()
@@ -132,27 +139,36 @@ class Session:
             self._closed.wait(delay)
 
     def _advance(self) -> None:
-        if not self.playing:
-            return
-        if self.game.done:
-            if self._game_over_since is None:
-                self._game_over_since = time.perf_counter()
-            elif time.perf_counter() - self._game_over_since > GAME_OVER_PAUSE:
-                self._game_over_since = None
-                self.controls.seed.value = self.game.seed + 1
-                self.game.restart(self.game.seed + 1)
-                self._render()
-            return
-        self._tick_budget += float(self.controls.speed.value) * style.TICKS_PER_SECOND / style.FRAME_RATE
-        ticks = int(self._tick_budget)
+        ticks = self._due_ticks() if self.playing else 0
+        self.population.advance(ticks)
         if ticks == 0:
             return
-        self._tick_budget -= ticks
+        if self.game.done:
+            self._restart_after_pause()
+            return
         for _ in range(ticks):
             if self.game.done:
                 break
             self.game.step()
         self._render()
+
+    def _due_ticks(self) -> int:
+        """Ticks to play this frame so the game runs at `speed` times real time."""
+        self._tick_budget += float(self.controls.speed.value) * style.TICKS_PER_SECOND / style.FRAME_RATE
+        ticks = int(self._tick_budget)
+        self._tick_budget -= ticks
+        return ticks
+
+    def _restart_after_pause(self) -> None:
+        """Leave the final position on screen for a moment, then start the next game (the next seed)."""
+        now = time.perf_counter()
+        if self._game_over_since is None:
+            self._game_over_since = now
+        elif now - self._game_over_since > GAME_OVER_PAUSE:
+            self._game_over_since = None
+            self.controls.seed.value = self.game.seed + 1
+            self.game.restart(self.game.seed + 1)
+            self._render()
 
     def _render(self) -> None:
         game = self.game

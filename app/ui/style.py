@@ -60,3 +60,7 @@ HUNT_COLOUR = "#cfd8dc"
 LEFT_PANEL_WIDTH = 380
 RIGHT_PANEL_WIDTH = 500
 POLICY_REFRESH_SECONDS = 0.2  # the policy map's marker follows the player at 5 Hz (the map is ~12 kB)
+POPULATION_GRID = (3, 4)  # columns, rows of small pitches in the population view
+POPULATION_REFRESH_SECONDS = 0.1  # the small pitches redraw at 10 Hz
+MINI_PITCH_WIDTH = 160  # px
+BALL_HEX = "#ffc107"  # BALL as a hex string for SVG

@@ -149,8 +149,10 @@ def test_stepping_changes_membership_and_rule_panels(ui, page):
     shown = [float(s) for s in page.locator(".rule").evaluate_all("rows => rows.map(r => r.dataset.strength)")]
     assert shown == pytest.approx(list(session.game.state.strengths), abs=5e-5)
     assert page.locator(".rules").inner_html() != rules or shown
-    page.get_by_role("checkbox", name="Only rules that fired").check() if page.get_by_role(
-        "checkbox", name="Only rules that fired").count() else None
+    fired = sum(1 for s in session.game.state.strengths if s > 0)
+    field(page, "Only rules that fired", "input").check()
+    wait_until(lambda: page.locator(".rule").count() == fired)
+    assert page.locator('.rule[data-fired="false"]').count() == 0
     shot(page, "2-stepping")
 
 
@@ -206,8 +208,14 @@ def test_a_small_evolution_shows_progress_and_its_best_player_can_be_loaded(ui, 
     assert len(session.evolve.best) == 2  # generation 0 (the initial population) and generation 1
     assert all(0.0 <= b <= m <= 1.0 for b, m in zip(session.evolve.best, session.evolve.mean))
     shot(page, "5-evolve")
+    page.get_by_role("tab", name="Population").click()
+    page.get_by_role("tab", name="Play").click()
+    page.get_by_role("button", name="Play").click()
+    wait_until(lambda: page.locator(".mini-pitch").count() == 2)  # the best of generations 0 and 1
     page.get_by_role("tab", name="Library").click()
-    shot(page, "6-library")
+    run_label = page.locator("text=from the UI (finished)")
+    shot(page, "6-library-and-population")
+    assert session.library.runs.value.startswith("#") or run_label.count()
 
 
 def test_policy_map_marks_the_current_input(ui, page):

@@ -112,3 +112,13 @@ def test_pitch_is_drawn_in_scene_coordinates_with_y_flipped():
     # Facing +y (the player's right) must look down the screen: a -90 degree turn about the scene's z.
     w, x, y, z = yaw_quaternion(math.pi / 2)
     assert (w, x, y) == pytest.approx((math.cos(math.pi / 4), 0.0, 0.0)) and z == pytest.approx(-math.sin(math.pi / 4))
+
+
+def test_population_grid_draws_one_small_pitch_per_game():
+    from app.ui.panels.population import population_html
+
+    geometry = PitchGeometry.from_world(WorldConfig())
+    observed = np.array([[-10.0, 5.0, 30.0, 0.0, -3.0], [20.0, -4.0, -90.0, 25.0, 0.0]])
+    html = population_html(geometry, observed, [0, 3], [False, True], ["gen 0", "gen 1"])
+    assert html.count('class="mini-pitch"') == 2
+    assert 'data-goals="3" data-done="true"' in html and "gen 1" in html

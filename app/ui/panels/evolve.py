@@ -60,13 +60,13 @@ class EvolvePanel:
         self.progress = gui.add_progress_bar(0.0)
         self.status = gui.add_html(self._status_html("Not started. Press Start: the chapter's defaults are set."))
         self.plot = gui.add_uplot(
-            data=(np.zeros(0), np.zeros(0), np.zeros(0)),
+            data=self._plot_data(),
             series=(
                 viser.uplot.Series(label="generation"),
                 viser.uplot.Series(label="best", stroke=style.SELECTED, width=3),
                 viser.uplot.Series(label="mean", stroke=style.ACCENT, width=2),
             ),
-            scales={"x": viser.uplot.Scale(time=False, auto=True), "y": viser.uplot.Scale(range=(0.0, 1.0))},
+            scales=self._plot_scales(),
             title="Fitness (lower is better)",
             aspect=1.4,
         )
@@ -115,6 +115,7 @@ class EvolvePanel:
         self.generations, self.best, self.mean = [], [], []
         self.progress.value = 0.0
         self.progress.animated = True
+        self.plot.scales = self._plot_scales()
         self._redraw_plot()
         self.status.content = self._status_html(f"Run #{record.id} started: evaluating generation 0 …")
         self.session.library.refresh()
@@ -155,6 +156,7 @@ class EvolvePanel:
             self.best.append(float(stats["best"]))
             self.mean.append(float(stats["mean"]))
             self._redraw_plot()
+            self.session.population.generation_finished(event.run_id)
             self.progress.value = min(100.0, 100.0 * (stats["generation"] + 1) / total)
             self.load_best.disabled = False
             self.status.content = self._status_html(
@@ -171,12 +173,24 @@ class EvolvePanel:
             )
             self.session.library.refresh()
 
-    def _redraw_plot(self) -> None:
-        self.plot.data = (
+    def _plot_data(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        if not self.generations:  # uPlot needs a point to set its scales up; NaN draws nothing
+            return (np.zeros(1), np.full(1, np.nan), np.full(1, np.nan))
+        return (
             np.array(self.generations, dtype=np.float64),
             np.array(self.best, dtype=np.float64),
             np.array(self.mean, dtype=np.float64),
         )
+
+    def _plot_scales(self) -> dict[str, viser.uplot.Scale]:
+        last = max(1, int(self.inputs["max_generations"].value) - 1)
+        return {
+            "x": viser.uplot.Scale(time=False, auto=False, range=(0.0, float(last))),
+            "y": viser.uplot.Scale(auto=False, range=(0.0, 1.0)),
+        }
+
+    def _redraw_plot(self) -> None:
+        self.plot.data = self._plot_data()
 
 
 def _first_line(exc: Exception) -> str:

@@ -3,7 +3,7 @@ aggregate the output sets, defuzzify. The decision sits on top because it is wha
 
 from __future__ import annotations
 
-from typing import Mapping, Sequence
+from typing import Callable, Mapping, Sequence
 
 import viser
 
@@ -15,11 +15,12 @@ from fuzzy.vocabulary import Vocabulary
 
 
 class InferencePanel:
-    def __init__(self, gui: viser.GuiApi, vocabulary: Vocabulary):
+    def __init__(self, gui: viser.GuiApi, vocabulary: Vocabulary, on_change: Callable[[], None]):
         self.vocabulary = vocabulary
         self.decision = gui.add_html("")
         with gui.add_folder("Rules and their strengths"):
             self.only_fired = gui.add_checkbox("Only rules that fired", False)
+            self.only_fired.on_update(lambda _: on_change())  # redraw now, also while paused
             self.rules = gui.add_html("")
         with gui.add_folder("Output sets (clipped, max, mean of maximum)"):
             self.outputs = gui.add_html("")

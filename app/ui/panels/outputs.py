@@ -8,9 +8,9 @@ from fuzzy.engine import Inference
 from fuzzy.vocabulary import Vocabulary
 
 WIDTH = 520
-TOP = 22
-BOTTOM = 92
-HEIGHT = 112
+TOP = 40
+BOTTOM = 108
+HEIGHT = 128
 PAD = 14
 QUIRK_NOTE = "Left180 and Right180 sit at opposite ends of the line, so together they average to 0 (the chapter's quirk)."
 
@@ -65,9 +65,9 @@ def _output_chart(vocabulary: Vocabulary, output: str, sets: list[tuple[str, flo
     anchor = "end" if x > WIDTH / 2 else "start"
     offset = -6 if anchor == "end" else 6
     parts.append(
-        f'<line class="mom" data-value="{value:.4f}" x1="{x:.1f}" y1="{TOP - 6}" x2="{x:.1f}" y2="{BOTTOM}" '
+        f'<line class="mom" data-value="{value:.4f}" x1="{x:.1f}" y1="{TOP - 8}" x2="{x:.1f}" y2="{BOTTOM}" '
         f'stroke="{style.ACCENT}" stroke-width="3" stroke-dasharray="5,3"/>'
-        f'<text x="{x + offset:.1f}" y="{TOP}" font-size="{style.FONT_SIZE}" font-weight="600" '
+        f'<text x="{x + offset:.1f}" y="{TOP - 10}" font-size="{style.FONT_SIZE}" font-weight="600" '
         f'text-anchor="{anchor}" fill="{style.ACCENT}">{label}{escape(format_value(value, variable.unit))}</text>'
     )
     parts.append("</svg>")

@@ -26,7 +26,7 @@ class PlayControls:
             initial_value=style.DEFAULT_SPEED,
         )
         self.seed = gui.add_number("Seed", initial_value=style.DEFAULT_SEED, min=0, step=1)
-        new_start = gui.add_button("New random start", icon=viser.Icon.DICE)
+        starts = gui.add_button_group("Start", ("New random start", "Restart this seed"))
         reset_view = gui.add_button("Fit pitch to view", icon=viser.Icon.FOCUS_CENTERED, color="gray")
 
         @buttons.on_click
@@ -37,10 +37,11 @@ class PlayControls:
             else:
                 on_play(event.target.value == "Play")
 
-        @new_start.on_click
-        def _(_: viser.GuiEvent) -> None:
-            # A new start draws a new seed, shown so the start can be replayed by typing it back.
-            self.seed.value = int(self.seed.value) + 1
+        @starts.on_click
+        def _(event: viser.GuiEvent) -> None:
+            # A new start takes the next seed and shows it, so any start can be replayed by typing it back.
+            if event.target.value == "New random start":
+                self.seed.value = int(self.seed.value) + 1
             on_new_start(int(self.seed.value))
 
         @reset_view.on_click

@@ -1,0 +1,125 @@
+"""Population view: a grid of small pitches, all played at once by the batched engine (one GameBatch,
+one pymunk Space). It shows the best player of every generation of this tab's run so far, each
+from the same start, so the class sees how the players changed generation by generation."""
+
+from __future__ import annotations
+
+import threading
+import time
+from typing import TYPE_CHECKING, Sequence
+
+import numpy as np
+import viser
+
+from app.ui import style
+from app.ui.panels.svg import escape, svg_open
+from app.ui.pitch import PitchGeometry
+from fuzzy.parser import parse_rulebase
+from soccer.engine import GameBatch
+
+if TYPE_CHECKING:
+    from app.ui.session import Session
+
+OBSERVED_PLAYER, OBSERVED_FACING, OBSERVED_BALL = slice(0, 2), 2, slice(3, 5)  # GameBatch.observed columns
+EMPTY_TEXT = "Start an evolution in the Evolve tab: the best player of each generation will play here, side by side."
+
+
+def population_html(
+    geometry: PitchGeometry, observed: np.ndarray, goals: Sequence[int], done: Sequence[bool], labels: Sequence[str]
+) -> str:
+    """Small pitches in a grid; observed[g] = player x, y, facing (degrees), ball x, y."""
+    columns = style.POPULATION_GRID[0]
+    cells = "".join(
+        _mini_pitch(geometry, observed[g], goals[g], done[g], labels[g]) for g in range(len(labels))
+    )
+    return (
+        f'<div class="population" data-games="{len(labels)}" style="{style.FONT}; display:grid; '
+        f'grid-template-columns:repeat({columns}, 1fr); gap:6px">{cells}</div>'
+    )
+
+
+def _mini_pitch(geometry: PitchGeometry, observed: np.ndarray, goals: int, done: bool, label: str) -> str:
+    margin = 3.0
+    width = 2 * (geometry.half_length + margin) + geometry.goal_depth
+    height = 2 * (geometry.half_width + margin)
+    scale = style.MINI_PITCH_WIDTH / width
+    h = height * scale
+
+    def x(value: float) -> float:
+        return (value + geometry.half_length + margin) * scale
+
+    def y(value: float) -> float:
+        return (value + geometry.half_width + margin) * scale  # +y (the player's right) is down, as on the pitch
+
+    hl, hw, goal = geometry.half_length, geometry.half_width, geometry.goal_half_width
+    px, py = observed[OBSERVED_PLAYER]
+    facing = np.radians(observed[OBSERVED_FACING])
+    bx, by = observed[OBSERVED_BALL]
+    grass = "#2e7d32" if not done else "#607d8b"
+    return (
+        f'<div class="mini-pitch" data-goals="{goals}" data-done="{str(bool(done)).lower()}">'
+        f"{svg_open(style.MINI_PITCH_WIDTH, h)}"
+        f'<rect width="{style.MINI_PITCH_WIDTH}" height="{h:.1f}" fill="{grass}" rx="3"/>'
+        f'<rect x="{x(-hl):.1f}" y="{y(-hw):.1f}" width="{2 * hl * scale:.1f}" height="{2 * hw * scale:.1f}" '
+        f'fill="none" stroke="white" stroke-width="1"/>'
+        f'<line x1="{x(0):.1f}" y1="{y(-hw):.1f}" x2="{x(0):.1f}" y2="{y(hw):.1f}" stroke="white" stroke-width="1"/>'
+        f'<rect x="{x(hl):.1f}" y="{y(-goal):.1f}" width="{geometry.goal_depth * scale:.1f}" '
+        f'height="{2 * goal * scale:.1f}" fill="white"/>'
+        f'<circle cx="{x(px):.1f}" cy="{y(py):.1f}" r="3.5" fill="#64b5f6" stroke="white" stroke-width="1"/>'
+        f'<line x1="{x(px):.1f}" y1="{y(py):.1f}" x2="{x(px) + 7 * np.cos(facing):.1f}" '
+        f'y2="{y(py) + 7 * np.sin(facing):.1f}" stroke="white" stroke-width="1.5"/>'
+        f'<circle cx="{x(bx):.1f}" cy="{y(by):.1f}" r="2.5" fill="{style.BALL_HEX}"/>'
+        f'<text x="4" y="11" font-size="10" fill="white">{escape(label)}</text>'
+        f'<text x="{style.MINI_PITCH_WIDTH - 4}" y="11" font-size="11" font-weight="700" fill="white" '
+        f'text-anchor="end">{goals}</text></svg></div>'
+    )
+
+
+class PopulationPanel:
+    def __init__(self, gui: viser.GuiApi, session: "Session"):
+        self.session = session
+        self.geometry = PitchGeometry.from_world(session.context.game.world)
+        self.caption = gui.add_html("")
+        self.grid = gui.add_html(
+            f'<div style="{style.FONT}; color:{style.MUTED}; font-size:{style.FONT_SIZE}px">{escape(EMPTY_TEXT)}</div>'
+        )
+        self.batch: GameBatch | None = None
+        self.labels: list[str] = []
+        self._pending_run: int | None = None  # set from the run's thread, picked up by the session loop
+        self._pending = threading.Event()
+        self._last_render = 0.0
+
+    def generation_finished(self, run_id: int) -> None:
+        """Called from the run's thread: the next frame rebuilds the games with the new best player."""
+        self._pending_run = run_id
+        self._pending.set()
+
+    def advance(self, ticks: int) -> None:
+        """Called by the session loop (under its lock) with the ticks the main pitch advanced."""
+        if self._pending.is_set():
+            self._pending.clear()
+            self._rebuild(self._pending_run)
+        if self.batch is None:
+            return
+        for _ in range(ticks):
+            self.batch.step()
+        now = time.perf_counter()
+        if now - self._last_render >= style.POPULATION_REFRESH_SECONDS:
+            self._last_render = now
+            self.grid.content = population_html(
+                self.geometry, self.batch.observed, self.batch.goals, self.batch.done, self.labels
+            )
+
+    def _rebuild(self, run_id: int) -> None:
+        vocabulary = self.session.context.vocabulary
+        bests = self.session.context.store.best_individuals(run_id)
+        shown = bests[-(style.POPULATION_GRID[0] * style.POPULATION_GRID[1]):]
+        rulebases = [parse_rulebase(best.rules, vocabulary) for best in shown]
+        seed = self.session.game.seed  # one start for all, so the players are compared fairly
+        self.batch = GameBatch(rulebases, [seed] * len(rulebases), self.session.context.game, vocabulary)
+        self.labels = [f"gen {best.generation} · {best.fitness:.2f}" for best in shown]
+        self.caption.content = (
+            f'<div style="{style.FONT}; font-size:{style.FONT_SIZE}px">Run #{run_id}: the best player of each of the '
+            f"last {len(shown)} generations, all from the start of seed {seed}, played together by the batched "
+            f"engine. Top right: goals.</div>"
+        )

@@ -1,0 +1,43 @@
+"""Wall time of one experiment preset, and from its evaluation rate an estimate for `experiment all` at
+full size (evaluations differ in cost, good players play longer games, so the estimate is rough).
+
+    python benchmarks/experiment_all.py crossover              # full size (20 trials x 5,000 evaluations)
+    python benchmarks/experiment_all.py selection --trials 2 --generations 5    # a quick look
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import tempfile
+import time
+from pathlib import Path
+
+from app.experiment.executors import LocalExecutor
+from app.experiment.presets import ALL, PRESET_NAMES, ExperimentOptions
+from app.experiment.runner import plan, run_experiment
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("preset", choices=PRESET_NAMES)
+    parser.add_argument("--trials", type=int)
+    parser.add_argument("--generations", type=int, default=ExperimentOptions().generations)
+    parser.add_argument("--workers", type=int, default=os.cpu_count() or 1)
+    arguments = parser.parse_args()
+    options = ExperimentOptions(trials=arguments.trials, generations=arguments.generations)
+    with tempfile.TemporaryDirectory() as folder:
+        started = time.perf_counter()
+        outcome = run_experiment(arguments.preset, options, Path(folder), LocalExecutor(arguments.workers))
+        seconds = time.perf_counter() - started
+    evaluations = sum(spec.setting.evaluations for spec in outcome.plan.specs)
+    rate = evaluations / seconds
+    everything = sum(spec.setting.evaluations for spec in plan(ALL, ExperimentOptions()).specs)
+    print(f"{arguments.preset}: {len(outcome.plan.specs)} trials, {evaluations} evaluations, {seconds:.1f} s "
+          f"on {arguments.workers} workers ({rate:.0f} evaluations/s)")
+    print(f"experiment all at full size: {everything} evaluations (shared trials counted once), "
+          f"estimated {everything / rate / 60:.1f} min at this rate")
+
+
+if __name__ == "__main__":
+    main()

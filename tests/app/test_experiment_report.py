@@ -1,0 +1,105 @@
+"""The report's verdicts come from the data: fabricated statistics with known answers."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from app.experiment.presets import ExperimentOptions, preset
+from app.experiment.report import AGREES, DISAGREES, INCONCLUSIVE, NOT_RUN, REPORT_HTML, REPORT_MD, write_report
+from app.experiment.table import COLUMNS, StatisticsTable
+
+OPTIONS = ExperimentOptions(trials=10, population=20, generations=10)
+
+
+def fabricated(preset_name: str, curves: dict[str, dict[str, np.ndarray]]) -> list[dict]:
+    """Rows for `preset_name`: curves[setting][column] is trials x generations; other columns are plain."""
+    rows = []
+    for setting, columns in curves.items():
+        trials, generations = next(iter(columns.values())).shape
+        for trial in range(trials):
+            for generation in range(generations):
+                row = {c: 0.0 for c in COLUMNS}
+                row.update(preset=preset_name, setting=setting, trial=trial, seed=trial, algorithm="ga",
+                           generation=generation, evaluations=20 * (generation + 1), goals_0=1.0,
+                           unique_consequent_genes=100.0)
+                row.update({column: float(values[trial, generation]) for column, values in columns.items()})
+                rows.append(row)
+    return rows
+
+
+def falling(start: float, end: float, rng: np.random.Generator, trials: int = 10, generations: int = 10,
+            noise: float = 0.02, spread: float = 0.0) -> np.ndarray:
+    """A falling curve per trial, with noise per generation and a trial-to-trial offset of size `spread`."""
+    offsets = rng.normal(0, spread, (trials, 1)) if spread else 0.0
+    return np.linspace(start, end, generations) + rng.normal(0, noise, (trials, generations)) + offsets
+
+
+def verdict(report, claim_start: str) -> str:
+    (assessment,) = [a for f, a in report.findings if f.claim.startswith(claim_start)]
+    return assessment.verdict
+
+
+@pytest.fixture
+def random_preset():
+    return preset("random", OPTIONS)
+
+
+def test_ga_no_better_than_random_search_says_so(tmp_path, random_preset):
+    rng = np.random.default_rng(1)
+    same = {"best": falling(0.6, 0.55, rng), "mean": falling(0.9, 0.85, rng)}  # the GA does exactly as well
+    table = StatisticsTable(fabricated("random", {"GA": same, "random search": same}))
+    report = write_report(table, [random_preset], tmp_path)
+    assert verdict(report, "The GA finds better individuals") == DISAGREES
+    assert verdict(report, "The GA improves its population") == DISAGREES
+    markdown = (tmp_path / REPORT_MD).read_text()
+    assert "the GA is not significantly better than random search" in markdown
+    assert "Mann-Whitney U, one-sided (GA lower)" in markdown
+    assert verdict(report, "The population average fitness improves") == NOT_RUN  # initial not run
+
+
+def test_ga_clearly_better_than_random_search_agrees(tmp_path, random_preset):
+    rng = np.random.default_rng(2)
+    ga = {"best": falling(0.5, 0.1, rng, noise=0.005), "mean": falling(0.9, 0.7, rng)}
+    search = {"best": falling(0.6, 0.45, rng, noise=0.01, spread=0.1), "mean": falling(0.9, 0.9, rng)}
+    table = StatisticsTable(fabricated("random", {"GA": ga, "random search": search}))
+    report = write_report(table, [random_preset], tmp_path)
+    assert verdict(report, "The GA finds better individuals") == AGREES
+    assert verdict(report, "The GA finds them more consistently") == AGREES
+    assert verdict(report, "Random search still finds goal-scoring") == AGREES  # its best reach 0.5
+    assert (tmp_path / REPORT_HTML).read_text().count("data:image/png;base64,") == 2
+
+
+def test_a_real_difference_between_settings_contradicts_a_no_difference_claim(tmp_path):
+    rng = np.random.default_rng(3)
+    crossover = preset("crossover", OPTIONS)
+    curves = {"one-point": {"mean": falling(0.9, 0.6, rng), "best": falling(0.6, 0.3, rng)},
+              "two-point": {"mean": falling(0.9, 0.8, rng), "best": falling(0.6, 0.5, rng)}}
+    report = write_report(StatisticsTable(fabricated("crossover", curves)), [crossover], tmp_path)
+    assert verdict(report, "One-point and two-point crossover") == DISAGREES
+
+    alike = {"one-point": {"mean": falling(0.9, 0.7, rng), "best": falling(0.6, 0.4, rng)},
+             "two-point": {"mean": falling(0.9, 0.7, rng), "best": falling(0.6, 0.4, rng)}}
+    report = write_report(StatisticsTable(fabricated("crossover", alike)), [crossover], tmp_path)
+    assert verdict(report, "One-point and two-point crossover") == AGREES
+
+
+def test_too_few_trials_leave_a_no_difference_claim_inconclusive(tmp_path):
+    rng = np.random.default_rng(4)
+    crossover = preset("crossover", OPTIONS)
+    alike = {s: {"mean": falling(0.9, 0.7, rng, trials=2), "best": falling(0.6, 0.4, rng, trials=2)}
+             for s in ("one-point", "two-point")}
+    report = write_report(StatisticsTable(fabricated("crossover", alike)), [crossover], tmp_path)
+    assert verdict(report, "One-point and two-point crossover") == INCONCLUSIVE
+
+
+def test_the_average_fitness_plateau_level_is_measured(tmp_path):
+    rng = np.random.default_rng(5)
+    initial = preset("initial", OPTIONS)
+    kicking = {"Table 2": {"mean": falling(0.95, 0.76, rng), "best": falling(0.6, 0.3, rng)}}
+    report = write_report(StatisticsTable(fabricated("initial", kicking)), [initial], tmp_path)
+    assert verdict(report, "The average fitness plateaus around 0.75") == AGREES
+    assert verdict(report, "The population average fitness improves") == AGREES
+    scoring = {"Table 2": {"mean": falling(0.95, 0.45, rng), "best": falling(0.6, 0.3, rng)}}
+    report = write_report(StatisticsTable(fabricated("initial", scoring)), [initial], tmp_path)
+    assert verdict(report, "The average fitness plateaus around 0.75") == DISAGREES
