@@ -38,6 +38,7 @@ class WorldConstants(NamedTuple):
     max_moment: float
     view_half_angle: float
     tick_seconds: float
+    collision_rebound: float
     turn_threshold: float
     dribble_power_fraction: float
     hunt_turn: float
@@ -75,7 +76,13 @@ class WorldConfig(BaseModel):
     max_moment: PositiveFloat = 180.0
     view_width: float = Field(90.0, gt=0.0, le=360.0)  # normal view: +-45 degrees
     tick_seconds: PositiveFloat = 0.1
-    # pymunk contact model (ours: rcssserver has no elastic collisions)
+    # Player-ball collisions follow rcssserver (Stadium::collisions), not pymunk: after the move, an
+    # overlapping player and ball are pushed apart along the line of their centres, each half the
+    # way from their midpoint, and both velocities are multiplied by collision_rebound. pymunk only
+    # resolves contacts of a body with its own pitch's walls, net and posts: a body's contacts then
+    # never depend on the other games in the space, so results do not depend on the batch (spec 4.5).
+    collision_rebound: float = Field(-0.1, ge=-1.0, le=1.0)
+    # pymunk contact model with walls, net and posts (ours: rcssserver has no elastic collisions)
     elasticity: float = Field(0.5, ge=0.0, le=1.0)
     ball_mass: PositiveFloat = 0.45
     player_mass: PositiveFloat = 70.0
@@ -120,6 +127,7 @@ class WorldConfig(BaseModel):
             max_moment=self.max_moment,
             view_half_angle=self.view_width / 2,
             tick_seconds=self.tick_seconds,
+            collision_rebound=self.collision_rebound,
             turn_threshold=self.turn_threshold,
             dribble_power_fraction=self.dribble_power_fraction,
             hunt_turn=self.hunt_turn,

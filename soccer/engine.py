@@ -24,7 +24,7 @@ from fuzzy.vocabulary import Vocabulary
 from soccer.config import GameConfig, WorldConstants
 from soccer.fitness import fitness
 from soccer.perception import perceive
-from soccer.physics import cap_speed, dash, decay, is_kickable, kick, turn
+from soccer.physics import cap_speed, dash, decay, is_kickable, kick, separate, turn
 from soccer.random_stream import seed_states, uniform
 from soccer.skills import DASH, KICK, LEFT, RIGHT, TURN, skill_command
 from soccer.world import World
@@ -138,6 +138,8 @@ def tick_kernel(
     rulebases, scratch, layout, constants, rules,
 ):
     """One tick for every live game; returns (whether a ball was placed, games that finished now).
+    The step just made is first closed: player-ball collision (rcssserver's, see WorldConfig), goal
+    and restart, statistics, end conditions.
     bodies[row] = (x, y, vx, vy) in pymunk units (global metres, metres per second); game g's rows are
     player_slot[g] and ball_slot[g]. `scratch` = decide's work arrays (degrees, support, first_rule,
     cut_lo, cut_hi)."""
@@ -159,6 +161,15 @@ def tick_kernel(
         by = bodies[bs, 1] - oy
 
         if ticks[g] > 0:  # bookkeeping of the step just made
+            px, py, bx, by, collided = separate(px, py, bx, by, facing[g], c)
+            if collided:
+                bodies[ps, 0] = ox + px
+                bodies[ps, 1] = oy + py
+                bodies[bs, 0] = ox + bx
+                bodies[bs, 1] = oy + by
+                for row in (ps, bs):
+                    bodies[row, 2] *= c.collision_rebound
+                    bodies[row, 3] *= c.collision_rebound
             scored = False
             if last_ball[g, 0] <= c.half_length < bx:
                 t = (c.half_length - last_ball[g, 0]) / (bx - last_ball[g, 0])

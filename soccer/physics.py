@@ -74,3 +74,33 @@ def kick(ball_vx, ball_vy, power, direction, facing, ball_distance, ball_directi
     """Ball velocity after a kick (then the ball's speed cap)."""
     ax, ay = kick_acceleration(power, direction, facing, ball_distance, ball_direction, constants)
     return cap_speed(ball_vx + ax, ball_vy + ay, constants.ball_speed_max)
+
+
+# Extra gap left between separated bodies: rcssserver uses 1e-10 m, but our pitches sit near 2**20 m
+# where positions are 2**-32 m apart, so a gap that small could be rounded away when written back.
+COLLISION_GAP = 1e-6
+
+
+@numba.njit(cache=True)
+def separate(px, py, bx, by, facing, constants):
+    """rcssserver's player-ball collision (Stadium::calcCollPos): if the bodies overlap, both move to
+    (player_size + ball_size) / 2 + COLLISION_GAP from their midpoint along the line of centres.
+    Returns (px, py, bx, by, collided); bodies at the same point part along the player's facing
+    (rcssserver picks a random angle), the ball ahead."""
+    reach = constants.player_size + constants.ball_size
+    dx = bx - px
+    dy = by - py
+    distance = math.sqrt(dx * dx + dy * dy)
+    if distance >= reach:
+        return px, py, bx, by, False
+    if distance > 0.0:
+        ux = dx / distance
+        uy = dy / distance
+    else:
+        rad = math.radians(facing)
+        ux = math.cos(rad)
+        uy = math.sin(rad)
+    mx = 0.5 * (px + bx)
+    my = 0.5 * (py + by)
+    half = 0.5 * reach + COLLISION_GAP
+    return mx - half * ux, my - half * uy, mx + half * ux, my + half * uy, True

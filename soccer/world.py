@@ -8,6 +8,13 @@ bit the same trajectory whichever slot (batch) it is played in.
 Walls are boxes WALL_THICKNESS deep lying outside the lines (a ball moving 3 m per tick cannot tunnel
 through them; pymunk has no continuous collision detection): along both touch lines, the own end line,
 the attacked end line except the goal mouth, and the back of the 2 m deep net; posts are circles.
+
+pymunk resolves only the contacts of the ball and the player with these static shapes (shape filter
+categories); the engine resolves player-ball collisions itself, as rcssserver does. Chipmunk's solver
+is Gauss-Seidel over the space's arbiter list, whose order comes from the spatial hash and so from
+every shape in the space: with ball-player contacts in pymunk, a body touching two things at once
+(the ball between player and post) was resolved in an order that depended on the other games.
+A body's contacts with its own pitch's static shapes are found in an order fixed by that pitch alone.
 """
 
 from __future__ import annotations
@@ -25,6 +32,9 @@ WALL_THICKNESS = 5.0  # deeper than the fastest ball moves in one tick
 WALL_ELASTICITY = 1.0  # pymunk multiplies the two shapes' elasticities: ball-wall = ball elasticity
 HASH_CELL = 4.0  # spatial hash cell size (m)
 HASH_CELLS_PER_GAME = 64
+STATIC_CATEGORY, MOVING_CATEGORY = 0b01, 0b10
+STATIC_FILTER = pymunk.ShapeFilter(categories=STATIC_CATEGORY, mask=MOVING_CATEGORY)
+MOVING_FILTER = pymunk.ShapeFilter(categories=MOVING_CATEGORY, mask=STATIC_CATEGORY)  # ball and player: walls only
 
 
 def pitch_offset(slot: int) -> tuple[float, float]:
@@ -55,6 +65,7 @@ def pitch_shapes(world: WorldConfig, body: pymunk.Body, ox: float, oy: float) ->
     for shape in shapes:
         shape.elasticity = WALL_ELASTICITY
         shape.friction = 0.0
+        shape.filter = STATIC_FILTER
     return shapes
 
 
@@ -65,6 +76,7 @@ def _round_body(mass: float, radius: float, elasticity: float, x: float, y: floa
     shape = pymunk.Circle(body, radius)
     shape.elasticity = elasticity
     shape.friction = 0.0
+    shape.filter = MOVING_FILTER
     return body, shape
 
 

@@ -306,8 +306,9 @@ def _ga_better(column_values, what: str) -> Callable[[StatisticsTable, Preset], 
 def _ga_consistent(table: StatisticsTable, preset: Preset) -> Assessment:
     ga, search = table.settings(preset.name)
     a, b = table.best_so_far(preset.name, ga), table.best_so_far(preset.name, search)
-    spread = np.ptp(a) + np.ptp(b)  # Brown-Forsythe is undefined when no group varies
-    p = float(stats.levene(a, b, center="median").pvalue) if spread > 0 else 1.0
+    with np.errstate(divide="ignore", invalid="ignore"):  # undefined when the deviations do not vary
+        p = float(stats.levene(a, b, center="median").pvalue)
+    p = 1.0 if np.isnan(p) else p
     measured = f"std of the runs' best fitness: {ga} {np.std(a):.3f}; {search} {np.std(b):.3f}"
     test = f"Brown-Forsythe (Levene, median-centred), p = {p:.3g}"
     if np.std(a) >= np.std(b):

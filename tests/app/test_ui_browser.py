@@ -218,6 +218,26 @@ def test_a_small_evolution_shows_progress_and_its_best_player_can_be_loaded(ui, 
     assert session.library.runs.value.startswith("#") or run_label.count()
 
 
+def test_save_to_library_then_open_it_again(ui, page):
+    session = session_of(ui)
+    page.get_by_role("tab", name="Rules").click()
+    field(page, "Rules", "textarea").fill("if Ball is At then KickTowardGoal VeryHigh\nif Ball is not At then GoToBall High")
+    page.get_by_role("button", name="Apply").click()
+    wait_until(lambda: len(session.game.rulebase) == 2 and session.game.name == "edited")
+    field(page, "Name", "input").fill("my striker")
+    page.get_by_role("button", name="Save").click()
+    page.locator(".editor-message", has_text="my striker").wait_for()
+    saved = [r for r in ui.context.store.list_rulebases() if r.name == "my striker"]
+    assert len(saved) == 1 and "GoToBall High" in saved[0].text
+    page.get_by_role("button", name="Undo").click()  # back to the previous rulebase
+    wait_until(lambda: session.game.name != "edited")
+    page.get_by_role("tab", name="Library").click()
+    wait_until(lambda: session.library.rulebases.value.endswith("my striker"))
+    page.get_by_role("button", name="Open").click()
+    wait_until(lambda: session.game.name == "my striker")
+    assert "GoToBall High" in "\n".join(session.game.rule_texts)
+
+
 def test_policy_map_marks_the_current_input(ui, page):
     page.get_by_role("tab", name="Policy map").click()
     page.locator(".policy-map").wait_for()
