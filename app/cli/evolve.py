@@ -1,21 +1,25 @@
 """`soccer-lab evolve` and `soccer-lab random-search`: one run from the terminal, with a progress bar,
 a summary, and its outputs in a run folder (app/run_outputs.py); `evolve --resume RUN_DIR` continues
-a killed run (either kind) from its checkpoint."""
+a killed run (either kind) from its checkpoint. Evaluations play SimpleSoccer games or, with
+`--env rcss`, trials on real rcssservers (spec 5)."""
 
 from __future__ import annotations
 
 import os
+from contextlib import contextmanager
+from dataclasses import asdict, dataclass
 from types import SimpleNamespace
 from pathlib import Path
-from typing import Annotated, Any, Optional
+from typing import TYPE_CHECKING, Annotated, Any, ClassVar, Iterator, Optional
 
 import typer
 from rich.console import Console
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
 
 from app.cli.common import fail
-from app.cli.play import (FitnessOption, GoalCapOption, IdleTicksOption, MaxTicksOption, NoiseOption,
-                          config_from_options, game_config, option_help)
+from app.cli.play import (RCSS, SIMPLE, EnvOption, FitnessOption, GoalCapOption, IdleTicksOption, MaxTicksOption,
+                          NoiseOption, ServerOption, chosen_env, config_from_options, game_config, option_help,
+                          rcss_servers, trial_config)
 from app.recording import RunRecorder
 from app.rulebase_files import rulebase_text
 from app.run_outputs import RunFolder, RunFolderError, RunOutputs, default_run_dir
@@ -23,9 +27,14 @@ from fuzzy.vocabulary import Vocabulary
 from ga.algorithms import evolve, random_search, resume
 from ga.checkpoint import CheckpointError, load_checkpoint
 from ga.config import GAConfig
+from ga.evaluation import Evaluator
 from ga.result import RunResult
 from ga.state import GA, RANDOM_SEARCH
 from soccer.config import GameConfig
+
+if TYPE_CHECKING:
+    from fuzzy.rule import Rulebase
+    from soccer.rcss.trial import TrialConfig
 
 GA_PANEL = "Genetic algorithm"
 RUN_PANEL = "Run"
@@ -55,7 +64,9 @@ EliteFraction = _ga_option("elite_fraction", "Share of the population copied unc
 TargetFitness = _ga_option("target_fitness", "Stop once the best fitness reaches this.", float)
 Seed = _ga_option("seed", "Seed of the whole run: the same seed gives the same run, bit for bit.", int)
 Workers = Annotated[Optional[int], typer.Option(
-    "--workers", help="Evaluation processes; results do not depend on it. (default: all cores)",
+    "--workers", help="Evaluation processes; results do not depend on it. Not with --env rcss: there the GA "
+    "evaluates in this one process and trials run in parallel over the --server's instead (one server per "
+    "parallel trial). (default: all cores; 1 with --env rcss)",
     show_default=False, rich_help_panel=GA_PANEL)]
 GamesPerEvaluation = Annotated[Optional[int], typer.Option(
     "--games-per-evaluation", help=option_help(GameConfig, "games_per_evaluation",
@@ -65,7 +76,8 @@ Out = Annotated[Optional[Path], typer.Option(
     "--out", help="Run folder for the outputs. (default: runs/<timestamp>)", show_default=False,
     rich_help_panel=RUN_PANEL)]
 Resume = Annotated[Optional[Path], typer.Option(
-    "--resume", help="Continue the killed run in this folder (with its own settings).", show_default=False,
+    "--resume", help="Continue the killed run in this folder (with its own settings; an rcss run may be given "
+    "other --server's).", show_default=False,
     rich_help_panel=RUN_PANEL)]
 
 
@@ -78,16 +90,17 @@ def evolve_command(
     target_fitness: TargetFitness = None, seed: Seed = None, workers: Workers = None,
     fitness: FitnessOption = None, games_per_evaluation: GamesPerEvaluation = None, max_ticks: MaxTicksOption = None,
     goal_cap: GoalCapOption = None, idle_ticks: IdleTicksOption = None, noise: NoiseOption = None,
-    out: Out = None, resume_dir: Resume = None,
+    env: EnvOption = None, server: ServerOption = None, out: Out = None, resume_dir: Resume = None,
 ) -> None:
     """Evolve a goal-scoring rulebase with the messy-coded GA (defaults: the chapter's Table 2)."""
     options = dict(locals())
     if resume_dir is not None:
+        # --server may change: a resumed rcss run can use other servers (or ports) than before.
         given = [f"--{name.replace('_', '-')}" for name, value in options.items()
-                 if value is not None and name != "resume_dir"]
+                 if value is not None and name not in ("resume_dir", "server")]
         if given:
             fail(f"--resume continues a run with its own settings; drop {', '.join(given)}")
-        _resume(resume_dir)
+        _resume(resume_dir, server)
     else:
         _start(GA, options)
 
@@ -97,68 +110,164 @@ def random_search_command(
     consequent_probability: ConsequentProbability = None, target_fitness: TargetFitness = None, seed: Seed = None,
     workers: Workers = None, fitness: FitnessOption = None, games_per_evaluation: GamesPerEvaluation = None,
     max_ticks: MaxTicksOption = None, goal_cap: GoalCapOption = None, idle_ticks: IdleTicksOption = None,
-    noise: NoiseOption = None, out: Out = None,
+    noise: NoiseOption = None, env: EnvOption = None, server: ServerOption = None, out: Out = None,
 ) -> None:
     """The baseline: spend the same evaluations on fresh random rulebases (population x generations),
     with the same statistics and outputs as evolve. Continue a killed one with `evolve --resume`."""
     _start(RANDOM_SEARCH, dict(locals()))
 
 
+# ---- where evaluations play ----------------------------------------------------------------------
+@dataclass(frozen=True)
+class SimpleSoccerGames:
+    """Evaluations are SimpleSoccer games; the best is replayed into the run's recording."""
+
+    game: GameConfig
+    failures: ClassVar[tuple[type[Exception], ...]] = ()  # nothing outside this process can fail
+
+    def manifest(self) -> dict[str, Any]:
+        return {"env": SIMPLE, "game": self.game.model_dump()}
+
+    @contextmanager
+    def evaluator(self) -> Iterator[Evaluator]:
+        from soccer.evaluate import SimpleSoccerEvaluator
+
+        yield SimpleSoccerEvaluator(self.game)
+
+    def replay(self, rulebase: "Rulebase", seed: int, recorder: RunRecorder, folder: RunFolder) -> str:
+        from soccer.engine import play_game
+
+        result, trace = play_game(rulebase, seed, self.game, trace=True)
+        recorder.log_replay(trace, self.game.world)
+        return (f"replay (seed {seed}): {result.goals} goals, {result.kicks} kicks, "
+                f"{result.ticks} ticks, fitness {result.fitness:.4f}")
+
+
+@dataclass(frozen=True)
+class RcssTrials:
+    """Evaluations are trials on real rcssservers, one at a time per server, in parallel over the servers
+    (threads in this process: the GA itself runs with one worker)."""
+
+    servers: list[str]
+    trial: "TrialConfig"
+
+    @property
+    def failures(self) -> tuple[type[Exception], ...]:
+        from soccer.rcss.errors import RcssError
+
+        return (RcssError,)
+
+    def manifest(self) -> dict[str, Any]:
+        return {"env": RCSS, "servers": self.servers, "trial": asdict(self.trial)}
+
+    @contextmanager
+    def evaluator(self) -> Iterator[Evaluator]:
+        """Connected to every server up front: a missing server fails here, within seconds, before the run."""
+        from soccer.rcss.evaluate import RcssEvaluator
+
+        with RcssEvaluator(self.servers, self.trial) as evaluate:
+            try:
+                evaluate.connect()
+            except self.failures as exc:
+                fail(str(exc))
+            yield evaluate
+
+    def replay(self, rulebase: "Rulebase", seed: int, recorder: RunRecorder, folder: RunFolder) -> str:
+        servers = " ".join(f"--server {server}" for server in self.servers)
+        return f"play the best on rcssserver: soccer-lab play {folder.best_rules} --env {RCSS} {servers}"
+
+
+Environment = SimpleSoccerGames | RcssTrials
+
+
+def _environment(options: dict[str, Any]) -> Environment:
+    """The environment the options choose (popping its options); fixes the GA's workers for rcss."""
+    env = chosen_env(options.pop("env"), options.get("server"),
+                     {"--noise": options.get("noise"), "--games-per-evaluation": options.get("games_per_evaluation")})
+    game_options = [options.pop(name) for name in ("fitness", "max_ticks", "goal_cap", "idle_ticks")]
+    noise, games, servers = options.pop("noise"), options.pop("games_per_evaluation"), options.pop("server")
+    if env == SIMPLE:
+        if options["workers"] is None:
+            options["workers"] = min(os.cpu_count() or 1, WORKERS_LIMIT)
+        return SimpleSoccerGames(game_config(*game_options, noise, games))
+    if options["workers"] not in (None, 1):
+        fail(f"--workers: not with --env {RCSS}; trials run in parallel over the servers: add a --server for each")
+    options["workers"] = 1
+    return RcssTrials(rcss_servers(servers), trial_config(*game_options))
+
+
+def _manifest_environment(manifest: dict[str, Any], servers: list[str] | None, folder: RunFolder) -> Environment:
+    """The environment a run folder recorded; `servers` (from --server) replace an rcss run's servers."""
+    env = manifest.get("env", SIMPLE)  # folders from before --env played SimpleSoccer
+    if env == SIMPLE:
+        if servers:
+            fail(f"--server: the run in {folder.path} plays SimpleSoccer, not on rcssserver")
+        return SimpleSoccerGames(config_from_options(GameConfig, manifest.get("game", {})))
+    if env != RCSS:
+        fail(f"{folder.manifest}: unknown env {env!r}")
+    from soccer.rcss.trial import TrialConfig
+
+    try:
+        trial = TrialConfig(**manifest.get("trial", {}))
+    except (TypeError, ValueError) as exc:
+        fail(f"{folder.manifest}: bad trial settings: {exc}")
+    return RcssTrials(rcss_servers(servers or manifest.get("servers")), trial)
+
+
 # ---- running ---------------------------------------------------------------------------------
 def _start(algorithm: str, options: dict[str, Any]) -> None:
-    game = game_config(options.pop("fitness"), options.pop("max_ticks"), options.pop("goal_cap"),
-                       options.pop("idle_ticks"), options.pop("noise"), options.pop("games_per_evaluation"))
+    environment = _environment(options)
     out = options.pop("out")
     options.pop("resume_dir", None)
     options["max_generations"] = options.pop("generations")
-    if options["workers"] is None:
-        options["workers"] = min(os.cpu_count() or 1, WORKERS_LIMIT)
     config = config_from_options(GAConfig, options, RENAMED)
-    try:
-        folder = RunFolder.create(out or default_run_dir(),
-                                  {"algorithm": algorithm, "ga": config.model_dump(), "game": game.model_dump()})
-    except RunFolderError as exc:
-        fail(str(exc))
-    run = evolve if algorithm == GA else random_search
-    _drive(folder, config, game, algorithm, Vocabulary.default(), history=[], best=None,
-           launch=lambda evaluate, callbacks: run(config, evaluate, callbacks=callbacks, checkpoint=folder.checkpoint))
+    with environment.evaluator() as evaluate:
+        try:
+            folder = RunFolder.create(out or default_run_dir(),
+                                      {"algorithm": algorithm, "ga": config.model_dump(), **environment.manifest()})
+        except RunFolderError as exc:
+            fail(str(exc))
+        run = evolve if algorithm == GA else random_search
+        _drive(folder, config, environment, evaluate, algorithm, Vocabulary.default(), history=[], best=None,
+               launch=lambda callbacks: run(config, evaluate, callbacks=callbacks, checkpoint=folder.checkpoint))
 
 
-def _resume(path: Path) -> None:
+def _resume(path: Path, servers: list[str] | None) -> None:
     try:
         folder = RunFolder.open(path)
-        game = config_from_options(GameConfig, folder.read_manifest().get("game", {}))
+        environment = _manifest_environment(folder.read_manifest(), servers, folder)
         state = load_checkpoint(folder.checkpoint)
     except (RunFolderError, CheckpointError) as exc:
         fail(str(exc))
     history = [stats.to_dict() for stats in state.history]
-    typer.echo(f"resuming {folder.path} after generation {len(history) - 1}", err=True)
-    _drive(folder, state.config, game, state.algorithm, state.vocabulary, history=history, best=state.best,
-           launch=lambda evaluate, callbacks: resume(folder.checkpoint, evaluate, callbacks=callbacks))
+    with environment.evaluator() as evaluate:
+        typer.echo(f"resuming {folder.path} after generation {len(history) - 1}", err=True)
+        _drive(folder, state.config, environment, evaluate, state.algorithm, state.vocabulary, history=history,
+               best=state.best, launch=lambda callbacks: resume(folder.checkpoint, evaluate, callbacks=callbacks))
 
 
-def _drive(folder: RunFolder, config: GAConfig, game: GameConfig, algorithm: str, vocabulary: Vocabulary, *,
-           history: list[dict], best: Any, launch: Any) -> None:
-    """Run `launch(evaluate, callbacks)` with the folder's callbacks, then write the best rulebase and
-    its replay and print the summary."""
-    from soccer.engine import play_game
-    from soccer.evaluate import SimpleSoccerEvaluator
-
+def _drive(folder: RunFolder, config: GAConfig, environment: Environment, evaluate: Evaluator, algorithm: str,
+           vocabulary: Vocabulary, *, history: list[dict], best: Any, launch: Any) -> None:
+    """Run `launch(callbacks)` (the GA, with `evaluate`) with the folder's callbacks, then write the best
+    rulebase and its replay and print the summary."""
     outputs = RunOutputs(folder, vocabulary, history=history, best=best)
     recorder = RunRecorder(folder.recording, history=history)
     try:
         with GenerationProgress(config.max_generations, last=history[-1] if history else None,
                                 label="evolving" if algorithm == GA else "random search") as progress:
-            result: RunResult = launch(SimpleSoccerEvaluator(game), [outputs, recorder, progress])
+            result: RunResult = launch([outputs, recorder, progress])
     except KeyboardInterrupt:
         recorder.close()
         typer.echo(f"\ninterrupted; continue with: soccer-lab evolve --resume {folder.path}", err=True)
         raise typer.Exit(130)
+    except environment.failures as exc:
+        recorder.close()
+        resumable = f"; continue with: soccer-lab evolve --resume {folder.path}" if folder.checkpoint.exists() else ""
+        fail(f"{exc}{resumable}")
     outputs.write_best(result.best_rulebase)
-    game_result, trace = play_game(result.best_rulebase, config.seed, game, trace=True)
-    recorder.log_replay(trace, game.world)
+    replay = environment.replay(result.best_rulebase, config.seed, recorder, folder)
     recorder.close()
-    _summary(folder, result, game_result)
+    _summary(folder, result, replay)
 
 
 class GenerationProgress:
@@ -187,15 +296,14 @@ class GenerationProgress:
                              best=f"{stats.best:.4f}", mean=f"{stats.mean:.4f}")
 
 
-def _summary(folder: RunFolder, result: RunResult, replay: Any) -> None:
+def _summary(folder: RunFolder, result: RunResult, replay: str) -> None:
     best = result.best
     typer.echo(f"{len(result.history)} generations, {result.evaluations} evaluations ({result.stop_reason}), "
                f"{result.history[-1].wall_time:.1f} s")
     typer.echo(f"best fitness {best.fitness:.4f} (mean of {best.evaluations} evaluation"
                f"{'s' if best.evaluations != 1 else ''}; {best.goals} goal{'s' if best.goals != 1 else ''} "
                f"in its latest game)")
-    typer.echo(f"replay (seed {result.config.seed}): {replay.goals} goals, {replay.kicks} kicks, "
-               f"{replay.ticks} ticks, fitness {replay.fitness:.4f}")
+    typer.echo(replay)
     typer.echo(f"best rules ({len(result.best_rulebase)}):")
     for line in rulebase_text(result.best_rulebase, result.vocabulary).splitlines():
         typer.echo(f"  {line}")

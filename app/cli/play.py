@@ -7,7 +7,7 @@ Also home of the game options (`--fitness`, `--max-ticks`, ...) that `evolve` sh
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated, Any, Optional
+from typing import TYPE_CHECKING, Annotated, Any, Optional
 
 import typer
 from pydantic import BaseModel, ValidationError
@@ -16,10 +16,17 @@ from app.cli.common import fail
 from app.recording import log_replay, open_stream
 from app.rulebase_files import RulebaseFileError, load_rulebase
 from soccer.config import FITNESS_NAMES, GameConfig
+from soccer.rcss.client import DEFAULT_SERVER, parse_server
+
+if TYPE_CHECKING:  # soccer.rcss.trial compiles the player's kernels: imported only when rcss is used
+    from soccer.rcss.trial import TrialConfig
 
 DEFAULT_GAMES = 5
 DEFAULT_SEED = 0
 GAME_PANEL = "Game"
+ENV_PANEL = "Environment"
+SIMPLE, RCSS = "simple", "rcss"
+ENVIRONMENTS = (SIMPLE, RCSS)
 
 
 def _default(model: type[BaseModel], field: str) -> Any:
@@ -78,6 +85,52 @@ def game_config(fitness: str | None, max_ticks: int | None, goal_cap: int | None
     })
 
 
+# The environment options, shared with `evolve` and `random-search`.
+EnvOption = Annotated[Optional[str], typer.Option(
+    "--env", help=f"Where games are played: {SIMPLE} (SimpleSoccer) or {RCSS} (a real rcssserver; the game options "
+    "left unset then take the chapter's RoboCup trial settings, see the README). (default: simple)",
+    show_default=False, rich_help_panel=ENV_PANEL)]
+ServerOption = Annotated[Optional[list[str]], typer.Option(
+    "--server", help="With --env rcss: rcssserver's HOST:PORT (its player port; run it with server::synch_mode=true "
+    "server::coach_w_referee=true). Repeat for several servers: trials run on them in parallel, one at a time "
+    f"on each. (default: {DEFAULT_SERVER})", show_default=False, rich_help_panel=ENV_PANEL)]
+
+
+def chosen_env(env: str | None, servers: list[str] | None, simple_only: dict[str, Any]) -> str:
+    """--env checked against the other options: --server needs rcss; `simple_only` ({"--noise": value},
+    None = not given) are refused with rcss rather than silently ignored."""
+    env = SIMPLE if env is None else env
+    if env not in ENVIRONMENTS:
+        fail(f"--env: expected {' or '.join(ENVIRONMENTS)}, got {env!r}")
+    if env == SIMPLE and servers:
+        fail(f"--server needs --env {RCSS}")
+    given = [option for option, value in simple_only.items() if value is not None]
+    if env == RCSS and given:
+        fail(f"{', '.join(given)}: SimpleSoccer only, not with --env {RCSS}")
+    return env
+
+
+def rcss_servers(servers: list[str] | None) -> list[str]:
+    """The --server addresses (checked now, before any connection), or the default server."""
+    chosen = list(servers or [DEFAULT_SERVER])
+    for server in chosen:
+        try:
+            parse_server(server)
+        except ValueError as exc:
+            fail(f"--server: {exc}")
+    return chosen
+
+
+def trial_config(fitness: str | None, max_ticks: int | None, goal_cap: int | None,
+                 idle_ticks: int | None) -> "TrialConfig":
+    """rcssserver trials (spec 5) from the game options; unset ones keep TrialConfig's (the chapter's)."""
+    from soccer.rcss.trial import TrialConfig
+
+    game_config(fitness, max_ticks, goal_cap, idle_ticks, None)  # the same checks and messages as SimpleSoccer
+    chosen = {"fitness": fitness, "max_cycles": max_ticks, "goal_cap": goal_cap, "idle_cycles": idle_ticks}
+    return TrialConfig(**{name: value for name, value in chosen.items() if value is not None})
+
+
 def game_seeds(seed: int, games: int) -> list[int]:
     """Game i (from 0) starts from seed + i, so any one game can be replayed alone."""
     return [seed + i for i in range(games)]
@@ -96,25 +149,22 @@ def play_command(
     goal_cap: GoalCapOption = None,
     idle_ticks: IdleTicksOption = None,
     noise: NoiseOption = None,
-    env: Annotated[str, typer.Option("--env", help="simple (SimpleSoccer) or rcss (a real rcssserver).")]
-    = "simple",
-    server: Annotated[Optional[list[str]], typer.Option(
-        "--server", help="rcssserver HOST:PORT (repeat for several servers; default 127.0.0.1:6000).",
-        show_default=False)] = None,
+    env: EnvOption = None,
+    server: ServerOption = None,
 ) -> None:
     """Play RULEBASE in SimpleSoccer (or on rcssserver) from seeded random starts; print goals, kicks, ticks and fitness."""
     from soccer.engine import play_game, play_games
 
+    env = chosen_env(env, server, {"--noise": noise, "--rrd": rrd})
     config = game_config(fitness, max_ticks, goal_cap, idle_ticks, noise)
     try:
         player = load_rulebase(rulebase)
     except RulebaseFileError as exc:
         fail(str(exc))
     seeds = game_seeds(seed, games)
-    if env not in ("simple", "rcss"):
-        fail(f"--env: expected simple or rcss, got {env!r}")
-    if env == "rcss":
-        _print_table(seeds, _play_on_rcss(player, seeds, server, fitness, max_ticks, goal_cap, idle_ticks))
+    if env == RCSS:
+        trial = trial_config(fitness, max_ticks, goal_cap, idle_ticks)
+        _print_table(seeds, _play_on_rcss(player, seeds, rcss_servers(server), trial))
         return
     if rrd is None:
         results = play_games([player] * games, seeds, config)
@@ -132,18 +182,15 @@ def play_command(
         typer.echo(f"replays written to {rrd} (open with: rerun {rrd})")
 
 
-def _play_on_rcss(player, seeds, servers, fitness, max_ticks, goal_cap, idle_ticks) -> list[Any]:
-    """Trials on real servers (spec 5); unset options keep the chapter's RoboCup settings (TrialConfig)."""
+def _play_on_rcss(player, seeds: list[int], servers: list[str], trial: "TrialConfig") -> list[Any]:
+    """Trials on real servers (spec 5), in parallel over the servers."""
     from soccer.rcss.errors import RcssError
-    from soccer.rcss.evaluate import DEFAULT_SERVER, RcssEvaluator
-    from soccer.rcss.trial import TrialConfig
+    from soccer.rcss.evaluate import RcssEvaluator
 
-    chosen = {"fitness": fitness, "max_cycles": max_ticks, "goal_cap": goal_cap, "idle_cycles": idle_ticks}
     try:
-        config = TrialConfig(**{name: value for name, value in chosen.items() if value is not None})
-        with RcssEvaluator(servers or [DEFAULT_SERVER], config) as evaluate:
+        with RcssEvaluator(servers, trial) as evaluate:
             return evaluate([player] * len(seeds), seeds)
-    except (RcssError, ValueError) as exc:
+    except RcssError as exc:
         fail(str(exc))
 
 

@@ -40,6 +40,7 @@ from soccer.rcss.params import ServerParams
 PROTOCOL_VERSION = 19
 DEFAULT_HOST = "127.0.0.1"
 DEFAULT_PLAYER_PORT = 6000
+DEFAULT_SERVER = f"{DEFAULT_HOST}:{DEFAULT_PLAYER_PORT}"
 DEFAULT_TEAM = "SoccerLab"
 DATAGRAM_SIZE = 8192
 
@@ -96,7 +97,10 @@ class Endpoint:
 
     def initialise(self, text: str) -> Message:
         """Send init and return the first reply; RcssNoServerError when nobody answers in time."""
-        self.send(text)
+        try:
+            self.send(text)
+        except OSError as exc:  # e.g. a host name that does not resolve
+            raise RcssNoServerError(f"{self.role}: cannot reach rcssserver at {self._where()}: {exc}") from None
         try:
             return self.receive(self.timeouts.connect, "the reply to init")
         except RcssTimeoutError:
@@ -252,7 +256,7 @@ class Session:
 
     def __init__(
         self,
-        server: str = f"{DEFAULT_HOST}:{DEFAULT_PLAYER_PORT}",
+        server: str = DEFAULT_SERVER,
         trainer_port: int | None = None,
         team: str = DEFAULT_TEAM,
         timeouts: Timeouts = Timeouts(),

@@ -13,11 +13,8 @@ import threading
 from typing import Sequence
 
 from fuzzy.rule import Rulebase
-from soccer.rcss.client import DEFAULT_TEAM, Session, Timeouts, parse_server
-from soccer.rcss.errors import RcssError
+from soccer.rcss.client import DEFAULT_SERVER, DEFAULT_TEAM, Session, Timeouts, parse_server
 from soccer.rcss.trial import TrialConfig, TrialResult, run_trial
-
-DEFAULT_SERVER = "127.0.0.1:6000"
 
 
 class RcssEvaluator:
@@ -48,6 +45,11 @@ class RcssEvaluator:
             self._sessions[index] = session
         return session
 
+    def connect(self) -> None:
+        """Open every server's session now, so that a missing server fails before a run starts."""
+        for index in range(len(self.servers)):
+            self._session(index)
+
     def __call__(self, rulebases: Sequence[Rulebase], seeds: Sequence[int]) -> list[TrialResult]:
         if len(rulebases) != len(seeds):
             raise ValueError(f"{len(rulebases)} rulebases but {len(seeds)} seeds")
@@ -55,7 +57,7 @@ class RcssEvaluator:
         for index in range(len(rulebases)):
             work.put(index)
         results: list[TrialResult | None] = [None] * len(rulebases)
-        failures: list[RcssError] = []
+        failures: list[Exception] = []  # the first is raised here, in the caller's thread
 
         def serve(server_index: int) -> None:
             try:
@@ -65,7 +67,7 @@ class RcssEvaluator:
                     except queue.Empty:
                         return
                     results[index] = run_trial(self._session(server_index), rulebases[index], seeds[index], self.config)
-            except RcssError as exc:
+            except Exception as exc:  # not only RcssError: a failure must never leave a result missing
                 failures.append(exc)
                 self._drop(server_index)
 

@@ -18,6 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from fuzzy.rule import Rulebase
+from soccer.fitness import FITNESS_FUNCTIONS
 from soccer.fitness import fitness as fitness_of
 from soccer.rcss.client import PlayerCycle, Session, TrainerCycle
 from soccer.rcss.localisation import PITCH_HALF_LENGTH, PITCH_HALF_WIDTH
@@ -41,6 +42,8 @@ class TrialConfig:
         for name in ("max_cycles", "idle_cycles", "goal_cap", "restart_wait_cycles"):
             if getattr(self, name) < 1:
                 raise ValueError(f"{name} must be at least 1, got {getattr(self, name)}")
+        if self.fitness not in FITNESS_FUNCTIONS:
+            raise ValueError(f"unknown fitness {self.fitness!r}; expected one of {', '.join(FITNESS_FUNCTIONS)}")
 
 
 @dataclass(frozen=True)

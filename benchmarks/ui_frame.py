@@ -1,0 +1,64 @@
+"""UI frame cost (spec 9: 30 frames per second for one game with all panels live).
+
+Builds what a session sends each frame — one simulator tick, the scalar inference that explains it,
+the pitch frame, the decision, rule, output-set and membership panels, and the policy map — for a
+rulebase of RULES rules, and reports the time per frame and the frame rate that leaves (the websocket
+and the browser's drawing come on top; with one tab they stay far below this on localhost).
+
+    python benchmarks/ui_frame.py [--frames 300] [--rules 10]
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+
+import numpy as np
+
+from app.ui import style
+from app.ui.context import UiContext
+from app.ui.game import Game
+from app.ui.panels.membership import membership_html
+from app.ui.panels.outputs import outputs_html
+from app.ui.panels.policy import policy_grid, policy_map_html
+from app.ui.panels.rules import decision_html, rules_html
+from fuzzy.random_rulebase import random_rulebase
+from fuzzy.vocabulary import Vocabulary
+from soccer.config import GameConfig
+
+SEED = 7
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--frames", type=int, default=300)
+    parser.add_argument("--rules", type=int, default=10)
+    args = parser.parse_args()
+    vocabulary = Vocabulary.default()
+    context = UiContext(None, None, vocabulary, GameConfig())
+    rulebase = random_rulebase(np.random.default_rng(SEED), vocabulary, rules=args.rules)
+    game = Game(context, rulebase, "benchmark", seed=SEED)
+    game.step()  # compile and warm up
+    grid = policy_grid(vocabulary, rulebase, 30.0, 0.0, True, game.view_half_angle, "power")
+    start = time.perf_counter()
+    for frame in range(args.frames):
+        if game.done:
+            game.restart(SEED + frame)
+        game.step()
+        inputs, inference = game.inputs(), game.inference()
+        game.frame()
+        game.status_html()
+        decision_html(vocabulary, inference)
+        rules_html(game.rule_texts, inference, only_fired=False)
+        outputs_html(vocabulary, inference)
+        membership_html(vocabulary, inputs)
+        if frame % round(style.FRAME_RATE * style.POLICY_REFRESH_SECONDS) == 0:
+            ball = inputs["ball_distance"], inputs["ball_direction"]
+            policy_map_html(vocabulary, grid, "power", ball if ball[0] is not None else None)
+    per_frame = (time.perf_counter() - start) / args.frames
+    print(f"{args.rules} rules: {per_frame * 1e3:.2f} ms per frame on the server "
+          f"-> {1 / per_frame:.0f} frames/s possible (target {style.FRAME_RATE:.0f})")
+
+
+if __name__ == "__main__":
+    main()
