@@ -1,6 +1,7 @@
 """Evolution runs in the background, for the API and the UI.
 
-Each run is a thread driving `ga.algorithms.evolve` (or `resume`) with the SimpleSoccer evaluator.
+Each run is a thread driving `ga.algorithms.evolve` (or `resume`) with the SimpleSoccer evaluator or,
+for env "rcss", with trials on real rcssservers (one at a time per server, in parallel over the servers).
 After every generation the GA checkpoints into the run's folder; then its statistics and best
 individual go to the store (one transaction), the folder's statistics.csv and best.rules are
 updated, the run's rerun recording grows, and listeners hear about it. A run stopped, crashed or
@@ -11,12 +12,14 @@ from __future__ import annotations
 
 import logging
 import threading
-from dataclasses import dataclass, field
+from contextlib import contextmanager
+from dataclasses import asdict, dataclass, field
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any, Callable, Iterator, Sequence
 
 from pydantic import ValidationError
 
+from app.environments import RCSS, SIMPLE, checked_env, checked_servers, checked_workers
 from app.paths import RUNS_FOLDER
 from app.recording import RunRecorder
 from app.run_outputs import RunFolder, RunOutputs
@@ -29,11 +32,15 @@ from ga.algorithms import evolve, resume
 from ga.checkpoint import load_checkpoint
 from ga.codec import ChromosomeCodec
 from ga.config import GAConfig
+from ga.evaluation import Evaluator
 from ga.individual import Individual
 from ga.notation import format_compact
 from ga.result import STOPPED
 from soccer.config import GameConfig
 from soccer.evaluate import SimpleSoccerEvaluator
+from soccer.rcss.client import parse_server
+from soccer.rcss.errors import RcssError
+from soccer.rcss.trial import TrialConfig
 
 log = logging.getLogger(__name__)
 
@@ -60,30 +67,66 @@ Listener = Callable[[RunEvent], None]
 
 @dataclass(frozen=True)
 class RunSettings:
-    """Everything a run needs to be played (or resumed): the GA's and the games' parameters."""
+    """Everything a run needs to be played (or resumed): the GA's parameters and where evaluations play:
+    SimpleSoccer games (`game`) or, for env "rcss", trials (`trial`) on `servers`."""
 
     ga: GAConfig
     game: GameConfig
+    env: str = SIMPLE
+    servers: tuple[str, ...] = ()
+    trial: TrialConfig = TrialConfig()
 
     @classmethod
     def build(
-        cls, ga: GAConfig | dict[str, Any] | None = None, game: GameConfig | dict[str, Any] | None = None
+        cls,
+        ga: GAConfig | dict[str, Any] | None = None,
+        game: GameConfig | dict[str, Any] | None = None,
+        env: str = SIMPLE,
+        servers: Sequence[str] | None = None,
+        trial: TrialConfig | dict[str, Any] | None = None,
     ) -> "RunSettings":
-        """Validated settings; ValueError naming each bad parameter."""
+        """Validated settings (an rcss run without servers plays on the default one); ValueError naming
+        each bad parameter."""
         ga = ga if isinstance(ga, GAConfig) else GAConfig.from_values(ga or {})
         try:
             game = game if isinstance(game, GameConfig) else GameConfig(**(game or {}))
         except ValidationError as exc:
             problems = "; ".join(f"{'.'.join(map(str, e['loc']))}: {e['msg']}" for e in exc.errors())
             raise ValueError(f"invalid game parameters: {problems}") from None
-        return cls(ga, game)
+        try:
+            trial = trial if isinstance(trial, TrialConfig) else TrialConfig(**(trial or {}))
+        except (TypeError, ValueError) as exc:
+            raise ValueError(f"invalid trial parameters: {exc}") from None
+        for where, check in (("env", lambda: checked_env(env)), ("servers", lambda: checked_servers(env, servers)),
+                             ("ga.workers", lambda: checked_workers(env, ga.workers))):
+            try:
+                check()
+            except ValueError as exc:
+                raise ValueError(f"{where}: {exc}") from None
+        return cls(ga, game, env, tuple(checked_servers(env, servers)), trial)
 
     @classmethod
     def from_dict(cls, data: dict[str, Any]) -> "RunSettings":
-        return cls.build(data.get("ga"), data.get("game"))
+        """Settings as stored; runs from before env existed played SimpleSoccer."""
+        return cls.build(data.get("ga"), data.get("game"), data.get("env", SIMPLE), data.get("servers"),
+                         data.get("trial"))
 
     def to_dict(self) -> dict[str, Any]:
-        return {"ga": self.ga.model_dump(), "game": self.game.model_dump()}
+        settings = {"ga": self.ga.model_dump(), "game": self.game.model_dump(), "env": self.env}
+        if self.env == RCSS:
+            settings.update(servers=list(self.servers), trial=asdict(self.trial))
+        return settings
+
+    @contextmanager
+    def evaluator(self) -> Iterator[Evaluator]:
+        """The run's evaluator, closed (its server sessions left) when the run ends."""
+        if self.env == SIMPLE:
+            yield SimpleSoccerEvaluator(self.game)
+            return
+        from soccer.rcss.evaluate import RcssEvaluator
+
+        with RcssEvaluator(self.servers, self.trial) as evaluate:
+            yield evaluate
 
 
 class StoreWriter:
@@ -115,6 +158,7 @@ class StoreWriter:
 @dataclass
 class _ActiveRun:
     thread: threading.Thread
+    servers: frozenset[tuple[str, int]]  # the rcssservers it plays on: one run at a time on each
     stop: threading.Event = field(default_factory=threading.Event)
     stop_status: RunStatus = RunStatus.STOPPED  # what a stop means: the user's stop, or the app ending
 
@@ -157,14 +201,23 @@ class RunManager:
 
     # ---- starting, stopping, resuming -----------------------------------------------------
     def start(
-        self, name: str, ga: GAConfig | dict[str, Any] | None = None, game: GameConfig | dict[str, Any] | None = None
+        self,
+        name: str,
+        ga: GAConfig | dict[str, Any] | None = None,
+        game: GameConfig | dict[str, Any] | None = None,
+        *,
+        env: str = SIMPLE,
+        servers: Sequence[str] | None = None,
+        trial: TrialConfig | dict[str, Any] | None = None,
     ) -> RunRecord:
-        """Start a new evolution. `ga`/`game`: a GAConfig/GameConfig or a dict of their fields
-        (missing fields take the chapter's defaults). Invalid values raise ValueError before
-        anything is saved."""
-        settings = RunSettings.build(ga, game)
+        """Start a new evolution. `ga`/`game`/`trial`: a GAConfig/GameConfig/TrialConfig or a dict of
+        their fields (missing fields take the chapter's defaults). env "rcss" plays trials on `servers`
+        (HOST:PORT; default 127.0.0.1:6000) with ga.workers 1. Invalid values raise ValueError before
+        anything is saved; a server another run plays on raises RunStateError."""
+        settings = RunSettings.build(ga, game, env, servers, trial)
         with self._lock:
             self._check_capacity()
+            self._check_servers_free(settings)
             record = self.store.create_run(name, settings.to_dict(), self.runs_dir / "{id}")
             self._launch(record, settings, resume_run=False)
         return record
@@ -180,6 +233,7 @@ class RunManager:
                 raise RunStateError(f"run {run_id} is {record.status}: there is nothing to resume")
             settings = RunSettings.from_dict(record.config)
             self._check_capacity()
+            self._check_servers_free(settings)
             record = self.store.set_run_status(run_id, RunStatus.RUNNING)
             self._launch(record, settings, resume_run=True)
         return record
@@ -230,11 +284,19 @@ class RunManager:
                 f"{len(self._active)} runs are already running (the limit is {self.max_concurrent_runs}); stop one first"
             )
 
+    def _check_servers_free(self, settings: RunSettings) -> None:
+        wanted = {parse_server(server) for server in settings.servers}
+        for run_id, active in self._active.items():
+            if shared := wanted & active.servers:
+                host, port = min(shared)
+                raise RunStateError(f"run {run_id} is playing on rcssserver {host}:{port}; "
+                                    "a server plays one run at a time")
+
     def _launch(self, record: RunRecord, settings: RunSettings, *, resume_run: bool) -> None:
         thread = threading.Thread(
             target=self._run, args=(record, settings, resume_run), name=f"run-{record.id}", daemon=True
         )
-        self._active[record.id] = _ActiveRun(thread)
+        self._active[record.id] = _ActiveRun(thread, frozenset(parse_server(server) for server in settings.servers))
         self._notify(RunEvent(record.id, RunStatus.RUNNING))
         thread.start()
 
@@ -246,7 +308,10 @@ class RunManager:
             if self._evolve(record, settings, active.stop, resume_run) == STOPPED:
                 status = active.stop_status
         except Exception as exc:  # the run fails; the app and every finished generation stay
-            log.exception("run %s failed", record.id)
+            if isinstance(exc, RcssError):  # the server's doing (gone, refused...): its message says it all
+                log.warning("run %s failed: %s", record.id, exc)
+            else:
+                log.exception("run %s failed", record.id)
             status, error = RunStatus.FAILED, f"{type(exc).__name__}: {exc}"
         finally:
             with self._lock:
@@ -263,7 +328,6 @@ class RunManager:
         folder.path.mkdir(parents=True, exist_ok=True)
         codec = ChromosomeCodec()
         writer = StoreWriter(self.store, record.id, codec, self._notify)
-        evaluate = SimpleSoccerEvaluator(settings.game)
         from_checkpoint = resume_run and folder.checkpoint.is_file()
         if from_checkpoint:
             state = load_checkpoint(folder.checkpoint)
@@ -276,10 +340,12 @@ class RunManager:
             outputs = RunOutputs(folder, Vocabulary.default())
         try:
             callbacks = (writer, outputs, recorder)
-            if from_checkpoint:
-                result = resume(folder.checkpoint, evaluate, callbacks=callbacks, stop=stop)
-            else:
-                result = evolve(settings.ga, evaluate, callbacks=callbacks, checkpoint=folder.checkpoint, stop=stop)
+            with settings.evaluator() as evaluate:
+                if from_checkpoint:
+                    result = resume(folder.checkpoint, evaluate, callbacks=callbacks, stop=stop)
+                else:
+                    result = evolve(settings.ga, evaluate, callbacks=callbacks, checkpoint=folder.checkpoint,
+                                    stop=stop)
         finally:
             recorder.close()
         return result.stop_reason

@@ -35,7 +35,9 @@ INVALID_SCORE = Score(INVALID_FITNESS, 0)
 
 
 class Evaluation:
-    """Use as a context manager: worker processes (spawned, so safe beside threads) live for one run."""
+    """Use as a context manager: worker processes (spawned, so safe beside threads) live for one run.
+    With `workers` = k, k - 1 processes are spawned and this process plays the first chunk itself
+    while they play the others: it would otherwise sit idle, and one process fewer starts."""
 
     def __init__(self, evaluate: Evaluator, workers: int = 1):
         self.evaluate = evaluate
@@ -44,7 +46,7 @@ class Evaluation:
 
     def __enter__(self) -> "Evaluation":
         if self.workers > 1:
-            self._pool = ProcessPoolExecutor(self.workers, mp_context=multiprocessing.get_context("spawn"))
+            self._pool = ProcessPoolExecutor(self.workers - 1, mp_context=multiprocessing.get_context("spawn"))
         return self
 
     def __exit__(self, *exc_info: object) -> None:
@@ -67,8 +69,10 @@ class Evaluation:
             return _checked(self.evaluate(rulebases, seeds), len(rulebases))
         bounds = np.linspace(0, len(rulebases), min(self.workers, len(rulebases)) + 1).astype(int)
         spans = list(zip(bounds[:-1], bounds[1:]))  # contiguous chunks, one per worker, in order
-        futures = [self._pool.submit(self.evaluate, rulebases[lo:hi], seeds[lo:hi]) for lo, hi in spans]
-        return [result for (lo, hi), future in zip(spans, futures) for result in _checked(future.result(), hi - lo)]
+        futures = [self._pool.submit(self.evaluate, rulebases[lo:hi], seeds[lo:hi]) for lo, hi in spans[1:]]
+        (lo, hi), rest = spans[0], spans[1:]
+        first = _checked(self.evaluate(rulebases[lo:hi], seeds[lo:hi]), hi - lo)
+        return [*first, *(result for (lo, hi), future in zip(rest, futures) for result in _checked(future.result(), hi - lo))]
 
 
 def _checked(results: Sequence[Any], expected: int) -> Sequence[Any]:

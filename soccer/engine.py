@@ -132,12 +132,13 @@ def _noisy(states, g, vx, vy, rand):
 
 @numba.njit(cache=True)
 def tick_kernel(
-    bodies, player_slot, ball_slot, offsets, done, facing, last_player, last_ball, min_distance,
+    bodies, layer, game_layer, player_slot, ball_slot, offsets, done, facing, last_player, last_ball, min_distance,
     ticks, goals, kicks, idle, kicked, last_side, end_reason, states,
     inputs, visible, action, values, strengths, observed,
     rulebases, scratch, layout, constants, rules,
 ):
-    """One tick for every live game; returns (whether a ball was placed, games that finished now).
+    """One tick for every live game in space `layer`; returns (whether a ball was placed, games that
+    finished now).
     The step just made is first closed: player-ball collision (rcssserver's, see WorldConfig), goal
     and restart, statistics, end conditions.
     bodies[row] = (x, y, vx, vy) in pymunk units (global metres, metres per second); game g's rows are
@@ -149,7 +150,7 @@ def tick_kernel(
     placed = False
     finished = 0
     for g in range(done.shape[0]):
-        if done[g]:
+        if done[g] or game_layer[g] != layer:
             continue
         ps = player_slot[g]
         bs = ball_slot[g]
@@ -282,7 +283,7 @@ class GameBatch:
         self.games = n
         self.states = seed_states(seeds)
         player, ball = start_positions(self.states, self.constants)
-        self.world = World(config.world, n)
+        self.world = World(config.world, seeds)
         for g in range(n):
             self.world.add_game(g, tuple(player[g]), tuple(ball[g]))
         self.world.index_bodies()
@@ -306,7 +307,7 @@ class GameBatch:
         self.values = np.zeros((n, len(vocabulary.output_names)))
         self.set_rulebases(rulebases)
         self.observed = np.zeros((n, 5))  # player x, y, facing, ball x, y at the last decision
-        self._buffer = pymunk.batch.Buffer()
+        self._buffers = [pymunk.batch.Buffer() for _ in self.world.spaces]
         self._live = n
 
     def set_rulebases(self, rulebases: Sequence[Rulebase]) -> None:
@@ -330,24 +331,28 @@ class GameBatch:
         """One tick of every live game (a finished game's last call only closes its books)."""
         if self._live == 0:
             return
-        space = self.world.space
-        self._buffer.clear()
-        pymunk.batch.get_space_bodies(space, _FIELDS, self._buffer)
-        bodies = np.frombuffer(self._buffer.float_buf(), dtype=np.float64).reshape(-1, 4)
-        _, finished = tick_kernel(
-            bodies, self.world.player_slot, self.world.ball_slot, self.world.offsets, self.done, self.facing,
-            self.last_player, self.last_ball, self.min_distance, self.ticks, self.goals, self.kicks, self.idle,
-            self.kicked, self.last_side, self.end_reason, self.states, self.inputs, self.visible, self.action,
-            self.values, self.strengths, self.observed, self._rulebase_args, self._scratch, self.layout, self.constants,
-            self.rules)
-        pymunk.batch.set_space_bodies(space, _FIELDS, self._buffer)
+        world = self.world
+        finished = 0
+        for layer, (space, buffer) in enumerate(zip(world.spaces, self._buffers)):
+            buffer.clear()
+            pymunk.batch.get_space_bodies(space, _FIELDS, buffer)
+            bodies = np.frombuffer(buffer.float_buf(), dtype=np.float64).reshape(-1, 4)
+            _, finished_now = tick_kernel(
+                bodies, layer, world.layer, world.player_slot, world.ball_slot, world.offsets, self.done, self.facing,
+                self.last_player, self.last_ball, self.min_distance, self.ticks, self.goals, self.kicks, self.idle,
+                self.kicked, self.last_side, self.end_reason, self.states, self.inputs, self.visible, self.action,
+                self.values, self.strengths, self.observed, self._rulebase_args, self._scratch, self.layout,
+                self.constants, self.rules)
+            pymunk.batch.set_space_bodies(space, _FIELDS, buffer)
+            finished += finished_now
         if finished:
             self._live -= finished
-            for g in np.flatnonzero(self.done & (self.world.player_slot >= 0)):
-                self.world.remove_game(int(g))
-            self.world.index_bodies()
+            for g in np.flatnonzero(self.done & (world.player_slot >= 0)):
+                world.remove_game(int(g))
+            world.index_bodies()
         if self._live:
-            space.step(self.constants.tick_seconds)
+            for space in world.spaces:
+                space.step(self.constants.tick_seconds)
 
     def run(self) -> list[GameResult]:
         while self._live:

@@ -1,9 +1,11 @@
-"""ONE pymunk Space holding many SimpleSoccer pitches (spec 4.1, 4.5).
+"""The pymunk Space holding many SimpleSoccer pitches (spec 4.1, 4.5).
 
-Each game sits on its own pitch far from the others. Pitch origins are multiples of PITCH_SPACING
-inside the binade [2**20, 2**21): every coordinate of every game then has the same floating-point
-spacing, and a pitch's offset is an even multiple of it, so pymunk's arithmetic gives a game bit for
-bit the same trajectory whichever slot (batch) it is played in.
+Each game sits on its own pitch far from the others, at a slot drawn from the game's seed, so a game
+has the same coordinates, and pymunk does the same arithmetic for it, whichever batch it is played in
+(contact geometry, e.g. Chipmunk's GJK interpolating support points, is not translation invariant:
+one ulp apart at tick 387 became a missed goal). All slots lie in the binade [2**20, 2**21), so
+every game has the same floating-point resolution. Two games of one batch that draw the same slot
+(rare) go to separate spaces ("layers"), stepped one after the other.
 
 Walls are boxes WALL_THICKNESS deep lying outside the lines (a ball moving 3 m per tick cannot tunnel
 through them; pymunk has no continuous collision detection): along both touch lines, the own end line,
@@ -13,11 +15,14 @@ pymunk resolves only the contacts of the ball and the player with these static s
 categories); the engine resolves player-ball collisions itself, as rcssserver does. Chipmunk's solver
 is Gauss-Seidel over the space's arbiter list, whose order comes from the spatial hash and so from
 every shape in the space: with ball-player contacts in pymunk, a body touching two things at once
-(the ball between player and post) was resolved in an order that depended on the other games.
-A body's contacts with its own pitch's static shapes are found in an order fixed by that pitch alone.
+(the ball between player and post) was resolved in an order that depended on the other games. A
+body's contacts with its own pitch's static shapes are found in an order fixed by its slot and the
+hash table size, which is therefore a constant, not scaled with the batch.
 """
 
 from __future__ import annotations
+
+from typing import Sequence
 
 import numpy as np
 import pymunk
@@ -30,8 +35,9 @@ ORIGIN = float(2**20) + PITCH_SPACING / 2
 PITCHES_PER_ROW = int((2**20 - PITCH_SPACING) // PITCH_SPACING)
 WALL_THICKNESS = 5.0  # deeper than the fastest ball moves in one tick
 WALL_ELASTICITY = 1.0  # pymunk multiplies the two shapes' elasticities: ball-wall = ball elasticity
-HASH_CELL = 4.0  # spatial hash cell size (m)
-HASH_CELLS_PER_GAME = 64
+HASH_CELL = 16.0  # spatial hash cell size (m): a ball or player overlaps one or two cells
+HASH_CELLS = 4096  # fixed whatever the batch size (see above); measured fastest for 200-1000 games
+SLOTS = PITCHES_PER_ROW * PITCHES_PER_ROW
 STATIC_CATEGORY, MOVING_CATEGORY = 0b01, 0b10
 STATIC_FILTER = pymunk.ShapeFilter(categories=STATIC_CATEGORY, mask=MOVING_CATEGORY)
 MOVING_FILTER = pymunk.ShapeFilter(categories=MOVING_CATEGORY, mask=STATIC_CATEGORY)  # ball and player: walls only
@@ -41,6 +47,15 @@ def pitch_offset(slot: int) -> tuple[float, float]:
     """Where pitch `slot`'s centre lies in the shared space."""
     row, column = divmod(slot, PITCHES_PER_ROW)
     return ORIGIN + column * PITCH_SPACING, ORIGIN + row * PITCH_SPACING
+
+
+def pitch_slot(seed: int) -> int:
+    """The slot of the game played from `seed`: splitmix64's finaliser of the seed, so nearby seeds
+    land far apart and two games of a batch rarely share a slot."""
+    z = (int(seed) + 0x9E3779B97F4A7C15) & 0xFFFFFFFFFFFFFFFF
+    z = ((z ^ (z >> 30)) * 0xBF58476D1CE4E5B9) & 0xFFFFFFFFFFFFFFFF
+    z = ((z ^ (z >> 27)) * 0x94D049BB133111EB) & 0xFFFFFFFFFFFFFFFF
+    return (z ^ (z >> 31)) % SLOTS
 
 
 def _box(body: pymunk.Body, x0: float, y0: float, x1: float, y1: float) -> pymunk.Poly:
@@ -80,39 +95,55 @@ def _round_body(mass: float, radius: float, elasticity: float, x: float, y: floa
     return body, shape
 
 
+def _new_space() -> pymunk.Space:
+    space = pymunk.Space()
+    space.use_spatial_hash(HASH_CELL, HASH_CELLS)
+    return space
+
+
 class World:
-    """The shared space: games added at their slot's offset, removed when they finish, and the
+    """The shared space(s): games added at their seed's slot, removed when they finish, and the
     mapping from pymunk's body order (which removal permutes) to (game, player or ball)."""
 
-    def __init__(self, config: WorldConfig, games: int):
+    def __init__(self, config: WorldConfig, seeds: Sequence[int]):
         self.config = config
-        self.space = pymunk.Space()
-        self.space.use_spatial_hash(HASH_CELL, max(HASH_CELLS_PER_GAME * games, 1024))
-        self.offsets = np.array([pitch_offset(g) for g in range(games)], dtype=np.float64).reshape(games, 2)
+        games = len(seeds)
+        slots = [pitch_slot(seed) for seed in seeds]
+        self.offsets = np.array([pitch_offset(s) for s in slots], dtype=np.float64).reshape(games, 2)
+        self.layer = np.zeros(games, dtype=np.int64)  # which space each game is in
+        taken: list[set[int]] = []
+        for g, slot in enumerate(slots):
+            layer = next((k for k, used in enumerate(taken) if slot not in used), len(taken))
+            if layer == len(taken):
+                taken.append(set())
+            taken[layer].add(slot)
+            self.layer[g] = layer
+        self.spaces = [_new_space() for _ in range(max(len(taken), 1))]
         self._objects: list[tuple[pymunk.Body, ...]] = [()] * games
         self._static: list[list[pymunk.Shape]] = [[] for _ in range(games)]
-        self._ids: dict[int, int] = {}  # body id -> 2 * game + (1 for the ball)
-        self.player_slot = np.full(games, -1, dtype=np.int64)
+        self._body_ids = np.zeros(2 * games, dtype=np.uintp)  # pymunk body id of game g's player [g], ball [games + g]
+        self._id_order: np.ndarray | None = None  # argsort of _body_ids, refreshed after games are added
+        self.player_slot = np.full(games, -1, dtype=np.int64)  # row of the game's bodies in its space's batch order
         self.ball_slot = np.full(games, -1, dtype=np.int64)
         self._id_buffer = pymunk.batch.Buffer()
 
     def add_game(self, game: int, player_xy: tuple[float, float], ball_xy: tuple[float, float]) -> None:
         c = self.config
         ox, oy = self.offsets[game]
+        space = self.spaces[self.layer[game]]
         player, player_shape = _round_body(c.player_mass, c.player_size, c.elasticity, ox + player_xy[0], oy + player_xy[1])
         ball, ball_shape = _round_body(c.ball_mass, c.ball_size, c.elasticity, ox + ball_xy[0], oy + ball_xy[1])
-        static = pitch_shapes(c, self.space.static_body, ox, oy)
-        self.space.add(player, player_shape, ball, ball_shape, *static)
+        static = pitch_shapes(c, space.static_body, ox, oy)
+        space.add(player, player_shape, ball, ball_shape, *static)
         self._objects[game] = (player, player_shape, ball, ball_shape)
         self._static[game] = static
-        self._ids[player.id] = 2 * game
-        self._ids[ball.id] = 2 * game + 1
+        self._body_ids[game] = player.id
+        self._body_ids[len(self._objects) + game] = ball.id
+        self._id_order = None
 
     def remove_game(self, game: int) -> None:
         if self._objects[game]:
-            player, _, ball, _ = self._objects[game]
-            del self._ids[player.id], self._ids[ball.id]
-            self.space.remove(*self._objects[game], *self._static[game])
+            self.spaces[self.layer[game]].remove(*self._objects[game], *self._static[game])
             self._objects[game] = ()
             self._static[game] = []
             self.player_slot[game] = self.ball_slot[game] = -1
@@ -122,14 +153,20 @@ class World:
         return self._objects[game]
 
     def index_bodies(self) -> None:
-        """Refresh player_slot/ball_slot: each game's bodies' rows in pymunk's batch order."""
-        self._id_buffer.clear()
-        pymunk.batch.get_space_bodies(self.space, pymunk.batch.BodyFields.BODY_ID, self._id_buffer)
-        for row, body_id in enumerate(np.frombuffer(self._id_buffer.int_buf(), dtype=np.uintp).tolist()):
-            code = self._ids.get(body_id)  # None: the space's static body (its row is read and written unchanged)
-            if code is not None:
-                (self.ball_slot if code & 1 else self.player_slot)[code >> 1] = row
-
-    @property
-    def bodies(self) -> int:
-        return len(self._ids)
+        """Refresh player_slot/ball_slot: each game's bodies' rows in its space's batch order."""
+        games = len(self._objects)
+        if games == 0:
+            return
+        if self._id_order is None:
+            self._id_order = np.argsort(self._body_ids)
+        known = self._body_ids[self._id_order]
+        for space in self.spaces:
+            self._id_buffer.clear()
+            pymunk.batch.get_space_bodies(space, pymunk.batch.BodyFields.BODY_ID, self._id_buffer)
+            ids = np.frombuffer(self._id_buffer.int_buf(), dtype=np.uintp)
+            where = np.minimum(np.searchsorted(known, ids), len(known) - 1)
+            rows = np.flatnonzero(known[where] == ids)  # all but the space's static body
+            which = self._id_order[where[rows]]
+            player = which < games
+            self.player_slot[which[player]] = rows[player]
+            self.ball_slot[which[~player] - games] = rows[~player]

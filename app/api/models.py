@@ -7,9 +7,11 @@ from typing import Annotated, Any
 
 from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 
+from app.environments import SIMPLE, EnvName
 from app.store import NAME_MAX_LENGTH, BestIndividual, RulebaseRecord, RunRecord
 from ga.config import GAConfig
 from soccer.config import GameConfig
+from soccer.rcss.trial import TrialConfig
 
 RULE_TEXT_MAX_LENGTH = 200_000  # far above any evolved rulebase (64 genes make at most 16 rules)
 
@@ -138,11 +140,23 @@ class RulebaseOut(BaseModel):
 
 # ---- runs --------------------------------------------------------------------------------
 class RunStart(Strict):
-    """A new evolution; every GA and game parameter defaults to the chapter's (spec 3.2, 4)."""
+    """A new evolution; every GA and game parameter defaults to the chapter's (spec 3.2, 4). env "rcss"
+    plays trials (`trial`, spec 5) on real rcssservers (`servers`, HOST:PORT, default 127.0.0.1:6000;
+    several play in parallel) instead of SimpleSoccer games (`game`); it needs ga.workers 1."""
 
     name: Name = "evolution"
     ga: GAConfig = GAConfig()
     game: GameConfig = GameConfig()
+    env: EnvName = SIMPLE
+    servers: list[Annotated[str, Field(max_length=300)]] = Field([], max_length=64)
+    trial: TrialConfig = TrialConfig()
+
+    @model_validator(mode="after")
+    def playable(self) -> "RunStart":
+        from app.runs import RunSettings  # the one place the rules for env, servers and workers live
+
+        RunSettings.build(self.ga, self.game, self.env, self.servers, self.trial)
+        return self
 
 
 class RunOut(BaseModel):

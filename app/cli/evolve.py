@@ -17,9 +17,10 @@ from rich.console import Console
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
 
 from app.cli.common import fail
-from app.cli.play import (RCSS, SIMPLE, EnvOption, FitnessOption, GoalCapOption, IdleTicksOption, MaxTicksOption,
+from app.cli.play import (EnvOption, FitnessOption, GoalCapOption, IdleTicksOption, MaxTicksOption,
                           NoiseOption, ServerOption, chosen_env, config_from_options, game_config, option_help,
                           rcss_servers, trial_config)
+from app.environments import RCSS, RCSS_WORKERS, SIMPLE, checked_workers
 from app.recording import RunRecorder
 from app.rulebase_files import rulebase_text
 from app.run_outputs import RunFolder, RunFolderError, RunOutputs, default_run_dir
@@ -135,6 +136,7 @@ class SimpleSoccerGames:
         yield SimpleSoccerEvaluator(self.game)
 
     def replay(self, rulebase: "Rulebase", seed: int, recorder: RunRecorder, folder: RunFolder) -> str:
+        """Replay the best game into the run's recording; the summary's line about it."""
         from soccer.engine import play_game
 
         result, trace = play_game(rulebase, seed, self.game, trace=True)
@@ -173,6 +175,7 @@ class RcssTrials:
             yield evaluate
 
     def replay(self, rulebase: "Rulebase", seed: int, recorder: RunRecorder, folder: RunFolder) -> str:
+        """No replay here (it would hold the servers for one more trial): the summary says how to play it."""
         servers = " ".join(f"--server {server}" for server in self.servers)
         return f"play the best on rcssserver: soccer-lab play {folder.best_rules} --env {RCSS} {servers}"
 
@@ -190,9 +193,12 @@ def _environment(options: dict[str, Any]) -> Environment:
         if options["workers"] is None:
             options["workers"] = min(os.cpu_count() or 1, WORKERS_LIMIT)
         return SimpleSoccerGames(game_config(*game_options, noise, games))
-    if options["workers"] not in (None, 1):
-        fail(f"--workers: not with --env {RCSS}; trials run in parallel over the servers: add a --server for each")
-    options["workers"] = 1
+    if options["workers"] is not None:
+        try:
+            checked_workers(RCSS, options["workers"])
+        except ValueError as exc:
+            fail(f"--workers: {exc}")
+    options["workers"] = RCSS_WORKERS
     return RcssTrials(rcss_servers(servers), trial_config(*game_options))
 
 

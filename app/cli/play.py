@@ -13,10 +13,11 @@ import typer
 from pydantic import BaseModel, ValidationError
 
 from app.cli.common import fail
+from app.environments import ENVIRONMENTS, RCSS, SIMPLE, checked_env, checked_servers
 from app.recording import log_replay, open_stream
 from app.rulebase_files import RulebaseFileError, load_rulebase
 from soccer.config import FITNESS_NAMES, GameConfig
-from soccer.rcss.client import DEFAULT_SERVER, parse_server
+from soccer.rcss.client import DEFAULT_SERVER
 
 if TYPE_CHECKING:  # soccer.rcss.trial compiles the player's kernels: imported only when rcss is used
     from soccer.rcss.trial import TrialConfig
@@ -25,8 +26,6 @@ DEFAULT_GAMES = 5
 DEFAULT_SEED = 0
 GAME_PANEL = "Game"
 ENV_PANEL = "Environment"
-SIMPLE, RCSS = "simple", "rcss"
-ENVIRONMENTS = (SIMPLE, RCSS)
 
 
 def _default(model: type[BaseModel], field: str) -> Any:
@@ -87,8 +86,9 @@ def game_config(fitness: str | None, max_ticks: int | None, goal_cap: int | None
 
 # The environment options, shared with `evolve` and `random-search`.
 EnvOption = Annotated[Optional[str], typer.Option(
-    "--env", help=f"Where games are played: {SIMPLE} (SimpleSoccer) or {RCSS} (a real rcssserver; the game options "
-    "left unset then take the chapter's RoboCup trial settings, see the README). (default: simple)",
+    "--env", help=f"Where games are played: {' or '.join(ENVIRONMENTS)} (SimpleSoccer or a real rcssserver; with "
+    f"{RCSS} the game options left unset take the chapter's RoboCup trial settings, see the README). "
+    f"(default: {SIMPLE})",
     show_default=False, rich_help_panel=ENV_PANEL)]
 ServerOption = Annotated[Optional[list[str]], typer.Option(
     "--server", help="With --env rcss: rcssserver's HOST:PORT (its player port; run it with server::synch_mode=true "
@@ -100,8 +100,10 @@ def chosen_env(env: str | None, servers: list[str] | None, simple_only: dict[str
     """--env checked against the other options: --server needs rcss; `simple_only` ({"--noise": value},
     None = not given) are refused with rcss rather than silently ignored."""
     env = SIMPLE if env is None else env
-    if env not in ENVIRONMENTS:
-        fail(f"--env: expected {' or '.join(ENVIRONMENTS)}, got {env!r}")
+    try:
+        checked_env(env)
+    except ValueError as exc:
+        fail(f"--env: {exc}")
     if env == SIMPLE and servers:
         fail(f"--server needs --env {RCSS}")
     given = [option for option, value in simple_only.items() if value is not None]
@@ -112,13 +114,10 @@ def chosen_env(env: str | None, servers: list[str] | None, simple_only: dict[str
 
 def rcss_servers(servers: list[str] | None) -> list[str]:
     """The --server addresses (checked now, before any connection), or the default server."""
-    chosen = list(servers or [DEFAULT_SERVER])
-    for server in chosen:
-        try:
-            parse_server(server)
-        except ValueError as exc:
-            fail(f"--server: {exc}")
-    return chosen
+    try:
+        return checked_servers(RCSS, servers)
+    except ValueError as exc:
+        fail(f"--server: {exc}")
 
 
 def trial_config(fitness: str | None, max_ticks: int | None, goal_cap: int | None,

@@ -8,6 +8,7 @@ from fuzzy.rule import Consequent, Premise, Rule, Rulebase
 from soccer.config import GameConfig
 from soccer.demo import demo_rulebase
 from soccer.engine import GameBatch, play_game, play_games
+from soccer.physics import COLLISION_GAP
 
 C = GameConfig().world.constants()
 STILL = Rulebase((Rule((Premise("GOAL", "VERYFAR"), Premise("GOAL", "VERYFAR", True)), ("OR",),
@@ -58,6 +59,24 @@ def test_ball_rebounds_from_post():
         batch.step()
     x, _, vx, _ = ball_position(batch)
     assert x < 52.5 and vx < 0.0 and batch.goals[0] == 0
+
+
+def test_player_running_into_the_ball_collides_as_in_rcssserver():
+    # player dashing at 1 m/tick onto a ball at rest 0.5 m ahead: pymunk lets them overlap, then the
+    # engine parts them along the line of centres and multiplies both velocities by -0.1
+    batch = scripted((0.5, 0.0), (0.0, 0.0), player=(0.0, 0.0))
+    p = batch.world.objects(0)[0]
+    p.velocity = (1.0 / C.tick_seconds, 0.0)
+    batch.last_player[0] = (0.0, 0.0)
+    batch.step()  # decides and moves: the player's velocity decays to 0.4 m/tick first
+    batch.step()  # closes the step: the player at 0.4 overlaps the ball at 0.5
+    ox, oy = batch.world.offsets[0]
+    x, y, vx, vy = ball_position(batch)
+    half = (C.player_size + C.ball_size) / 2 + COLLISION_GAP
+    assert x == pytest.approx(0.45 + half, abs=1e-9) and vx == 0.0  # parted from the midpoint 0.45, at rest
+    # the player's 0.4 m/tick became -0.04 (rebound), decayed to -0.016 and moved it back from 0.45 - half
+    assert p.position.x - ox == pytest.approx(0.45 - half - 0.016, abs=1e-9)
+    assert p.velocity.x * C.tick_seconds == pytest.approx(-0.016)
 
 
 def test_ball_through_mouth_scores_and_restarts_on_centre_line():

@@ -5,7 +5,7 @@ import math
 import pytest
 
 from soccer.config import WorldConfig
-from soccer.physics import cap_speed, dash, decay, is_kickable, kick, kick_acceleration, turn
+from soccer.physics import COLLISION_GAP, cap_speed, dash, decay, is_kickable, kick, kick_acceleration, separate, turn
 
 C = WorldConfig().constants()
 
@@ -61,3 +61,21 @@ def test_cap_speed_keeps_direction():
 def test_kickable_within_player_ball_and_margin():
     assert is_kickable(0.3 + 0.085 + 0.7, C)
     assert not is_kickable(0.3 + 0.085 + 0.7001, C)
+
+
+def test_overlapping_player_and_ball_part_from_their_midpoint_along_the_line_of_centres():
+    # rcssserver's calcCollPos: centres 0.2 m apart (reach 0.385), midpoint (10.1, -3): each ends
+    # 0.1925 + gap from it, the ball on its own side
+    px, py, bx, by, collided = separate(10.0, -3.0, 10.2, -3.0, 0.0, C)
+    assert collided
+    assert (px, bx) == pytest.approx((10.1 - 0.1925 - COLLISION_GAP, 10.1 + 0.1925 + COLLISION_GAP), abs=1e-12)
+    assert py == by == -3.0
+    px, py, bx, by, _ = separate(0.0, 0.0, 0.06, 0.08, 0.0, C)  # 3-4-5 direction
+    assert (bx - px, by - py) == pytest.approx((0.6 * (0.385 + 2 * COLLISION_GAP), 0.8 * (0.385 + 2 * COLLISION_GAP)))
+
+
+def test_separate_leaves_apart_bodies_alone_and_parts_coincident_ones_along_the_facing():
+    assert separate(0.0, 0.0, 0.386, 0.0, 0.0, C) == (0.0, 0.0, 0.386, 0.0, False)
+    px, py, bx, by, collided = separate(1.0, 1.0, 1.0, 1.0, 90.0, C)
+    assert collided and px == pytest.approx(1.0) and bx == pytest.approx(1.0)
+    assert by - py == pytest.approx(0.385 + 2 * COLLISION_GAP)  # ball ahead of a player facing +y

@@ -26,7 +26,8 @@ def _out(record: RunRecord, store: Store, request: Request) -> RunOut:
 
 @router.post("", status_code=201, summary="Start an evolution in the background", responses=CONFLICT)
 def start(body: RunStart, runs: RunsDependency, store: StoreDependency, request: Request) -> RunOut:
-    return _out(runs.start(body.name, body.ga, body.game), store, request)
+    return _out(runs.start(body.name, body.ga, body.game, env=body.env, servers=body.servers, trial=body.trial),
+                store, request)
 
 
 @router.get("", summary="List runs")

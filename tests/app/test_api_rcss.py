@@ -1,0 +1,103 @@
+"""Runs on rcssserver through the API: env, servers and trial accepted and checked, a dead server
+failing the run with its message, one server per run, and a run completing on replayed trials."""
+
+from __future__ import annotations
+
+import threading
+from dataclasses import asdict
+
+import pytest
+
+from app.runs import RunSettings
+from fuzzy.parser import parse_rulebase
+from soccer.rcss.client import DEFAULT_SERVER
+from soccer.rcss.errors import RcssTimeoutError
+from soccer.rcss.evaluate import RcssEvaluator
+from soccer.rcss.trial import TrialConfig
+from tests.app.api_client import TINY_GA, api_client, wait_for
+from tests.app.rcss_fakes import GOALS_CYCLES, GOALS_FITNESS, silent_server, transcripts_missing, two_recorded_trials
+
+ONE_GENERATION = {**TINY_GA, "population_size": 2, "max_generations": 1, "seed": 0}
+
+
+def ended(client, run_id: int) -> dict | None:
+    run = client.get(f"/api/runs/{run_id}").json()
+    return run if run["status"] != "running" else None
+
+
+def test_a_run_against_a_dead_server_fails_with_the_servers_message(tmp_path):
+    with api_client(tmp_path) as client, silent_server() as server:
+        response = client.post("/api/runs", json={"ga": ONE_GENERATION, "env": "rcss", "servers": [server]})
+        assert response.status_code == 201, response.json()
+        run = response.json()
+        assert run["config"]["env"] == "rcss" and run["config"]["servers"] == [server]
+        assert run["config"]["trial"] == asdict(TrialConfig())  # the chapter's RoboCup trials
+        done = wait_for(lambda: ended(client, run["id"]), timeout=30, what="the run to fail")
+        assert done["status"] == "failed" and done["generations"] == 0
+        assert done["error"] == (f"RcssNoServerError: player: no reply from rcssserver at {server} within 2 s "
+                                 "(is it running, on this host and port?)")
+
+
+@pytest.mark.parametrize("body, message", [
+    ({"env": "robocup"}, "env: Input should be 'simple' or 'rcss'"),
+    ({"env": "rcss", "servers": ["localhost:port"]}, "servers: bad server address 'localhost:port'"),
+    ({"env": "rcss", "servers": ["127.0.0.1:6000", "127.0.0.1:6000"]}, "a server is listed twice"),
+    ({"servers": ["127.0.0.1:6000"]}, "servers: servers are for env rcss only"),
+    ({"env": "rcss", "ga": {"workers": 2}}, "ga.workers: with env rcss the GA runs 1 worker"),
+    ({"env": "rcss", "trial": {"max_cycles": 0}}, "max_cycles must be at least 1"),
+    ({"env": "rcss", "trial": {"fitness": "style points"}}, "unknown fitness 'style points'"),
+    ({"env": "rcss", "trial": {"max_ticks": 100}}, "trial.max_ticks"),
+])
+def test_bad_environment_settings_are_refused_and_no_run_starts(body, message, tmp_path):
+    with api_client(tmp_path) as client:
+        response = client.post("/api/runs", json=body)
+        assert response.status_code == 422 and message in response.json()["detail"], response.json()
+        assert client.get("/api/runs").json() == []
+
+
+def test_settings_default_to_the_default_server_and_old_records_to_simplesoccer():
+    rcss = RunSettings.build(env="rcss")
+    assert rcss.servers == (DEFAULT_SERVER,) and rcss.trial == TrialConfig()
+    assert RunSettings.from_dict(rcss.to_dict()) == rcss
+    old = RunSettings.from_dict({"ga": TINY_GA, "game": {"max_ticks": 40}})  # stored before env existed
+    assert old.env == "simple" and old.servers == () and "servers" not in old.to_dict()
+
+
+def test_a_server_plays_one_run_at_a_time(tmp_path, monkeypatch):
+    release = threading.Event()
+
+    def held(self, rulebases, seeds):  # a server busy with a trial until the test lets go
+        release.wait(30)
+        raise RcssTimeoutError("released by the test")
+
+    monkeypatch.setattr(RcssEvaluator, "__call__", held)
+    with api_client(tmp_path) as client:
+        body = {"ga": ONE_GENERATION, "env": "rcss", "servers": ["127.0.0.1:6100", "127.0.0.1:6101"]}
+        first = client.post("/api/runs", json=body).json()
+        again = client.post("/api/runs", json={**body, "servers": ["127.0.0.1:6101"]})
+        assert again.status_code == 409
+        assert again.json()["detail"] == (f"run {first['id']} is playing on rcssserver 127.0.0.1:6101; "
+                                          "a server plays one run at a time")
+        other = client.post("/api/runs", json={**body, "servers": ["127.0.0.1:6102"]})
+        assert other.status_code == 201
+        release.set()
+        for run_id in (first["id"], other.json()["id"]):
+            done = wait_for(lambda: ended(client, run_id), timeout=30, what="the held runs to end")
+            assert done["status"] == "failed" and done["error"] == "RcssTimeoutError: released by the test"
+
+
+def test_a_run_on_two_replayed_servers_finishes_with_the_better_trial_as_best(tmp_path):
+    reason = transcripts_missing()
+    if reason:
+        pytest.skip(reason)
+    with api_client(tmp_path) as client, two_recorded_trials() as (goals, kick_in):
+        run = client.post("/api/runs", json={
+            "ga": ONE_GENERATION, "env": "rcss", "servers": [goals.server, kick_in.server],
+            "trial": {"max_cycles": GOALS_CYCLES},
+        }).json()
+        done = wait_for(lambda: ended(client, run["id"]), timeout=60, what="the run to finish")
+        assert done["status"] == "finished" and done["error"] is None and done["generations"] == 1
+        assert done["best_fitness"] == pytest.approx(GOALS_FITNESS)
+        best = client.get(f"/api/runs/{run['id']}/best").json()
+        assert len(parse_rulebase(best["rules"])) > 0
+        assert goals.wait().error is None and kick_in.wait().error is None

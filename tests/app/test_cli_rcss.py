@@ -1,0 +1,149 @@
+"""`evolve`, `random-search` and `play` with --env rcss: option checks, the no-server path, and a whole
+(one-generation) evolution against servers that replay recorded trials."""
+
+from __future__ import annotations
+
+import csv
+import json
+import shutil
+import time
+
+import pytest
+from typer.testing import CliRunner
+
+from app.cli import _register, app
+from app.cli.play import rcss_servers
+from soccer.rcss.client import DEFAULT_SERVER
+from tests.app.rcss_fakes import (GOALS_CYCLES, GOALS_FITNESS, KICK_IN_FITNESS, silent_server, transcripts_missing,
+                                  two_recorded_trials)
+from tests.app.test_cli_evolve import assert_one_line_error
+
+_register()
+# Two rulebases (both with rules at this seed), one generation: one trial on each of two servers.
+ONE_GENERATION = ["--population-size", "2", "--generations", "1", "--max-length", "16", "--seed", "0"]
+NO_SERVER_WITHIN = 10.0  # seconds; the client gives up on init after 2 s: anything near this is a hang
+
+
+def run(*args: object):
+    return CliRunner().invoke(app, [str(a) for a in args])
+
+
+@pytest.fixture(scope="module")
+def evolved_on_rcss(tmp_path_factory):
+    reason = transcripts_missing()
+    if reason:
+        pytest.skip(reason)
+    folder = tmp_path_factory.mktemp("rcss") / "run"
+    with two_recorded_trials() as (goals, kick_in):
+        servers = [goals.server, kick_in.server]
+        result = run("evolve", "--env", "rcss", "--server", servers[0], "--server", servers[1],
+                     *ONE_GENERATION, "--max-ticks", GOALS_CYCLES, "--out", folder)
+        logs = goals.wait(), kick_in.wait()
+    return folder, result, logs, servers
+
+
+def test_evolve_on_two_servers_plays_one_trial_on_each(evolved_on_rcss):
+    folder, result, (goals_log, kick_in_log), servers = evolved_on_rcss
+    assert result.exit_code == 0, result.output
+    assert goals_log.error is None and goals_log.finished  # the whole recorded trial was played
+    assert kick_in_log.error is None and kick_in_log.left_at is not None  # left when the referee stopped play
+    with (folder / "statistics.csv").open(newline="") as handle:
+        (row,) = csv.DictReader(handle)
+    assert float(row["best"]) == pytest.approx(GOALS_FITNESS, abs=1e-4)
+    assert float(row["worst"]) == pytest.approx(KICK_IN_FITNESS, abs=1e-4)
+    assert int(row["evaluations"]) == 2
+    assert f"best fitness {GOALS_FITNESS:.4f}" in result.output and "3 goals" in result.output
+    assert (f"play the best on rcssserver: soccer-lab play {folder / 'best.rules'} --env rcss "
+            f"--server {servers[0]} --server {servers[1]}") in result.output
+
+
+def test_the_run_folder_records_where_it_played(evolved_on_rcss):
+    folder, result, _, servers = evolved_on_rcss
+    manifest = json.loads((folder / "run.json").read_text())
+    assert manifest["env"] == "rcss" and manifest["servers"] == servers and "game" not in manifest
+    # Unset game options take the chapter's RoboCup trial settings; --max-ticks sets the trial's cycles.
+    assert manifest["trial"]["max_cycles"] == GOALS_CYCLES and manifest["trial"]["fitness"] == "robocup-composite"
+    assert manifest["ga"]["workers"] == 1
+    for name in ("best.rules", "best.json", "checkpoint", "run.rrd"):
+        assert (folder / name).is_file(), name
+
+
+def test_resume_of_an_rcss_run_takes_new_servers_and_fails_cleanly_without_one(evolved_on_rcss):
+    folder, *_ = evolved_on_rcss
+    with silent_server() as server:
+        started = time.monotonic()
+        result = run("evolve", "--resume", folder, "--server", server)
+        assert time.monotonic() - started < NO_SERVER_WITHIN
+    assert_one_line_error(result, f"no reply from rcssserver at {server} within 2 s")
+
+
+def test_no_server_is_one_line_within_seconds_and_leaves_no_run_folder(tmp_path):
+    with silent_server() as server:
+        started = time.monotonic()
+        result = run("evolve", "--env", "rcss", "--server", server, *ONE_GENERATION, "--out", tmp_path / "run")
+        assert time.monotonic() - started < NO_SERVER_WITHIN
+    assert_one_line_error(result, f"player: no reply from rcssserver at {server} within 2 s",
+                          "is it running, on this host and port?")
+    assert not (tmp_path / "run").exists()
+
+
+def test_random_search_on_rcss_takes_the_same_path(tmp_path):
+    with silent_server() as server:
+        result = run("random-search", "--env", "rcss", "--server", server, *ONE_GENERATION, "--out", tmp_path / "r")
+    assert_one_line_error(result, f"no reply from rcssserver at {server}")
+
+
+def test_rcss_without_a_server_uses_the_default_server(tmp_path):
+    assert rcss_servers(None) == [DEFAULT_SERVER] == ["127.0.0.1:6000"]
+    if shutil.which("rcssserver"):
+        pytest.skip("an rcssserver is installed: one may be listening on the default port")
+    result = run("evolve", "--env", "rcss", *ONE_GENERATION, "--out", tmp_path / "run")
+    assert_one_line_error(result, "rcssserver at 127.0.0.1:6000")
+
+
+@pytest.mark.parametrize("arguments, message", [
+    (["--env", "rcss", "--server", "localhost:port"], "--server: bad server address 'localhost:port': expected HOST:PORT"),
+    (["--env", "rcss", "--server", "127.0.0.1:70000"], "--server: bad server address '127.0.0.1:70000'"),
+    (["--env", "rcss", "--server", "127.0.0.1:6000", "--server", "127.0.0.1:6000"], "a server is listed twice"),
+    (["--env", "rcss", "--workers", "2"], "--workers: with env rcss the GA runs 1 worker"),
+    (["--env", "rcss", "--noise"], "--noise: SimpleSoccer only"),
+    (["--env", "rcss", "--games-per-evaluation", "3"], "--games-per-evaluation: SimpleSoccer only"),
+    (["--env", "rcss", "--fitness", "style"], "--fitness: Input should be"),
+    (["--env", "rcss", "--max-ticks", "0"], "--max-ticks: Input should be greater than 0"),
+    (["--server", "127.0.0.1:6000"], "--server needs --env rcss"),
+    (["--env", "robocup"], "--env: expected simple or rcss, got 'robocup'"),
+])
+def test_bad_options_are_one_line_before_any_connection(arguments, message, tmp_path):
+    started = time.monotonic()
+    result = run("evolve", *arguments, "--out", tmp_path / "run")
+    assert time.monotonic() - started < 2.0  # refused before trying to connect (which takes 2 s)
+    assert_one_line_error(result, message)
+    assert not (tmp_path / "run").exists()
+
+
+def test_resume_keeps_its_settings_but_a_simple_run_takes_no_server(tmp_path):
+    folder = tmp_path / "simple"
+    made = run("evolve", "--population-size", "2", "--generations", "1", "--max-ticks", "20", "--workers", "1",
+               "--out", folder)
+    assert made.exit_code == 0, made.output
+    assert json.loads((folder / "run.json").read_text())["env"] == "simple"
+    assert_one_line_error(run("evolve", "--resume", folder, "--env", "rcss"), "drop --env")
+    assert_one_line_error(run("evolve", "--resume", folder, "--server", "127.0.0.1:6000"),
+                          f"--server: the run in {folder} plays SimpleSoccer")
+
+
+def test_play_shares_the_environment_options(tmp_path):
+    rules = tmp_path / "kick.rules"
+    rules.write_text("if Ball is At then Kick Straight High\n")
+    assert_one_line_error(run("play", rules, "--env", "rcss", "--rrd", tmp_path / "x.rrd"), "--rrd: SimpleSoccer only")
+    assert_one_line_error(run("play", rules, "--env", "rcss", "--server", "nohost:x"), "--server: bad server address")
+    assert_one_line_error(run("play", rules, "--server", "127.0.0.1:6000"), "--server needs --env rcss")
+    with silent_server() as server:
+        assert_one_line_error(run("play", rules, "--env", "rcss", "--server", server, "-n", "1"),
+                              f"no reply from rcssserver at {server}")
+
+
+def test_help_says_how_workers_and_servers_go_together():
+    text = " ".join(run("evolve", "--help").output.replace("│", " ").split())
+    assert "Not with --env rcss" in text and "trials run in parallel over the --server's" in text
+    assert "server::synch_mode=true server::coach_w_referee=true" in text
