@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import threading
+
 from app.paths import DATABASE_FILE
 from app.runs import RunManager
 from app.store import RunStatus, Store
@@ -91,10 +93,23 @@ def test_stop_keeps_generations_and_restart_finds_everything_resumable(tmp_path)
 def test_run_cut_off_by_the_app_ending_is_interrupted_then_resumes_to_the_end(tmp_path):
     store = Store(tmp_path / DATABASE_FILE)
     runs = RunManager(store, tmp_path)
+    # Hold the run inside its first generation's listener until the stop is asked for, so that the
+    # stop lands mid-run however fast the machine is.
+    first_generation, stop_asked = threading.Event(), threading.Event()
+
+    def hold_first_generation(event):
+        if event.stats is not None and event.stats["generation"] == 0:
+            first_generation.set()
+            stop_asked.wait(30)
+
+    runs.add_listener(hold_first_generation)
     record = runs.start("cut off", {**TINY_GA, "max_generations": 4}, SHORT_GAMES)
-    wait_for(lambda: len(store.statistics(record.id)) >= 1, what="a generation")
-    runs.stop(record.id)
+    assert first_generation.wait(60), "the first generation never arrived"
+    runs.stop(record.id, wait=0)
+    stop_asked.set()
+    runs.wait(record.id, timeout=60)
     kept = len(store.statistics(record.id))
+    assert 1 <= kept < 4
     # As if the process had died mid-run: its row still says running.
     store.set_run_status(record.id, RunStatus.RUNNING)
     store.close()
