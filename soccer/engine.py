@@ -2,9 +2,11 @@
 one numba kernel per tick over all live games.
 
 Per tick: read every body's position and velocity with `pymunk.batch`, run `tick_kernel` (the previous
-step's bookkeeping: goal, restart, statistics, end conditions; then perception, the game's own fuzzy
-controller via `fuzzy.batched.decide`, the skill, the physics), write the bodies back, remove finished
-games, `space.step(tick_seconds)`. A single game is a batch of one: there is one code path.
+step's bookkeeping: player-ball collision, goal, restart, statistics, end conditions; then perception,
+the game's own fuzzy controller via `fuzzy.batched.decide`, the skill, the physics), write the bodies
+back, remove finished games, `space.step(tick_seconds)`. A single game is a batch of one: there is one
+code path. A game's result does not depend on its batch (soccer/world.py says how): games sharing a
+seed share a pitch slot and so play in separate spaces, one kernel call and one step each.
 """
 
 from __future__ import annotations
