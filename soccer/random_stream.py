@@ -14,6 +14,14 @@ _UNIT = 1.0 / 9007199254740992.0  # 2**-53
 SEED_MASK = (1 << 64) - 1
 
 
+def mix64(value: int) -> int:
+    """splitmix64's output for state `value` (any Python int): a well-spread 64-bit hash."""
+    z = (int(value) + int(_GOLDEN)) & SEED_MASK
+    z = ((z ^ (z >> int(_S30))) * int(_MIX1)) & SEED_MASK
+    z = ((z ^ (z >> int(_S27))) * int(_MIX2)) & SEED_MASK
+    return z ^ (z >> int(_S31))
+
+
 def seed_states(seeds) -> np.ndarray:
     """One uint64 stream state per seed (any Python int)."""
     return np.array([int(s) & SEED_MASK for s in seeds], dtype=np.uint64)

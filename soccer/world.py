@@ -29,6 +29,7 @@ import pymunk
 import pymunk.batch
 
 from soccer.config import WorldConfig
+from soccer.random_stream import mix64
 
 PITCH_SPACING = 256.0  # metres between pitch origins: a pitch with its walls spans less than 128 m each way
 ORIGIN = float(2**20) + PITCH_SPACING / 2
@@ -50,12 +51,9 @@ def pitch_offset(slot: int) -> tuple[float, float]:
 
 
 def pitch_slot(seed: int) -> int:
-    """The slot of the game played from `seed`: splitmix64's finaliser of the seed, so nearby seeds
-    land far apart and two games of a batch rarely share a slot."""
-    z = (int(seed) + 0x9E3779B97F4A7C15) & 0xFFFFFFFFFFFFFFFF
-    z = ((z ^ (z >> 30)) * 0xBF58476D1CE4E5B9) & 0xFFFFFFFFFFFFFFFF
-    z = ((z ^ (z >> 27)) * 0x94D049BB133111EB) & 0xFFFFFFFFFFFFFFFF
-    return (z ^ (z >> 31)) % SLOTS
+    """The slot of the game played from `seed`: a 64-bit hash of the seed, so nearby seeds land far
+    apart and two games of a batch rarely share a slot."""
+    return mix64(seed) % SLOTS
 
 
 def _box(body: pymunk.Body, x0: float, y0: float, x1: float, y1: float) -> pymunk.Poly:

@@ -7,6 +7,7 @@ from fuzzy.random_rulebase import random_rulebase
 from soccer.config import GameConfig
 from soccer.demo import demo_rulebase
 from soccer.engine import GameBatch, play_game
+from soccer.random_stream import mix64, next_uniform, seed_states
 from soccer.world import pitch_slot
 
 SHORT = GameConfig(max_ticks=300)
@@ -105,3 +106,9 @@ def test_game_pushed_into_the_end_line_wall_is_the_same_alone_and_as_the_116th_g
     assert in_batch.kicks > 0 and in_batch.ticks == 1000
     assert GameBatch(rulebases[97:], seeds[97:]).run()[18] == in_batch
     assert GameBatch([rulebases[115]], [seeds[115]]).run()[0] == in_batch
+
+
+def test_slot_hash_is_splitmix64_as_the_game_streams_use_it():
+    states = seed_states([12345, 2**64 + 7])  # seeds are taken modulo 2**64
+    assert next_uniform(states, 0) == (mix64(12345) >> 11) * 2.0**-53
+    assert next_uniform(states, 1) == (mix64(7) >> 11) * 2.0**-53
