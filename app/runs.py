@@ -11,6 +11,7 @@ cut off by the app ending keeps every finished generation and resumes from its c
 from __future__ import annotations
 
 import logging
+import shutil
 import threading
 from contextlib import contextmanager
 from dataclasses import asdict, dataclass, field
@@ -46,6 +47,7 @@ log = logging.getLogger(__name__)
 
 MAX_CONCURRENT_RUNS = 2  # the GA is CPU-bound; more runs than cores only slows every one of them
 STOP_WAIT_SECONDS = 30.0
+SAMPLED_PLAYERS = 12  # the best players of each generation that listeners (the population view) receive
 
 
 class RunStateError(ValueError):
@@ -53,13 +55,37 @@ class RunStateError(ValueError):
 
 
 @dataclass(frozen=True)
+class SampledPlayer:
+    """One player of a finished generation, decoded and ready to play."""
+
+    rulebase: Rulebase
+    fitness: float
+
+
+@dataclass(frozen=True)
 class RunEvent:
-    """What listeners hear: a finished generation (stats set) or a status change."""
+    """What listeners hear: a finished generation (stats set, with `players`: its best SAMPLED_PLAYERS
+    playable individuals, best first) or a status change."""
 
     run_id: int
     status: RunStatus
     stats: dict[str, Any] | None = None
     best_fitness: float | None = None
+    players: tuple[SampledPlayer, ...] = ()
+
+
+def sample_players(population: Sequence[Individual], codec: ChromosomeCodec,
+                   count: int = SAMPLED_PLAYERS) -> tuple[SampledPlayer, ...]:
+    """The `count` best individuals with at least one valid rule (an invalid ruleset is never played),
+    best first; among equals, population order. Only these are decoded: the run is not slowed."""
+    sampled = []
+    for individual in sorted(population, key=lambda individual: individual.fitness):
+        rulebase = codec.decode(individual.chromosome)
+        if len(rulebase):
+            sampled.append(SampledPlayer(rulebase, individual.fitness))
+            if len(sampled) == count:
+                break
+    return tuple(sampled)
 
 
 Listener = Callable[[RunEvent], None]
@@ -139,7 +165,8 @@ class StoreWriter:
         self.notify = notify
 
     def on_generation(self, stats: Any, population: list[Individual]) -> None:
-        self._record(stats.to_dict(), min(population, key=lambda individual: individual.fitness))
+        best = min(population, key=lambda individual: individual.fitness)
+        self._record(stats.to_dict(), best, sample_players(population, self.codec))
 
     def restore(self, history: list[dict[str, Any]], best: Individual | None) -> None:
         """On resume: the generations the checkpoint holds but the store missed (the app ended
@@ -149,10 +176,10 @@ class StoreWriter:
             if row["generation"] not in stored and best is not None:
                 self._record(row, best)
 
-    def _record(self, stats: dict[str, Any], best: Individual) -> None:
+    def _record(self, stats: dict[str, Any], best: Individual, players: tuple[SampledPlayer, ...] = ()) -> None:
         rules = format_rulebase(self.codec.decode(best.chromosome))
         self.store.record_generation(self.run_id, stats, rules, format_compact(best.chromosome), best.fitness)
-        self.notify(RunEvent(self.run_id, RunStatus.RUNNING, stats, best.fitness))
+        self.notify(RunEvent(self.run_id, RunStatus.RUNNING, stats, best.fitness, players))
 
 
 @dataclass
@@ -269,10 +296,24 @@ class RunManager:
         return self.store.get_run(run_id)
 
     def delete(self, run_id: int) -> None:
-        """Forget a run that is not running (its rows; its folder stays on disk)."""
-        if run_id in self._active:
-            raise RunStateError(f"run {run_id} is running; stop it first")
-        self.store.delete_run(run_id)
+        """Forget a run that is not running: its rows, and its folder when that lies inside this
+        manager's runs folder (a folder recorded elsewhere is never touched)."""
+        with self._lock:  # not while it starts or resumes
+            if run_id in self._active:
+                raise RunStateError(f"run {run_id} is running; stop it first")
+            folder = Path(self.store.get_run(run_id).folder)
+            self.store.delete_run(run_id)
+        if self._owns(folder):
+            shutil.rmtree(folder, ignore_errors=True)  # the rows are gone: a leftover file harms no one
+
+    def _owns(self, folder: Path) -> bool:
+        """`folder` is a real folder strictly inside the runs folder (symbolic links resolved)."""
+        try:
+            root = self.runs_dir.resolve(strict=True)
+            resolved = folder.resolve(strict=True)
+        except (OSError, RuntimeError):
+            return False
+        return resolved != root and resolved.is_relative_to(root) and not folder.is_symlink() and resolved.is_dir()
 
     def best_rulebase(self, run_id: int) -> Rulebase:
         """The best individual so far (also while the run goes on), ready to play."""

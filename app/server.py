@@ -9,11 +9,11 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable
 
-import rerun as rr
 import uvicorn
 
 from app.api import create_app
 from app.paths import DATABASE_FILE
+from app.rerun_viewer import RerunViewer, RerunViewerError
 from app.runs import RunManager
 from app.store import Store
 from app.ui import PortBusyError, start_ui
@@ -22,7 +22,7 @@ DEFAULT_HOST = "127.0.0.1"
 DEFAULT_PORT = 8000
 DEFAULT_UI_PORT = 8080
 DEFAULT_RERUN_PORT = 9090
-RERUN_VIEWER_HOST = "0.0.0.0"  # rerun's web viewer always listens on every interface
+RERUN_VIEWER_LOG = "rerun-viewer.log"  # in the data folder
 
 
 class ServeError(RuntimeError):
@@ -63,11 +63,7 @@ def check_ports(options: ServeOptions) -> None:
         raise ServeError("--port, --ui-port and --rerun-port must be three different ports")
     check_port_free(options.host, options.port, "API server", "--port")
     check_port_free(options.host, options.ui_port, "UI", "--ui-port")
-    check_port_free(RERUN_VIEWER_HOST, options.rerun_port, "rerun viewer", "--rerun-port")
-
-
-def _start_rerun_viewer(port: int) -> None:
-    rr.serve_web_viewer(web_port=port, open_browser=False)
+    check_port_free(options.host, options.rerun_port, "rerun viewer", "--rerun-port")
 
 
 def serve(options: ServeOptions, echo: Callable[[str], None] = print) -> None:
@@ -80,16 +76,17 @@ def serve(options: ServeOptions, echo: Callable[[str], None] = print) -> None:
     store = Store(options.data_dir / DATABASE_FILE)
     runs = RunManager(store, options.data_dir)
     ui = None
+    viewer = RerunViewer(options.host, options.rerun_port, options.data_dir / RERUN_VIEWER_LOG)
+    api_url = options.url(options.port)
     try:
         try:
-            ui = start_ui(store, runs, options.host, options.ui_port)
-        except PortBusyError as exc:  # taken between the check and now
+            ui = start_ui(store, runs, options.host, options.ui_port, api_url=api_url)
+            viewer.start()
+        except (PortBusyError, RerunViewerError) as exc:  # a port taken between the check and now
             raise ServeError(str(exc)) from exc
-        _start_rerun_viewer(options.rerun_port)
         ui_url = options.url(options.ui_port)
         viewer_url = options.url(options.rerun_port)
         app = create_app(store, runs, ui_url=ui_url, viewer_url=viewer_url)
-        api_url = options.url(options.port)
         echo("soccer-lab is running (Ctrl+C to stop)")
         echo(f"  home          {api_url}/")
         echo(f"  UI            {ui_url}")
@@ -102,6 +99,7 @@ def serve(options: ServeOptions, echo: Callable[[str], None] = print) -> None:
         uvicorn.run(app, host=options.host, port=options.port, log_level="warning")
     finally:
         runs.shutdown()
+        viewer.stop()
         if ui is not None:
             ui.stop()
         store.close()

@@ -351,15 +351,26 @@ class Store:
 
     # ---- experiments --------------------------------------------------------------------
     def record_experiment(self, preset: str, folder: str | Path, summary: dict[str, Any]) -> ExperimentRecord:
+        """A finished experiment. The same preset recorded again in the same folder (a resumed or
+        repeated experiment) replaces its earlier summary: one library entry per folder and preset."""
         preset = _valid_name(preset)
         summary_json = _json(summary, "experiment summary")
         stamp = now()
         with self._transaction() as cursor:
-            cursor.execute(
-                "INSERT INTO experiments (preset, folder, created, summary) VALUES (?, ?, ?, ?)",
-                (preset, str(folder), stamp, summary_json),
-            )
-            record_id = cursor.lastrowid
+            row = cursor.execute(
+                "SELECT id FROM experiments WHERE preset = ? AND folder = ?", (preset, str(folder))
+            ).fetchone()
+            if row is None:
+                cursor.execute(
+                    "INSERT INTO experiments (preset, folder, created, summary) VALUES (?, ?, ?, ?)",
+                    (preset, str(folder), stamp, summary_json),
+                )
+                record_id = cursor.lastrowid
+            else:
+                record_id = row[0]
+                cursor.execute(
+                    "UPDATE experiments SET created = ?, summary = ? WHERE id = ?", (stamp, summary_json, record_id)
+                )
         return self.get_experiment(record_id)
 
     def get_experiment(self, experiment_id: int) -> ExperimentRecord:

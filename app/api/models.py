@@ -159,6 +159,10 @@ class RunStart(Strict):
         return self
 
 
+class RunRename(Strict):
+    name: Name
+
+
 class RunOut(BaseModel):
     id: int
     name: str
@@ -200,6 +204,38 @@ class BestOut(BaseModel):
     @classmethod
     def of(cls, best: BestIndividual) -> "BestOut":
         return cls(**best.to_dict())
+
+
+# ---- experiments -------------------------------------------------------------------------
+class FigureOut(BaseModel):
+    name: str
+    caption: str
+    url: str
+
+
+class TrialRecordingOut(BaseModel):
+    trial: str  # <setting key>-<trial number>
+    url: str  # the .rrd (open it in the rerun viewer)
+
+
+class ExperimentOut(BaseModel):
+    """A recorded `soccer-lab experiment`: its summary, and links to the files still in its folder
+    (null or empty when the folder or file is gone)."""
+
+    id: int
+    preset: str
+    created: str
+    folder: str
+    available: bool  # the folder is still there
+    presets: list[str]
+    trials: int | None
+    options: dict[str, Any]
+    verdicts: dict[str, int]
+    report: str | None  # URL of report.html (figures inline)
+    report_markdown: str | None
+    statistics: str | None  # URL of statistics.csv
+    figures: list[FigureOut]
+    recordings: list[TrialRecordingOut]
 
 
 class ServerInfo(BaseModel):

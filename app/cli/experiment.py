@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated, Any, Optional
+from typing import Annotated, Optional
 
 import typer
 from rich.console import Console
@@ -88,19 +88,14 @@ class ExperimentProgress:
 
 
 def _record(preset: str, options: ExperimentOptions, outcome: ExperimentOutcome) -> None:
+    from app.experiment.library import library_summary
     from app.paths import DATABASE_FILE, default_data_dir
     from app.store import Store, StoreError
 
-    summary: dict[str, Any] = {
-        "presets": [p.name for p in outcome.plan.presets], "options": options.model_dump(),
-        "trials": len(outcome.plan.specs), "verdicts": outcome.report.verdicts(),
-        "statistics": "statistics.csv", "report": "report.html", "report_markdown": "report.md",
-        "figures": [f.path.as_posix() for f in outcome.report.figures],
-    }
     try:
         store = Store(default_data_dir() / DATABASE_FILE)
         try:
-            store.record_experiment(preset, outcome.folder.resolve(), summary)
+            store.record_experiment(preset, outcome.folder.resolve(), library_summary(options, outcome))
         finally:
             store.close()
     except StoreError as exc:

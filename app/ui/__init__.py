@@ -64,12 +64,14 @@ def start_ui(
     *,
     game: GameConfig | None = None,
     vocabulary: Vocabulary | None = None,
+    api_url: str | None = None,
 ) -> UiHandle:
     """Start the viser server on host:port (PortBusyError if the port is taken: viser would silently
-    move to the next one) and give every connecting browser tab its own session."""
+    move to the next one) and give every connecting browser tab its own session. `api_url`: where the
+    JSON API answers, for links to the files it serves."""
     from app.ui.session import Session
 
-    context = UiContext(store, runs, vocabulary or Vocabulary.default(), game or GameConfig())
+    context = UiContext(store, runs, vocabulary or Vocabulary.default(), game or GameConfig(), api_url=api_url)
     server = viser.ViserServer(host=host, port=port, label=TITLE, verbose=False)
     if server.get_port() != port:
         server.stop()

@@ -26,6 +26,7 @@ class UiContext:
     game: GameConfig
 
     demo_name: str = DEMO_NAME
+    api_url: str | None = None  # the JSON API, for links to files it serves (experiment reports)
 
     def demo_rulebase(self) -> Rulebase:
         return parse_rulebase(demo_rules_text(), self.vocabulary)

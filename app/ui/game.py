@@ -13,8 +13,9 @@ from fuzzy.engine import Engine, Inference
 from fuzzy.printer import format_rule
 from fuzzy.rule import Rulebase
 from soccer.env import SoccerEnv
+from soccer.perception import perceive
 
-BALL = "BALL"  # the object whose visibility colours the view cone
+BALL, GOAL = "BALL", "GOAL"  # the ball's visibility colours the view cone
 
 
 class Game:
@@ -23,6 +24,7 @@ class Game:
         self.vocabulary = context.vocabulary
         self.env = SoccerEnv(rulebase, context.game)
         self.view_half_angle = context.game.world.view_width / 2
+        self.constants = context.game.world.constants()
         self.set_rulebase(rulebase, name)
         self.restart(seed)
 
@@ -53,8 +55,28 @@ class Game:
 
     # ---- what the panels read ---------------------------------------------------------------
     def inputs(self) -> dict[str, float | None]:
-        """The crisp inputs the player decides on this tick (None for an object out of view)."""
+        """The crisp inputs of the player's decision (None for an object out of view): the last one
+        made, or at a fresh start (no decision yet) the one it is about to make."""
+        if self.state.tick == 0:
+            return self._perceived_now()[0]
         return dict(self.state.inputs)
+
+    def visible(self) -> dict[str, bool]:
+        return self._perceived_now()[1] if self.state.tick == 0 else dict(self.state.visible)
+
+    def _perceived_now(self) -> tuple[dict[str, float | None], dict[str, bool]]:
+        """What the player sees from where it stands, exactly as the engine perceives at its next tick."""
+        s = self.state
+        ball_distance, ball_direction, ball_seen, goal_distance, goal_direction, goal_seen = perceive(
+            s.player[0], s.player[1], s.facing, s.ball[0], s.ball[1], self.constants)
+        perceived = {BALL: (ball_distance, ball_direction, ball_seen), GOAL: (goal_distance, goal_direction, goal_seen)}
+        inputs: dict[str, float | None] = {}
+        for obj, (distance, direction, seen) in perceived.items():
+            reads = self.vocabulary.objects[obj]
+            inputs[reads["distance"]] = float(distance) if seen else None
+            inputs[reads["direction"]] = float(direction) if seen else None
+        return ({name: inputs[name] for name in self.vocabulary.input_names},
+                {obj: bool(perceived[obj][2]) for obj in self.vocabulary.object_names})
 
     def inference(self) -> Inference:
         if self._inference is None:
@@ -68,7 +90,7 @@ class Game:
             facing=float(np.radians(s.facing)),
             ball=s.ball,
             trail=np.array(s.ball_trail, dtype=np.float64).reshape(-1, 2),
-            ball_visible=s.visible[BALL],
+            ball_visible=self.visible()[BALL],
         )
 
     def status_html(self) -> str:

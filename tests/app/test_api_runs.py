@@ -147,3 +147,52 @@ def test_too_many_concurrent_runs_is_a_conflict(tmp_path):
         assert second.status_code == 409 and "already running" in second.json()["detail"]
         client.post(f"/api/runs/{first['id']}/stop")
         assert [r["id"] for r in client.get("/api/runs").json()] == [first["id"]]
+
+
+def test_rename_and_delete_a_run_and_its_files(tmp_path):
+    with api_client(tmp_path) as client:
+        run = client.post("/api/runs", json={"name": "first name", "ga": LONG_GA, "game": SHORT_GAMES}).json()
+        folder = tmp_path / "runs" / str(run["id"])
+        wait_for(lambda: client.get(f"/api/runs/{run['id']}").json()["generations"] >= 1, what="a generation")
+        renamed = client.patch(f"/api/runs/{run['id']}", json={"name": "  striker trial  "})
+        assert renamed.status_code == 200 and renamed.json()["name"] == "striker trial"
+        assert renamed.json()["status"] == "running"  # renaming a running run is fine
+        busy = client.delete(f"/api/runs/{run['id']}")
+        assert busy.status_code == 409 and "stop it first" in busy.json()["detail"]
+        assert (folder / "checkpoint").is_file()
+
+        client.post(f"/api/runs/{run['id']}/stop")
+        for body, where in (({"name": ""}, "name"), ({"name": "x" * 201}, "name"), ({"title": "x"}, "title"), ({}, "name")):
+            refused = client.patch(f"/api/runs/{run['id']}", json=body)
+            assert refused.status_code == 422 and where in refused.json()["detail"], body
+        assert client.get(f"/api/runs/{run['id']}").json()["name"] == "striker trial"
+
+        assert client.delete(f"/api/runs/{run['id']}").status_code == 204
+        assert not folder.exists() and (tmp_path / "runs").is_dir()
+        for path in (f"/api/runs/{run['id']}", f"/api/runs/{run['id']}/statistics", f"/api/runs/{run['id']}/best"):
+            assert client.get(path).status_code == 404
+        again = client.delete(f"/api/runs/{run['id']}")
+        assert again.status_code == 404 and again.json()["detail"] == f"no run with id {run['id']}"
+        assert client.patch("/api/runs/424242", json={"name": "x"}).status_code == 404
+
+
+def test_deleting_a_run_never_touches_files_outside_the_data_folder(tmp_path):
+    outside = tmp_path / "elsewhere"
+    outside.mkdir()
+    (outside / "precious.txt").write_text("keep me")
+    data = tmp_path / "data"
+    store = Store(data / DATABASE_FILE)
+    (data / "runs").mkdir()
+    escaping_link = data / "runs" / "link"
+    escaping_link.symlink_to(outside, target_is_directory=True)
+    ids = [store.create_run(name, {}, folder).id
+           for name, folder in (("recorded outside", outside), ("link out", escaping_link),
+                                ("the runs folder itself", data / "runs"), ("dotted", data / "runs" / ".." / ".."))]
+    store.set_run_status(ids[0], RunStatus.STOPPED)
+    store.close()
+    with api_client(data) as client:
+        for run_id in ids:
+            assert client.delete(f"/api/runs/{run_id}").status_code == 204
+        assert client.get("/api/runs").json() == []
+    assert (outside / "precious.txt").read_text() == "keep me"
+    assert escaping_link.is_symlink() and (data / DATABASE_FILE).is_file()

@@ -169,3 +169,8 @@ def test_experiments(store):
     assert store.get_experiment(record.id).summary == {"trials": 20, "agrees": [True, False]}
     with pytest.raises(NotFound):
         store.get_experiment(record.id + 1)
+    # Resumed into the same folder: the entry is updated, not duplicated; another folder is another entry.
+    again = store.record_experiment("initial", "/tmp/exp", {"trials": 20, "agrees": [True, True]})
+    other = store.record_experiment("initial", "/tmp/exp2", {"trials": 2})
+    assert again.id == record.id and again.summary["agrees"] == [True, True]
+    assert [e.id for e in store.list_experiments()] == [record.id, other.id]

@@ -209,7 +209,12 @@ def test_a_small_evolution_shows_progress_and_its_best_player_can_be_loaded(ui, 
     page.get_by_role("tab", name="Population").click()
     page.get_by_role("tab", name="Play").click()
     page.get_by_role("button", name="Play").click()
-    wait_until(lambda: page.locator(".mini-pitch").count() == 2)  # the best of generations 0 and 1
+    # The last generation's best players, played live in the grid.
+    caption = page.locator(".population-caption")
+    wait_until(lambda: caption.count() and caption.get_attribute("data-generation") == "1")
+    shown = len(session.population.labels)
+    assert 0 < shown <= 12
+    wait_until(lambda: page.locator(".mini-pitch").count() == shown)
     page.get_by_role("tab", name="Library").click()
     run_label = page.locator("text=from the UI (finished)")
     shot(page, "6-library-and-population")
@@ -241,6 +246,30 @@ def test_policy_map_marks_the_current_input(ui, page):
     page.locator(".policy-map").wait_for()
     assert page.locator(".policy-map svg").count() == 2
     shot(page, "7-policy-map")
+
+
+def test_library_shows_an_experiment_and_its_figures(ui, page, tmp_path):
+    from matplotlib.figure import Figure
+
+    folder = tmp_path / "crossover-seed0"
+    (folder / "figures").mkdir(parents=True)
+    (folder / "report.html").write_text("<html></html>")
+    figure = Figure(figsize=(4, 2))
+    figure.subplots().plot([0, 1, 2], [0.9, 0.7, 0.6])
+    figure.savefig(folder / "figures" / "crossover-best_fitness.png")
+    ui.context.store.record_experiment("crossover", folder, {
+        "presets": ["crossover"], "trials": 20, "verdicts": {"agrees": 2},
+        "figures": ["figures/crossover-best_fitness.png"], "figure_captions": ["Crossover: best fitness"]})
+    page.get_by_role("tab", name="Library").click()
+    page.get_by_role("button", name="Refresh", exact=True).click()
+    summary = page.locator(".experiment")
+    summary.wait_for()
+    assert "2 agrees" in summary.inner_text() and "20 trials" in summary.inner_text()
+    image = page.locator(".experiment-figure img")
+    image.wait_for()
+    wait_until(lambda: image.evaluate("img => img.complete && img.naturalWidth") > 0)
+    assert "Crossover: best fitness" in page.locator(".experiment-figure").inner_text()
+    shot(page, "8-library-experiment")
 
 
 def test_each_tab_has_its_own_game(ui, browser, page):

@@ -1,14 +1,15 @@
-"""/api/runs: start, list, read, stop and resume evolutions; their statistics, best and recording."""
+"""/api/runs: start, list, read, rename, delete, stop and resume evolutions; their statistics, best and
+recording."""
 
 from __future__ import annotations
 
 from pathlib import Path
 from typing import Any
 
-from fastapi import APIRouter, Request
+from fastapi import APIRouter, Request, Response
 from fastapi.responses import FileResponse
 
-from app.api.models import BestOut, ErrorBody, RunOut, RunStart
+from app.api.models import BestOut, ErrorBody, RunOut, RunRename, RunStart
 from app.api.routes.dependencies import RecordId, RunsDependency, StoreDependency
 from app.run_outputs import RunFolder
 from app.store import NotFound, RunRecord, Store
@@ -38,6 +39,18 @@ def list_all(store: StoreDependency, request: Request) -> list[RunOut]:
 @router.get("/{run_id}", summary="Read a run")
 def read(run_id: RecordId, store: StoreDependency, request: Request) -> RunOut:
     return _out(store.get_run(run_id), store, request)
+
+
+@router.patch("/{run_id}", summary="Rename a run", responses={422: {"model": ErrorBody}})
+def rename(run_id: RecordId, body: RunRename, store: StoreDependency, request: Request) -> RunOut:
+    return _out(store.rename_run(run_id, body.name), store, request)
+
+
+@router.delete("/{run_id}", status_code=204, responses=CONFLICT,
+               summary="Delete a run that is not running: its statistics, best individuals and its folder's files")
+def delete(run_id: RecordId, runs: RunsDependency) -> Response:
+    runs.delete(run_id)
+    return Response(status_code=204)
 
 
 @router.get("/{run_id}/statistics", summary="The run's statistics, one object per finished generation")

@@ -156,7 +156,7 @@ class EvolvePanel:
             self.best.append(float(stats["best"]))
             self.mean.append(float(stats["mean"]))
             self._redraw_plot()
-            self.session.population.generation_finished(event.run_id)
+            self.session.population.generation_finished(event.run_id, int(stats["generation"]), event.players)
             self.progress.value = min(100.0, 100.0 * (stats["generation"] + 1) / total)
             self.load_best.disabled = False
             self.status.content = self._status_html(

@@ -1,4 +1,5 @@
-"""Library: saved rulebases and past runs (open, rename, delete, watch a run's best player)."""
+"""Library: saved rulebases, past runs (open, rename, delete, watch a run's best player) and recorded
+experiments (their summary, a link to the report, each figure)."""
 
 from __future__ import annotations
 
@@ -6,9 +7,11 @@ from typing import TYPE_CHECKING
 
 import viser
 
+from app.experiment.library import ExperimentFolder, FigureFile
 from app.runs import RunStateError
 from app.store import NotFound, StoreError
 from app.ui import style
+from app.ui.panels.experiments import experiment_html, experiment_label, figure_html
 from app.ui.panels.svg import escape
 from fuzzy.parser import RuleSyntaxError, parse_rulebase
 
@@ -41,6 +44,20 @@ class LibraryPanel:
         self.new_name = gui.add_text("New name", "")
         refresh = gui.add_button("Refresh", icon=viser.Icon.REFRESH, color="gray")
         self.message = gui.add_html("")
+        gui.add_markdown("**Experiments** (`soccer-lab experiment`)")
+        self.experiments = gui.add_dropdown("Experiment", (NONE,))
+        self.experiment_view = gui.add_html("")
+        self.figures = gui.add_dropdown("Figure", (NONE,))
+        self.figure_view = gui.add_html("")
+        self._figure_files: dict[str, FigureFile] = {}
+
+        @self.experiments.on_update
+        def _(_: viser.GuiEvent) -> None:
+            self.show_experiment()
+
+        @self.figures.on_update
+        def _(_: viser.GuiEvent) -> None:
+            self.show_figure()
 
         @rulebase_actions.on_click
         def _(event: viser.GuiEvent) -> None:
@@ -63,6 +80,9 @@ class LibraryPanel:
         runs = [_label(r.id, f"{r.name} ({r.status})") for r in self.store.list_runs()]
         self._set_options(self.rulebases, rulebases)
         self._set_options(self.runs, runs)
+        experiments = [experiment_label(e) for e in reversed(self.store.list_experiments())]  # newest first
+        self._set_options(self.experiments, experiments)
+        self.show_experiment()
 
     @staticmethod
     def _set_options(dropdown: viser.GuiDropdownHandle, labels: list[str]) -> None:
@@ -169,3 +189,30 @@ class LibraryPanel:
             return
         self.refresh()
         self._say(f"Deleted run #{record_id}.")
+
+    # ---- experiments --------------------------------------------------------------------------
+    def show_experiment(self) -> None:
+        """The selected experiment's summary and its figures in the figure dropdown."""
+        record_id = _id_of(self.experiments.value)
+        figures = []
+        if record_id is None:
+            self.experiment_view.content = ""
+        else:
+            try:
+                record = self.store.get_experiment(record_id)
+            except NotFound as exc:
+                self.experiment_view.content = ""
+                self._say(str(exc), error=True)
+            else:
+                folder = ExperimentFolder(record.folder, record.summary)
+                figures = folder.figures()
+                self.experiment_view.content = experiment_html(record, folder, self.session.context.api_url)
+        self._figure_files = {figure.caption: figure for figure in figures}
+        options = tuple(self._figure_files) or (NONE,)
+        if tuple(self.figures.options) != options:
+            self.figures.options = options  # viser selects the first option: its update shows it
+        self.show_figure()
+
+    def show_figure(self) -> None:
+        figure = self._figure_files.get(self.figures.value)
+        self.figure_view.content = figure_html(figure) if figure is not None else ""

@@ -1,6 +1,7 @@
 """Population view: a grid of small pitches, all played at once by the batched engine (one GameBatch,
-one pymunk Space). It shows the best player of every generation of this tab's run so far, each
-from the same start, so the class sees how the players changed generation by generation."""
+one pymunk Space). While this tab's evolution runs, it shows the current generation's best players
+(the RunManager samples them as each generation finishes), all from the same start so the class
+compares them fairly, live while the next generation is being evaluated."""
 
 from __future__ import annotations
 
@@ -14,14 +15,15 @@ import viser
 from app.ui import style
 from app.ui.panels.svg import escape, svg_open
 from app.ui.pitch import PitchGeometry
-from fuzzy.parser import parse_rulebase
 from soccer.engine import GameBatch
 
 if TYPE_CHECKING:
+    from app.runs import SampledPlayer
     from app.ui.session import Session
 
 OBSERVED_PLAYER, OBSERVED_FACING, OBSERVED_BALL = slice(0, 2), 2, slice(3, 5)  # GameBatch.observed columns
-EMPTY_TEXT = "Start an evolution in the Evolve tab: the best player of each generation will play here, side by side."
+EMPTY_TEXT = ("Start an evolution in the Evolve tab: the best players of each generation will play here, "
+              "side by side, while the next generation is evaluated.")
 
 
 def population_html(
@@ -85,20 +87,23 @@ class PopulationPanel:
         )
         self.batch: GameBatch | None = None
         self.labels: list[str] = []
-        self._pending_run: int | None = None  # set from the run's thread, picked up by the session loop
-        self._pending = threading.Event()
+        # Set from the run's thread, picked up by the session loop: (run id, generation, its players).
+        self._pending: tuple[int, int, Sequence["SampledPlayer"]] | None = None
+        self._pending_lock = threading.Lock()
         self._last_render = 0.0
 
-    def generation_finished(self, run_id: int) -> None:
-        """Called from the run's thread: the next frame rebuilds the games with the new best player."""
-        self._pending_run = run_id
-        self._pending.set()
+    def generation_finished(self, run_id: int, generation: int, players: Sequence["SampledPlayer"]) -> None:
+        """Called from the run's thread: the next frame plays this generation's players."""
+        if players:
+            with self._pending_lock:
+                self._pending = (run_id, generation, players)
 
     def advance(self, ticks: int) -> None:
         """Called by the session loop (under its lock) with the ticks the main pitch advanced."""
-        if self._pending.is_set():
-            self._pending.clear()
-            self._rebuild(self._pending_run)
+        with self._pending_lock:
+            pending, self._pending = self._pending, None
+        if pending is not None:
+            self._rebuild(*pending)
         if self.batch is None:
             return
         for _ in range(ticks):
@@ -110,16 +115,15 @@ class PopulationPanel:
                 self.geometry, self.batch.observed, self.batch.goals, self.batch.done, self.labels
             )
 
-    def _rebuild(self, run_id: int) -> None:
-        vocabulary = self.session.context.vocabulary
-        bests = self.session.context.store.best_individuals(run_id)
-        shown = bests[-(style.POPULATION_GRID[0] * style.POPULATION_GRID[1]):]
-        rulebases = [parse_rulebase(best.rules, vocabulary) for best in shown]
+    def _rebuild(self, run_id: int, generation: int, players: Sequence["SampledPlayer"]) -> None:
+        shown = list(players)[: style.POPULATION_GRID[0] * style.POPULATION_GRID[1]]
         seed = self.session.game.seed  # one start for all, so the players are compared fairly
-        self.batch = GameBatch(rulebases, [seed] * len(rulebases), self.session.context.game, vocabulary)
-        self.labels = [f"gen {best.generation} · {best.fitness:.2f}" for best in shown]
+        self.batch = GameBatch([p.rulebase for p in shown], [seed] * len(shown), self.session.context.game,
+                               self.session.context.vocabulary)
+        self.labels = [f"#{rank} · {player.fitness:.2f}" for rank, player in enumerate(shown, start=1)]
         self.caption.content = (
-            f'<div style="{style.FONT}; font-size:{style.FONT_SIZE}px">Run #{run_id}: the best player of each of the '
-            f"last {len(shown)} generations, all from the start of seed {seed}, played together by the batched "
-            f"engine. Top right: goals.</div>"
+            f'<div class="population-caption" data-run="{run_id}" data-generation="{generation}" '
+            f'style="{style.FONT}; font-size:{style.FONT_SIZE}px">Run #{run_id}, generation {generation}: its '
+            f"{len(shown)} best players (rank · fitness), all from the start of seed {seed}, played together by "
+            f"the batched engine while the next generation is evaluated. Top right: goals.</div>"
         )

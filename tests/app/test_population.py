@@ -1,0 +1,118 @@
+"""The population view's data path: the RunManager samples each finished generation's best playable
+individuals into its event, and the population panel plays exactly those in one GameBatch."""
+
+from __future__ import annotations
+
+import threading
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from app.runs import SAMPLED_PLAYERS, RunEvent, RunManager, SampledPlayer, sample_players
+from app.store import Store
+from app.ui import style
+from app.ui.panels.population import PopulationPanel
+from fuzzy.printer import format_rulebase
+from fuzzy.vocabulary import Vocabulary
+from ga.codec import ChromosomeCodec
+from ga.individual import Individual
+from ga.notation import parse_compact
+from soccer.config import GameConfig
+from soccer.engine import GameBatch
+from tests.app.api_client import SHORT_GAMES, TINY_GA
+
+CODEC = ChromosomeCodec()
+SCORER = "(B,vN,A)(KG,n,H)"  # if Ball is VeryNear then KickTowardGoal High
+CHASER = "(B,nF,A)(GB,n,M)"  # if Ball is not Far then GoToBall MediumPower
+INVALID = "(T,L,n)(B,N,A)"  # a consequent with no premise, then a premise with no consequent: no rule
+
+
+def individual(compact: str, fitness: float) -> Individual:
+    return Individual(parse_compact(compact)).evaluated(fitness, 0)
+
+
+def test_sample_is_the_best_playable_individuals_best_first():
+    population = [individual(CHASER, 0.7), individual(INVALID, 0.1), individual(SCORER, 0.4),
+                  individual(CHASER, 0.4)]
+    sampled = sample_players(population, CODEC, count=2)
+    assert [p.fitness for p in sampled] == [0.4, 0.4]  # the invalid one (never played) is skipped
+    # Equal fitness keeps population order: the scorer came before the second chaser.
+    assert [format_rulebase(p.rulebase) for p in sampled] == [
+        format_rulebase(CODEC.decode(parse_compact(SCORER))), format_rulebase(CODEC.decode(parse_compact(CHASER)))]
+    assert len(sample_players(population, CODEC)) == 3
+    assert sample_players([individual(INVALID, 1.0)], CODEC) == ()
+
+
+def test_every_finished_generation_is_published_with_its_best_players(tmp_path):
+    store = Store(tmp_path / "db.sqlite3")
+    runs = RunManager(store, tmp_path)
+    events: list[RunEvent] = []
+    lock = threading.Lock()
+
+    def listen(event: RunEvent) -> None:
+        with lock:
+            events.append(event)
+
+    runs.add_listener(listen)
+    try:
+        record = runs.start("sampled", ga={**TINY_GA, "population_size": 16}, game=SHORT_GAMES)
+        runs.wait(record.id, timeout=120)
+    finally:
+        runs.shutdown()
+    generations = [e for e in events if e.stats is not None]
+    assert [e.stats["generation"] for e in generations] == [0, 1]
+    for event, best in zip(generations, store.best_individuals(record.id)):
+        players = event.players
+        assert 0 < len(players) <= SAMPLED_PLAYERS
+        fitnesses = [p.fitness for p in players]
+        assert fitnesses == sorted(fitnesses) and all(len(p.rulebase) for p in players)
+        if best.fitness < 1.0:  # the best individual played, so it leads the sample
+            assert fitnesses[0] == best.fitness and format_rulebase(players[0].rulebase) == best.rules
+    store.close()
+
+
+def fake_session(seed: int = 5) -> SimpleNamespace:
+    context = SimpleNamespace(game=GameConfig(max_ticks=200), vocabulary=Vocabulary.default())
+    return SimpleNamespace(context=context, game=SimpleNamespace(seed=seed))
+
+
+class FakeGui:
+    """Only what the panel asks of viser: HTML elements whose content it sets."""
+
+    def add_html(self, content: str) -> SimpleNamespace:
+        return SimpleNamespace(content=content)
+
+
+def test_panel_plays_the_published_players_in_one_batch_from_one_start(monkeypatch):
+    monkeypatch.setattr(style, "POPULATION_REFRESH_SECONDS", 0.0)
+    session = fake_session()
+    panel = PopulationPanel(FakeGui(), session)
+    panel.advance(3)
+    assert panel.batch is None and "Start an evolution" in panel.grid.content
+    rulebases = [CODEC.decode(parse_compact(text)) for text in (SCORER, CHASER, SCORER)]
+    players = tuple(SampledPlayer(r, f) for r, f in zip(rulebases, (0.25, 0.5, 0.75)))
+    panel.generation_finished(9, 4, players)
+    panel.advance(30)
+    assert panel.batch.games == 3 and panel.labels == ["#1 · 0.25", "#2 · 0.50", "#3 · 0.75"]
+    assert 'data-run="9" data-generation="4"' in panel.caption.content
+    assert panel.grid.content.count('class="mini-pitch"') == 3
+    # The very games the engine plays for these rulebases from the session's start.
+    reference = GameBatch(rulebases, [session.game.seed] * 3, session.context.game)
+    for _ in range(30):
+        reference.step()
+    np.testing.assert_array_equal(panel.batch.observed, reference.observed)
+    np.testing.assert_array_equal(panel.batch.kicks, reference.kicks)
+
+
+def test_panel_shows_at_most_the_grid_and_ignores_an_empty_generation():
+    panel = PopulationPanel(FakeGui(), fake_session())
+    rulebase = CODEC.decode(parse_compact(CHASER))
+    many = tuple(SampledPlayer(rulebase, 0.5) for _ in range(SAMPLED_PLAYERS + 4))
+    panel.generation_finished(1, 0, many)
+    panel.advance(1)
+    assert panel.batch.games == min(len(many), style.POPULATION_GRID[0] * style.POPULATION_GRID[1])
+    batch = panel.batch
+    panel.generation_finished(1, 1, ())
+    panel.advance(1)
+    assert panel.batch is batch

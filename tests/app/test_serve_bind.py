@@ -1,0 +1,87 @@
+"""Spec 8: every server `soccer-lab serve` starts listens on 127.0.0.1 unless told otherwise, rerun's
+web viewer included (rerun-sdk's own serve_web_viewer would listen on 0.0.0.0)."""
+
+from __future__ import annotations
+
+import signal
+import socket
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import httpx
+import pytest
+
+from app.rerun_viewer import RerunViewer
+
+PROC_TCP = (Path("/proc/net/tcp"), Path("/proc/net/tcp6"))
+LISTEN = "0A"
+pytestmark = pytest.mark.skipif(not PROC_TCP[0].exists(), reason="reads listening sockets from /proc/net/tcp")
+
+
+def free_port() -> int:
+    with socket.socket() as probe:
+        probe.bind(("127.0.0.1", 0))
+        return probe.getsockname()[1]
+
+
+def listening_addresses(port: int) -> set[str]:
+    """Local addresses of the sockets listening on `port` (IPv4 dotted; IPv6 as its hex)."""
+    found = set()
+    for table in PROC_TCP:
+        if not table.exists():
+            continue
+        for line in table.read_text().splitlines()[1:]:
+            fields = line.split()
+            address, port_hex = fields[1].split(":")
+            if fields[3] == LISTEN and int(port_hex, 16) == port:
+                if len(address) == 8:  # IPv4, little-endian hex
+                    found.add(socket.inet_ntoa(bytes.fromhex(address)[::-1]))
+                else:
+                    found.add(address)
+    return found
+
+
+def wait_for(condition, timeout: float = 60.0):
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        if value := condition():
+            return value
+        time.sleep(0.1)
+    raise AssertionError("timed out")
+
+
+def test_the_rerun_viewer_listens_only_on_the_host_it_is_given(tmp_path):
+    port = free_port()
+    viewer = RerunViewer("127.0.0.1", port, tmp_path / "viewer.log")
+    viewer.start()
+    try:
+        assert listening_addresses(port) == {"127.0.0.1"}
+        page = httpx.get(f"http://127.0.0.1:{port}/", timeout=10)
+        assert page.status_code == 200 and "rerun" in page.text.lower()
+        log = wait_for(lambda: "gRPC connections on" in (text := (tmp_path / "viewer.log").read_text()) and text)
+        assert "Listening for gRPC connections on 127.0.0.1:" in log  # its proxy, too, stays on this machine
+    finally:
+        process = viewer.process
+        viewer.stop()
+    assert process.poll() is not None and listening_addresses(port) == set()
+
+
+def test_serve_binds_every_server_to_127_0_0_1_by_default(tmp_path):
+    ports = {"--port": free_port(), "--ui-port": free_port(), "--rerun-port": free_port()}
+    arguments = [sys.executable, "-c", "from app.cli import main; main()", "serve", "--data-dir", str(tmp_path)]
+    for option, port in ports.items():
+        arguments += [option, str(port)]
+    serve = subprocess.Popen(arguments, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    try:
+        wait_for(lambda: all(listening_addresses(p) for p in ports.values()) or serve.poll() is not None)
+        assert serve.poll() is None, serve.stdout.read()
+        for port in ports.values():
+            assert listening_addresses(port) == {"127.0.0.1"}, port
+        home = httpx.get(f"http://127.0.0.1:{ports['--port']}/api/server", timeout=10).json()
+        assert home["viewer"] == f"http://127.0.0.1:{ports['--rerun-port']}"
+    finally:
+        serve.send_signal(signal.SIGINT)
+        serve.wait(30)
+    assert all(listening_addresses(p) == set() for p in ports.values())  # the viewer ended with serve
