@@ -44,6 +44,9 @@ def experiment_command(
         show_default=False)] = None,
     library: Annotated[bool, typer.Option(
         "--library/--no-library", help="Record the experiment in the app's library.")] = True,
+    data_dir: Annotated[Optional[Path], typer.Option(
+        "--data-dir", help="The app's data folder whose library records the experiment (as for serve). "
+        "(default: $SOCCER_LAB_DATA, else the per-user data folder)", show_default=False)] = None,
 ) -> None:
     """Reproduce the chapter's SimpleSoccer experiments: statistics.csv, figures, report.md and report.html."""
     if preset not in CHOICES:
@@ -62,7 +65,7 @@ def experiment_command(
         typer.echo(f"\ninterrupted; finished trials are kept: run the same command again to resume", err=True)
         raise typer.Exit(130)
     if library:
-        _record(preset, options, outcome)
+        _record(preset, options, outcome, data_dir)
     _summary(outcome)
 
 
@@ -87,13 +90,15 @@ class ExperimentProgress:
         self.progress.update(self.task, completed=completed, total=total, note=note)
 
 
-def _record(preset: str, options: ExperimentOptions, outcome: ExperimentOutcome) -> None:
+def _record(preset: str, options: ExperimentOptions, outcome: ExperimentOutcome, data_dir: Path | None) -> None:
     from app.experiment.library import library_summary
     from app.paths import DATABASE_FILE, default_data_dir
     from app.store import Store, StoreError
 
     try:
-        store = Store(default_data_dir() / DATABASE_FILE)
+        folder = data_dir or default_data_dir()
+        folder.mkdir(parents=True, exist_ok=True)
+        store = Store(folder / DATABASE_FILE)
         try:
             store.record_experiment(preset, outcome.folder.resolve(), library_summary(options, outcome))
         finally:

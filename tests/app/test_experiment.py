@@ -172,6 +172,13 @@ def test_cli_runs_a_preset_and_records_it_in_the_library(cli, tmp_path, monkeypa
     again = cli.invoke(app, ["experiment", "crossover", "--trials", "2", "--population", "6", "--generations", "2",
                              "--max-ticks", "40", "--workers", "1", "--out", str(tmp_path / "out"), "--no-library"])
     assert "4 trials (0 run, 4 already finished)" in again.output
+    elsewhere = cli.invoke(app, ["experiment", "crossover", "--trials", "2", "--population", "6", "--generations", "2",
+                                 "--max-ticks", "40", "--workers", "1", "--out", str(tmp_path / "out"),
+                                 "--data-dir", str(tmp_path / "other")])
+    assert elsewhere.exit_code == 0, elsewhere.output
+    store = Store(tmp_path / "other" / DATABASE_FILE)
+    assert [r.preset for r in store.list_experiments()] == ["crossover"]
+    store.close()
 
 
 @pytest.mark.parametrize("arguments, message", [
