@@ -111,7 +111,8 @@ def _evaluated(population: list[Individual], evaluation: Evaluation, codec: Chro
                rng: np.random.Generator) -> list[Individual]:
     seeds = rng.integers(0, SEED_BOUND, size=len(population)).tolist()
     scores = evaluation([codec.decode(individual.chromosome) for individual in population], seeds)
-    return [individual.evaluated(score.fitness, score.goals) for individual, score in zip(population, scores)]
+    return [individual.evaluated(score.fitness, score.goals, seed)
+            for individual, score, seed in zip(population, scores, seeds)]
 
 
 def _recorded(state: RunState, population: list[Individual], rng: np.random.Generator,

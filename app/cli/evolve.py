@@ -136,13 +136,16 @@ class SimpleSoccerGames:
         yield SimpleSoccerEvaluator(self.game)
 
     def replay(self, rulebase: "Rulebase", seed: int, recorder: RunRecorder, folder: RunFolder) -> str:
-        """Replay the best game into the run's recording; the summary's line about it."""
+        """Replay the best player's first game (its evaluation's seed; the first of k games) into the
+        run's recording: games depend only on rulebase and seed, so this is the game the GA scored."""
         from soccer.engine import play_game
+        from soccer.evaluate import game_seeds
 
-        result, trace = play_game(rulebase, seed, self.game, trace=True)
+        first_game = game_seeds(seed, self.game.games_per_evaluation)[0]
+        result, trace = play_game(rulebase, first_game, self.game, trace=True)
         recorder.log_replay(trace, self.game.world)
-        return (f"replay (seed {seed}): {result.goals} goals, {result.kicks} kicks, "
-                f"{result.ticks} ticks, fitness {result.fitness:.4f}")
+        return (f"replay of the best player's first game (seed {first_game}): {result.goals} goals, "
+                f"{result.kicks} kicks, {result.ticks} ticks, fitness {result.fitness:.4f}")
 
 
 @dataclass(frozen=True)
@@ -271,7 +274,8 @@ def _drive(folder: RunFolder, config: GAConfig, environment: Environment, evalua
         resumable = f"; continue with: soccer-lab evolve --resume {folder.path}" if folder.checkpoint.exists() else ""
         fail(f"{exc}{resumable}")
     outputs.write_best(result.best_rulebase)
-    replay = environment.replay(result.best_rulebase, config.seed, recorder, folder)
+    first_seed = result.best.first_seed if result.best.first_seed is not None else config.seed
+    replay = environment.replay(result.best_rulebase, first_seed, recorder, folder)
     recorder.close()
     _summary(folder, result, replay)
 
