@@ -1,6 +1,6 @@
 """UDP clients for rcssserver: one player and the offline trainer, in synch mode.
 
-Protocol facts (../shared/rcss/NOTES.md): init goes to the well-known port (6000 player, 6001
+Protocol facts (tests/rcss/transcripts/NOTES.md): init goes to the well-known port (6000 player, 6001
 trainer); every later message goes to the address the replies came from; every datagram ends in NUL.
 In synch mode each cycle ends with `(think)`; the server then waits for `(done)` from the player and,
 while its eye is on, from the trainer. Every wait has a deadline, so a silent server gives an

@@ -2,7 +2,7 @@
 
 `parse_message(datagram)` returns one of the classes below; a message kind we do not use is kept as
 `Other` (never an error), a malformed one raises RcssParseError naming it. The formats were checked
-against the transcripts in ../shared/rcss (see NOTES.md there): player and trainer `hear` differ in
+against the transcripts in tests/rcss/transcripts (see NOTES.md there): player and trainer `hear` differ in
 the order of time and sender; see objects carry 2 to 4 numbers (and more for players).
 """
 

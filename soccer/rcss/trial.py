@@ -6,7 +6,7 @@ at the goal cap, after `idle_cycles` cycles in which the player neither moved mo
 `idle_distance` (from the trainer's see_global) nor kicked, or when the referee takes the ball out of
 play (kick-in, goal kick, corner, own goal, ...). After a goal the server freezes time; the trainer
 waits `restart_wait_cycles` cycles, then puts the ball on a random point of the centre line and sets
-play_on again, as the recorded trainer did (../shared/rcss/trial_goals.txt). Kicks are the server's
+play_on again, as the recorded trainer did (tests/rcss/transcripts/trial_goals.txt). Kicks are the server's
 own count of kicks that reached the ball (sense_body's kick counter).
 """
 

@@ -1,4 +1,5 @@
-"""Transcripts recorded from a real rcssserver 19 (../shared/rcss) and a player rulebase for replays."""
+"""Transcripts recorded from a real rcssserver 19 (copied here from the team's shared recordings, with
+their NOTES.md) and a player rulebase for replays."""
 
 from __future__ import annotations
 
@@ -9,7 +10,7 @@ import pytest
 from fuzzy.parser import parse_rulebase
 from soccer.rcss.transcript import Line, read_transcript
 
-TRANSCRIPTS = Path("/work/shared/rcss")
+TRANSCRIPTS = Path(__file__).parent / "transcripts"
 GOALS = TRANSCRIPTS / "trial_goals.txt"
 OUT_OF_PLAY = TRANSCRIPTS / "trial_out_of_play.txt"
 ALL_TRANSCRIPTS = sorted(TRANSCRIPTS.glob("*.txt")) + sorted((TRANSCRIPTS / "extra").glob("*.txt"))
