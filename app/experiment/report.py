@@ -30,6 +30,7 @@ from app.experiment.table import StatisticsTable
 
 ALPHA = 0.05
 MIN_TRIALS = 5
+VALUE_DECIMALS = 10  # per-trial values are compared at this precision (see _settled)
 AGREES, DISAGREES, INCONCLUSIVE, NOT_RUN = "agrees", "disagrees", "inconclusive", "not run"
 GOAL_SCORING = 0.5  # fitness of one goal: at or below it a player scores (Table 1)
 PLATEAU_LEVEL, PLATEAU_TOLERANCE = 0.75, 0.10  # 6.2: average fitness plateaus "around 0.75"
@@ -72,12 +73,18 @@ class Report:
 
 
 # ---- per-trial values ------------------------------------------------------------------------------
+def _settled(values: np.ndarray) -> np.ndarray:
+    """Running means of equal fitnesses can differ in the last bits (0.05 vs 0.05000000000000001); rank tests
+    would read those as differences, so per-trial values are compared at VALUE_DECIMALS decimals."""
+    return np.round(np.asarray(values, dtype=float), VALUE_DECIMALS)
+
+
 def _final(column: str):
-    return lambda table, preset, setting: table.final(preset.name, setting, column)
+    return lambda table, preset, setting: _settled(table.final(preset.name, setting, column))
 
 
 def _best_so_far(table: StatisticsTable, preset: Preset, setting: str) -> np.ndarray:
-    return table.best_so_far(preset.name, setting)
+    return _settled(table.best_so_far(preset.name, setting))
 
 
 def _groups(table: StatisticsTable, preset: Preset, values) -> dict[str, np.ndarray]:
@@ -95,12 +102,13 @@ def _few(groups: dict[str, np.ndarray]) -> int | None:
 
 def _p_between(groups: dict[str, np.ndarray], alternative: str = "two-sided") -> tuple[float, str]:
     samples = list(groups.values())
-    try:
-        if len(samples) == 2:
-            return float(stats.mannwhitneyu(*samples, alternative=alternative).pvalue), "Mann-Whitney U"
-        return float(stats.kruskal(*samples).pvalue), "Kruskal-Wallis H"
-    except ValueError:  # every value identical: no difference at all
-        return 1.0, "Kruskal-Wallis H" if len(samples) > 2 else "Mann-Whitney U"
+    name = "Mann-Whitney U" if len(samples) == 2 else "Kruskal-Wallis H"
+    pooled = np.concatenate(samples)
+    if np.all(pooled == pooled[0]):  # every value identical: no difference at all (the tests are undefined)
+        return 1.0, name
+    if len(samples) == 2:
+        return float(stats.mannwhitneyu(*samples, alternative=alternative).pvalue), name
+    return float(stats.kruskal(*samples).pvalue), name
 
 
 def _too_few(measured: str, trials: int) -> Assessment:
@@ -291,7 +299,7 @@ def _ga_better(column_values, what: str) -> Callable[[StatisticsTable, Preset], 
     def assess(table: StatisticsTable, preset: Preset) -> Assessment:
         ga, search = table.settings(preset.name)
         groups = {ga: column_values(table, preset, ga), search: column_values(table, preset, search)}
-        p = float(stats.mannwhitneyu(groups[ga], groups[search], alternative="less").pvalue)
+        p, _ = _p_between(groups, alternative="less")
         measured = f"{what}: {_medians(groups)}"
         if p < ALPHA:
             return Assessment(measured, AGREES, f"Mann-Whitney U, one-sided (GA lower), p = {p:.3g}")
@@ -305,7 +313,7 @@ def _ga_better(column_values, what: str) -> Callable[[StatisticsTable, Preset], 
 
 def _ga_consistent(table: StatisticsTable, preset: Preset) -> Assessment:
     ga, search = table.settings(preset.name)
-    a, b = table.best_so_far(preset.name, ga), table.best_so_far(preset.name, search)
+    a, b = _best_so_far(table, preset, ga), _best_so_far(table, preset, search)
     with np.errstate(divide="ignore", invalid="ignore"):  # undefined when the deviations do not vary
         p = float(stats.levene(a, b, center="median").pvalue)
     p = 1.0 if np.isnan(p) else p

@@ -103,3 +103,17 @@ def test_the_average_fitness_plateau_level_is_measured(tmp_path):
     scoring = {"Table 2": {"mean": falling(0.95, 0.45, rng), "best": falling(0.6, 0.3, rng)}}
     report = write_report(StatisticsTable(fabricated("initial", scoring)), [initial], tmp_path)
     assert verdict(report, "The average fitness plateaus around 0.75") == DISAGREES
+
+
+def test_fitness_equal_but_for_float_noise_is_no_difference():
+    """Running means of equal fitnesses differ in the last bits; rank tests must not call that a difference."""
+    import numpy as np
+
+    from app.experiment.report import _p_between, _settled
+
+    noisy = {"50": _settled(np.array([0.05] * 9 + [0.1 / 2])), "500": _settled(np.array([0.05 + 1e-17] * 10)),
+             "100": _settled(np.array([sum([0.05] * 3) / 3] * 10))}
+    assert _p_between(noisy)[0] == 1.0
+    assert _p_between({"ga": noisy["50"], "random": noisy["500"]}, alternative="less")[0] == 1.0
+    different = {"a": np.array([0.05] * 10), "b": np.array([0.25] * 10)}
+    assert _p_between(different)[0] < 0.05
