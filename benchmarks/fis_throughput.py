@@ -21,7 +21,7 @@ from fuzzy.batched import compile_rulebases, decide_batch, infer_batch
 from fuzzy.defuzzifier import sampled_error_bound
 from fuzzy.engine import Engine
 from fuzzy.export.fll import to_fll
-from fuzzy.export.layout import (FIRED_TERM, RESOLUTION, VISIBLE_TERM, FisLayout, parameter_output, support_output,
+from fuzzy.export.layout import (RESOLUTION, VISIBLE_TERM, FisLayout, parameter_output, support_output,
                                  visibility_input)
 from fuzzy.random_rulebase import random_rulebase
 from fuzzy.vocabulary import Vocabulary

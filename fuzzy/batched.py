@@ -14,6 +14,7 @@ import numba
 import numpy as np
 
 from fuzzy.rule import OR, Rulebase
+from fuzzy.term import alpha_cut, trapezoid_membership
 from fuzzy.vocabulary import Vocabulary
 
 NULL_TERM = -1
@@ -153,15 +154,9 @@ def compile_rulebases(rulebases: list[Rulebase], vocabulary: Vocabulary | None =
 # ---- kernels ----------------------------------------------------------------------------------
 
 
-@numba.njit(cache=True, inline="always")
-def _membership(x, a, b, c, d):
-    if x < a or x > d:
-        return 0.0
-    if x < b:
-        return (x - a) / (b - a)
-    if x <= c:
-        return 1.0
-    return (d - x) / (d - c)
+# The scalar path's own functions, compiled: both paths run the same operations, so agree bit for bit.
+_membership = numba.njit(cache=True, inline="always")(trapezoid_membership)
+_alpha_cut = numba.njit(cache=True, inline="always")(alpha_cut)
 
 
 @numba.njit(cache=True)
@@ -239,12 +234,8 @@ def output_value(p, action, output, strengths, rule_start, rule_action, rule_out
     for r in range(r0, rule_start[p + 1]):
         t = rule_output_term[r, output]
         if rule_action[r] == action and t != NULL_TERM and strengths[r - r0] == level:
-            a = output_term_params[output, t, 0]
-            b = output_term_params[output, t, 1]
-            c = output_term_params[output, t, 2]
-            d = output_term_params[output, t, 3]
-            lo = a + level * (b - a)
-            hi = d - level * (d - c)
+            lo, hi = _alpha_cut(level, output_term_params[output, t, 0], output_term_params[output, t, 1],
+                                output_term_params[output, t, 2], output_term_params[output, t, 3])
             # insertion sort by (lo, hi), as sorted() orders the tuples in the scalar path
             j = n
             while j > 0 and (cut_lo[j - 1] > lo or (cut_lo[j - 1] == lo and cut_hi[j - 1] > hi)):
@@ -329,6 +320,20 @@ def _infer_all(
                     values[i, a, k] = np.nan
 
 
+def _rows(compiled: CompiledRulebases, inputs: np.ndarray, visible: np.ndarray,
+          players: np.ndarray | None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The batch entries' arguments as the kernels take them, checked: one row each, valid players."""
+    inputs = np.ascontiguousarray(inputs, dtype=np.float64)
+    visible = np.ascontiguousarray(visible, dtype=np.bool_)
+    n = inputs.shape[0]
+    players = np.arange(n, dtype=np.int64) if players is None else np.ascontiguousarray(players, dtype=np.int64)
+    if players.shape != (n,) or visible.shape[0] != n:
+        raise ValueError("inputs, visible and players must have one row per evaluation")
+    if n and (players.min() < 0 or players.max() >= compiled.players):
+        raise ValueError("player index out of range")
+    return inputs, visible, players
+
+
 @dataclass(frozen=True)
 class BatchInference:
     selected: np.ndarray  # int64[N]: selected action index, NO_ACTION when no rule fired
@@ -342,14 +347,8 @@ def infer_batch(compiled: CompiledRulebases, inputs: np.ndarray, visible: np.nda
                 players: np.ndarray | None = None) -> BatchInference:
     """Evaluate row i of `inputs` (float[N, n_inputs]) with `visible` (bool[N, n_objects]) on the
     rulebase of player players[i] (default: row i on player i)."""
-    inputs = np.ascontiguousarray(inputs, dtype=np.float64)
-    visible = np.ascontiguousarray(visible, dtype=np.bool_)
+    inputs, visible, players = _rows(compiled, inputs, visible, players)
     n = inputs.shape[0]
-    players = np.arange(n, dtype=np.int64) if players is None else np.ascontiguousarray(players, dtype=np.int64)
-    if players.shape != (n,) or visible.shape[0] != n:
-        raise ValueError("inputs, visible and players must have one row per evaluation")
-    if n and (players.min() < 0 or players.max() >= compiled.players):
-        raise ValueError("player index out of range")
     n_actions, n_outputs = compiled.tables.action_uses.shape
     max_rules = compiled.max_rules
     selected = np.empty(n, dtype=np.int64)
@@ -388,14 +387,8 @@ def decide_batch(compiled: CompiledRulebases, inputs: np.ndarray, visible: np.nd
                  players: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Only the decisions (what a player acts on): per row the selected action (NO_ACTION when no
     rule fired), its support and its output values (defaults where unused), as `decide` gives them."""
-    inputs = np.ascontiguousarray(inputs, dtype=np.float64)
-    visible = np.ascontiguousarray(visible, dtype=np.bool_)
+    inputs, visible, players = _rows(compiled, inputs, visible, players)
     n = inputs.shape[0]
-    players = np.arange(n, dtype=np.int64) if players is None else np.ascontiguousarray(players, dtype=np.int64)
-    if players.shape != (n,) or visible.shape[0] != n:
-        raise ValueError("inputs, visible and players must have one row per evaluation")
-    if n and (players.min() < 0 or players.max() >= compiled.players):
-        raise ValueError("player index out of range")
     actions = np.empty(n, dtype=np.int64)
     supports = np.empty(n)
     outputs = np.empty((n, compiled.tables.output_default.shape[0]))

@@ -46,8 +46,8 @@ class Term:
 
 
 def trapezoid_membership(x: float, a: float, b: float, c: float, d: float) -> float:
-    # The numba kernel in fuzzy/batched.py repeats these exact operations, so both paths
-    # agree bit for bit.
+    # fuzzy/batched.py compiles this very function (and alpha_cut) with numba, so the scalar path
+    # and the kernels agree bit for bit.
     if x < a or x > d:
         return 0.0
     if x < b:

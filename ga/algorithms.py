@@ -20,7 +20,7 @@ import numpy as np
 from fuzzy.vocabulary import Vocabulary
 from ga.checkpoint import load_checkpoint, save_checkpoint
 from ga.codec import ChromosomeCodec
-from ga.config import GAConfig
+from ga.config import SEED_BOUND, GAConfig
 from ga.evaluation import Evaluation, Evaluator
 from ga.genes import GeneSpace
 from ga.individual import Individual
@@ -29,8 +29,6 @@ from ga.reproduction import next_generation
 from ga.result import GENERATIONS_DONE, STOPPED, TARGET_REACHED, RunResult
 from ga.state import GA, RANDOM_SEARCH, RunState
 from ga.statistics import generation_stats
-
-SEED_BOUND = 2**63  # game seeds are drawn uniformly from [0, SEED_BOUND)
 
 # A callback is a function (stats, population) or an object with on_generation(stats, population).
 Callback = Any

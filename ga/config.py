@@ -7,6 +7,9 @@ from typing import Any, Literal
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
 
 
+SEED_BOUND = 2**63  # seeds (the run's and its games') lie in [0, SEED_BOUND)
+
+
 class ConfigError(ValueError):
     """One line naming the parameter and what is wrong with it."""
 
@@ -29,7 +32,7 @@ class GAConfig(BaseModel):
     tournament_selector: float = Field(0.75, ge=0, le=1, description="chance that the better entrant wins")
     elite_fraction: float = Field(0.05, ge=0, lt=1, description="share of the population copied unchanged (elitist)")
     target_fitness: float = Field(0.05, ge=0, le=1, description="stop once the best fitness reaches this")
-    seed: int = Field(0, ge=0, lt=2**63)
+    seed: int = Field(0, ge=0, lt=SEED_BOUND)
     workers: int = Field(1, ge=1, le=256, description="evaluation processes; results do not depend on it")
 
     @model_validator(mode="after")

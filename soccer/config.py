@@ -4,12 +4,12 @@ REST API and the UI publish them with `.model_dump()` and a changed value reache
 
 from __future__ import annotations
 
-from typing import Literal, NamedTuple
+from typing import Literal, NamedTuple, get_args
 
 from pydantic import BaseModel, ConfigDict, Field, PositiveFloat, PositiveInt, model_validator
 
 FitnessName = Literal["simple-composite", "goals-only", "robocup-composite"]
-FITNESS_NAMES: tuple[str, ...] = ("simple-composite", "goals-only", "robocup-composite")
+FITNESS_NAMES: tuple[str, ...] = get_args(FitnessName)
 
 
 class WorldConstants(NamedTuple):

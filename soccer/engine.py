@@ -139,8 +139,7 @@ def tick_kernel(
     inputs, visible, action, values, strengths, observed,
     rulebases, scratch, layout, constants, rules,
 ):
-    """One tick for every live game in space `layer`; returns (whether a ball was placed, games that
-    finished now).
+    """One tick for every live game in space `layer`; returns how many games finished now.
     The step just made is first closed: player-ball collision (rcssserver's, see WorldConfig), goal
     and restart, statistics, end conditions.
     bodies[row] = (x, y, vx, vy) in pymunk units (global metres, metres per second); game g's rows are
@@ -149,7 +148,6 @@ def tick_kernel(
     c = constants
     dt = c.tick_seconds
     degrees, support, first_rule, cut_lo, cut_hi = scratch
-    placed = False
     finished = 0
     for g in range(done.shape[0]):
         if done[g] or game_layer[g] != layer:
@@ -193,7 +191,6 @@ def tick_kernel(
                 bodies[bs, 1] = oy + by
                 bodies[bs, 2] = 0.0
                 bodies[bs, 3] = 0.0
-                placed = True
             reason = RUNNING
             if goals[g] >= rules.goal_cap:
                 reason = GOAL_CAP
@@ -262,7 +259,7 @@ def tick_kernel(
         last_ball[g, 0] = bx
         last_ball[g, 1] = by
         ticks[g] += 1
-    return placed, finished
+    return finished
 
 
 # ---- the batch --------------------------------------------------------------------------------
@@ -339,14 +336,13 @@ class GameBatch:
             buffer.clear()
             pymunk.batch.get_space_bodies(space, _FIELDS, buffer)
             bodies = np.frombuffer(buffer.float_buf(), dtype=np.float64).reshape(-1, 4)
-            _, finished_now = tick_kernel(
+            finished += tick_kernel(
                 bodies, layer, world.layer, world.player_slot, world.ball_slot, world.offsets, self.done, self.facing,
                 self.last_player, self.last_ball, self.min_distance, self.ticks, self.goals, self.kicks, self.idle,
                 self.kicked, self.last_side, self.end_reason, self.states, self.inputs, self.visible, self.action,
                 self.values, self.strengths, self.observed, self._rulebase_args, self._scratch, self.layout,
                 self.constants, self.rules)
             pymunk.batch.set_space_bodies(space, _FIELDS, buffer)
-            finished += finished_now
         if finished:
             self._live -= finished
             for g in np.flatnonzero(self.done & (world.player_slot >= 0)):

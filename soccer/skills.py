@@ -18,7 +18,6 @@ from fuzzy.vocabulary import Vocabulary
 from soccer.physics import clamp, kickable_distance
 
 NONE, TURN, DASH, KICK = 0, 1, 2, 3
-COMMAND_NAMES = ("NONE", "TURN", "DASH", "KICK")
 HUNT = NO_ACTION  # the action index the engine passes when no rule fired
 
 _ACTIONS = Vocabulary.default().action_names

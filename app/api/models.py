@@ -120,7 +120,7 @@ class RulebaseUpdate(Strict):
     text: RuleText | None = None
 
     @model_validator(mode="after")
-    def something(self) -> "RulebaseUpdate":
+    def _name_or_text(self) -> "RulebaseUpdate":
         if self.name is None and self.text is None:
             raise ValueError("give 'name', 'text' or both")
         return self

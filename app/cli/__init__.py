@@ -29,7 +29,7 @@ def _register() -> None:
     app.command("experiment", cls=OneLineErrors)(experiment.experiment_command)
     from app.cli import serve
 
-    app.command("serve")(serve.serve_command)
+    app.command("serve", cls=OneLineErrors)(serve.serve_command)
 
 
 def main() -> None:

@@ -19,7 +19,7 @@ from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, T
 from app.cli.common import fail
 from app.cli.play import (EnvOption, FitnessOption, GoalCapOption, IdleTicksOption, MaxTicksOption,
                           NoiseOption, ServerOption, chosen_env, config_from_options, game_config, option_help,
-                          rcss_servers, trial_config)
+                          option_name, rcss_servers, trial_config)
 from app.environments import RCSS, RCSS_WORKERS, SIMPLE, checked_workers
 from app.recording import RunRecorder
 from app.rulebase_files import rulebase_text
@@ -46,7 +46,7 @@ WORKERS_LIMIT = next(limit.le for limit in GAConfig.model_fields["workers"].meta
 
 def _ga_option(field: str, text: str, kind: Any) -> Any:
     return Annotated[Optional[kind], typer.Option(
-        "--" + RENAMED.get(field, field.replace("_", "-")), help=option_help(GAConfig, field, text),
+        option_name(field, RENAMED), help=option_help(GAConfig, field, text),
         show_default=False, rich_help_panel=GA_PANEL)]
 
 
@@ -237,7 +237,7 @@ def _start(algorithm: str, options: dict[str, Any]) -> None:
         except RunFolderError as exc:
             fail(str(exc))
         run = evolve if algorithm == GA else random_search
-        _drive(folder, config, environment, evaluate, algorithm, Vocabulary.default(), history=[], best=None,
+        _drive(folder, config, environment, algorithm, Vocabulary.default(), history=[], best=None,
                launch=lambda callbacks: run(config, evaluate, callbacks=callbacks, checkpoint=folder.checkpoint))
 
 
@@ -251,14 +251,14 @@ def _resume(path: Path, servers: list[str] | None) -> None:
     history = [stats.to_dict() for stats in state.history]
     with environment.evaluator() as evaluate:
         typer.echo(f"resuming {folder.path} after generation {len(history) - 1}", err=True)
-        _drive(folder, state.config, environment, evaluate, state.algorithm, state.vocabulary, history=history,
+        _drive(folder, state.config, environment, state.algorithm, state.vocabulary, history=history,
                best=state.best, launch=lambda callbacks: resume(folder.checkpoint, evaluate, callbacks=callbacks))
 
 
-def _drive(folder: RunFolder, config: GAConfig, environment: Environment, evaluate: Evaluator, algorithm: str,
-           vocabulary: Vocabulary, *, history: list[dict], best: Any, launch: Any) -> None:
-    """Run `launch(callbacks)` (the GA, with `evaluate`) with the folder's callbacks, then write the best
-    rulebase and its replay and print the summary."""
+def _drive(folder: RunFolder, config: GAConfig, environment: Environment, algorithm: str, vocabulary: Vocabulary,
+           *, history: list[dict], best: Any, launch: Any) -> None:
+    """Run `launch(callbacks)` (the GA, with the environment's evaluator) with the folder's callbacks, then
+    write the best rulebase and its replay and print the summary."""
     outputs = RunOutputs(folder, vocabulary, history=history, best=best)
     recorder = RunRecorder(folder.recording, history=history)
     try:

@@ -10,9 +10,10 @@ from rich.console import Console
 from rich.progress import BarColumn, Progress, TaskProgressColumn, TextColumn, TimeElapsedColumn, TimeRemainingColumn
 
 from app.cli.common import fail
-from app.cli.play import config_from_options
+from app.cli.play import config_from_options, option_help
 from app.experiment.executors import EXECUTOR_NAMES, LOCAL, ExecutorError, make_executor
-from app.experiment.presets import CHOICES, ExperimentOptions
+from app.experiment.presets import (CHAPTER_GENERATIONS, CHOICES, DEFAULT_TRIALS, INITIAL_TRIALS, LONG_GENERATIONS,
+                                    ExperimentOptions)
 from app.experiment.runner import ExperimentError, ExperimentOutcome, run_experiment
 
 DEFAULT_OUT_FOLDER = "experiments"
@@ -21,17 +22,23 @@ DEFAULT_OUT_FOLDER = "experiments"
 def experiment_command(
     preset: Annotated[str, typer.Argument(help=f"One of: {', '.join(CHOICES)}.", show_default=False)],
     trials: Annotated[Optional[int], typer.Option(
-        "--trials", help="Trials per setting. (default: the chapter's, 10; 20 for initial)", show_default=False)] = None,
+        "--trials", help=f"Trials per setting. (default: the chapter's, {DEFAULT_TRIALS}; {INITIAL_TRIALS} for "
+        "initial)", show_default=False)] = None,
     population: Annotated[Optional[int], typer.Option(
-        "--population", help="Table 2's population size; every setting scales with it. (default: 200)",
+        "--population", help=option_help(ExperimentOptions, "population",
+                                         "Table 2's population size; every setting scales with it."),
         show_default=False)] = None,
     generations: Annotated[Optional[int], typer.Option(
-        "--generations", help="Table 2's generations; every setting scales with it (long: 4x). (default: 25)",
+        "--generations", help=option_help(
+            ExperimentOptions, "generations",
+            f"Table 2's generations; every setting scales with it (long: {LONG_GENERATIONS // CHAPTER_GENERATIONS}x)."),
         show_default=False)] = None,
     max_ticks: Annotated[Optional[int], typer.Option(
-        "--max-ticks", help="Ticks a game lasts at most. (default: 1000)", show_default=False)] = None,
+        "--max-ticks", help=option_help(ExperimentOptions, "max_ticks", "Ticks a game lasts at most."),
+        show_default=False)] = None,
     seed: Annotated[Optional[int], typer.Option(
-        "--seed", help="Experiment seed; each trial's seed derives from it. (default: 0)", show_default=False)] = None,
+        "--seed", help=option_help(ExperimentOptions, "seed", "Experiment seed; each trial's seed derives from it."),
+        show_default=False)] = None,
     out: Annotated[Optional[Path], typer.Option(
         "--out", help="Output folder; running again into it resumes. (default: experiments/PRESET-seedN)",
         show_default=False)] = None,
@@ -62,7 +69,7 @@ def experiment_command(
     except (ExecutorError, ExperimentError) as exc:
         fail(str(exc))
     except KeyboardInterrupt:
-        typer.echo(f"\ninterrupted; finished trials are kept: run the same command again to resume", err=True)
+        typer.echo("\ninterrupted; finished trials are kept: run the same command again to resume", err=True)
         raise typer.Exit(130)
     if library:
         _record(preset, options, outcome, data_dir)

@@ -130,7 +130,7 @@ def trial_config(fitness: str | None, max_ticks: int | None, goal_cap: int | Non
     return TrialConfig(**{name: value for name, value in chosen.items() if value is not None})
 
 
-def game_seeds(seed: int, games: int) -> list[int]:
+def consecutive_seeds(seed: int, games: int) -> list[int]:
     """Game i (from 0) starts from seed + i, so any one game can be replayed alone."""
     return [seed + i for i in range(games)]
 
@@ -160,7 +160,7 @@ def play_command(
         player = load_rulebase(rulebase)
     except RulebaseFileError as exc:
         fail(str(exc))
-    seeds = game_seeds(seed, games)
+    seeds = consecutive_seeds(seed, games)
     if env == RCSS:
         trial = trial_config(fitness, max_ticks, goal_cap, idle_ticks)
         _print_table(seeds, _play_on_rcss(player, seeds, rcss_servers(server), trial))

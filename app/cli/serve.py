@@ -21,7 +21,8 @@ def serve_command(
     ui_port: int = typer.Option(DEFAULT_UI_PORT, help="Port of the viser UI.", **PORT_RANGE),
     rerun_port: int = typer.Option(DEFAULT_RERUN_PORT, help="Port of rerun's web viewer.", **PORT_RANGE),
     data_dir: Optional[Path] = typer.Option(
-        None, help="Folder of the database and the runs' files [default: $SOCCER_LAB_DATA or ~/.local/share/soccer-lab]."
+        None, help="Folder of the database and the runs' files. (default: $SOCCER_LAB_DATA, else "
+        "$XDG_DATA_HOME/soccer-lab, else ~/.local/share/soccer-lab)", show_default=False
     ),
 ) -> None:
     """Start the UI, the JSON API and the rerun viewer, and print their addresses."""

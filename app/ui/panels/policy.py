@@ -106,12 +106,12 @@ def policy_map_html(
     return (
         f'<div class="policy-map" style="{style.FONT}; font-size:{style.SMALL_FONT_SIZE + 1}px; color:{style.INK}">'
         f'<div style="font-weight:600">Selected action</div>'
-        f"{_map_svg(vocabulary, grid, action_colours, current)}"
+        f"{_map_svg(vocabulary, action_colours, current)}"
         f'<div style="margin:4px 0 10px 0">{legend}</div>'
         f'<div style="font-weight:600">{escape(output)} ({variable.minimum:g} '
         f'<span style="background:linear-gradient(90deg,{_ramp(0)},{_ramp(1)}); padding:0 30px"></span> '
         f"{variable.maximum:g}; grey: not used)</div>"
-        f"{_map_svg(vocabulary, grid, value_colours, current)}</div>"
+        f"{_map_svg(vocabulary, value_colours, current)}</div>"
     )
 
 
@@ -127,7 +127,7 @@ def _ramp(t: float) -> str:
     return f"rgb({r},{g},{b})"
 
 
-def _map_svg(vocabulary: Vocabulary, grid: PolicyGrid, colours: list[str], current) -> str:
+def _map_svg(vocabulary: Vocabulary, colours: list[str], current) -> str:
     width_px = WIDTH - PAD_LEFT - 8
     cell_w = width_px / COLUMNS
     cell_h = MAP_HEIGHT / ROWS

@@ -41,7 +41,7 @@ def population_html(
 
 
 def _mini_pitch(geometry: PitchGeometry, observed: np.ndarray, goals: int, done: bool, label: str) -> str:
-    margin = 3.0
+    margin = style.MINI_PITCH_MARGIN
     width = 2 * (geometry.half_length + margin) + geometry.goal_depth
     height = 2 * (geometry.half_width + margin)
     scale = style.MINI_PITCH_WIDTH / width
@@ -57,7 +57,7 @@ def _mini_pitch(geometry: PitchGeometry, observed: np.ndarray, goals: int, done:
     px, py = observed[OBSERVED_PLAYER]
     facing = np.radians(observed[OBSERVED_FACING])
     bx, by = observed[OBSERVED_BALL]
-    grass = "#2e7d32" if not done else "#607d8b"
+    grass = style.MINI_PITCH_DONE if done else style.MINI_PITCH_GRASS
     return (
         f'<div class="mini-pitch" data-goals="{goals}" data-done="{str(bool(done)).lower()}">'
         f"{svg_open(style.MINI_PITCH_WIDTH, h)}"
@@ -67,7 +67,7 @@ def _mini_pitch(geometry: PitchGeometry, observed: np.ndarray, goals: int, done:
         f'<line x1="{x(0):.1f}" y1="{y(-hw):.1f}" x2="{x(0):.1f}" y2="{y(hw):.1f}" stroke="white" stroke-width="1"/>'
         f'<rect x="{x(hl):.1f}" y="{y(-goal):.1f}" width="{geometry.goal_depth * scale:.1f}" '
         f'height="{2 * goal * scale:.1f}" fill="white"/>'
-        f'<circle cx="{x(px):.1f}" cy="{y(py):.1f}" r="3.5" fill="#64b5f6" stroke="white" stroke-width="1"/>'
+        f'<circle cx="{x(px):.1f}" cy="{y(py):.1f}" r="3.5" fill="{style.MINI_PITCH_PLAYER}" stroke="white" stroke-width="1"/>'
         f'<line x1="{x(px):.1f}" y1="{y(py):.1f}" x2="{x(px) + 7 * np.cos(facing):.1f}" '
         f'y2="{y(py) + 7 * np.sin(facing):.1f}" stroke="white" stroke-width="1.5"/>'
         f'<circle cx="{x(bx):.1f}" cy="{y(by):.1f}" r="2.5" fill="{style.BALL_HEX}"/>'
