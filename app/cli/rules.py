@@ -1,4 +1,4 @@
-"""`soccer-lab rules ...`: check, infer, export rulebases (rule text or our JSON)."""
+"""`soccer-lab rules ...`: check, infer, export and decode rulebases (rule text, our JSON, compact notation)."""
 
 from __future__ import annotations
 
@@ -17,7 +17,7 @@ from fuzzy.printer import format_premise, format_rule, format_rulebase
 from fuzzy.rule import Rulebase
 from fuzzy.vocabulary import Vocabulary, VocabularyError
 
-app = typer.Typer(help="Work with rulebases: check, infer, export.", no_args_is_help=True)
+app = typer.Typer(help="Work with rulebases: check, infer, export, decode.", no_args_is_help=True)
 
 VOCABULARY_OPTION = typer.Option(None, "--vocabulary", help="Vocabulary JSON for rule text (default: the soccer one).")
 
