@@ -28,6 +28,9 @@ class GAConfig(BaseModel):
     mutation_probability: float = Field(0.35, ge=0, le=1, description="chance that a child is mutated")
     mutation_rate: float = Field(0.10, ge=0, le=1, description="chance that each gene of a mutated child is hit")
     selection: Literal["roulette", "tournament", "elitist"] = "roulette"
+    roulette_weighting: Literal["linear", "inverse"] = Field(
+        "inverse", description="roulette weight of an individual: 1 - fitness (linear) or 1 / fitness (inverse); "
+                               "roulette and elitist selection use it (ga/selection.py)")
     tournament_size: int = Field(2, ge=2, le=1_000)
     tournament_selector: float = Field(0.75, ge=0, le=1, description="chance that the better entrant wins")
     elite_fraction: float = Field(0.05, ge=0, lt=1, description="share of the population copied unchanged (elitist)")

@@ -35,7 +35,7 @@ def next_generation(population: list[Individual], config: GAConfig, space: GeneS
 def select_parents(fitness: np.ndarray, count: int, config: GAConfig, rng: np.random.Generator) -> np.ndarray:
     if config.selection == "tournament":
         return tournament(fitness, count, rng, config.tournament_size, config.tournament_selector)
-    return roulette(fitness, count, rng)  # roulette, and elitist's non-elite part
+    return roulette(fitness, count, rng, config.roulette_weighting)  # roulette, and elitist's non-elite part
 
 
 def _maybe_mutated(individual: Individual, config: GAConfig, space: GeneSpace,

@@ -10,6 +10,7 @@ from pydantic import BaseModel, ConfigDict, Field, PositiveFloat, PositiveInt, m
 
 FitnessName = Literal["simple-composite", "goals-only", "robocup-composite"]
 FITNESS_NAMES: tuple[str, ...] = get_args(FitnessName)
+SkillSet = Literal["strict", "assisted"]  # soccer/skills.py says what each does
 
 
 class WorldConstants(NamedTuple):
@@ -146,4 +147,5 @@ class GameConfig(BaseModel):
     fitness: FitnessName = "simple-composite"
     games_per_evaluation: PositiveInt = 1
     noise: bool = False  # rcssserver-like velocity and turn noise
+    skills: SkillSet = "assisted"  # what the kicking skills do with the ball out of reach (soccer/skills.py)
     world: WorldConfig = WorldConfig()

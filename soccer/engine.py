@@ -44,10 +44,12 @@ class GameRules(NamedTuple):
     idle_ticks: int
     idle_distance: float
     noise: bool
+    assisted_skills: bool
 
     @classmethod
     def from_config(cls, config: GameConfig) -> "GameRules":
-        return cls(config.max_ticks, config.goal_cap, config.idle_ticks, config.idle_distance, config.noise)
+        return cls(config.max_ticks, config.goal_cap, config.idle_ticks, config.idle_distance, config.noise,
+                   config.skills == "assisted")
 
 
 class InputLayout(NamedTuple):
@@ -235,7 +237,7 @@ def tick_kernel(
         kickable = is_kickable(ball_distance, c)
         kind, value, direction = skill_command(
             chosen, values[g, layout.direction], values[g, layout.power], ball_seen, ball_distance, ball_direction,
-            goal_direction, kickable, last_side[g], speed, c)
+            goal_direction, kickable, last_side[g], speed, rules.assisted_skills, c)
         kicked[g] = False
         if kind == TURN:
             if rules.noise:

@@ -1,5 +1,10 @@
 """The ten mid-level skills (spec 4.2) and the default hunt (4.3), free of pymunk.
 
+Two skill sets (`GameConfig.skills`): `strict`, where KICK, KICKTOWARDGOAL, DRIBBLETOWARDGOAL and
+DRIBBLE kick when the ball is kickable and otherwise do nothing (as rcssserver's kick does), and
+`assisted`, where the last three fall back to GOTOBALL when the ball is out of reach (so one rule
+"if <anything> then KickTowardGoal High" is a whole striker).
+
 A skill turns the selected action, its direction and power values, what the player perceives and its
 own state into ONE rcssserver body command `(kind, value, direction)`:
 TURN (value = moment), DASH (value = power), KICK (value = power, direction relative to the facing)
@@ -34,6 +39,7 @@ A_DRIBBLE = _ACTIONS.index("DRIBBLE")
 A_DONOTHING = _ACTIONS.index("DONOTHING")
 
 LEFT, RIGHT = -1, 1  # side where the ball was last seen
+SKILL_SETS = ("strict", "assisted")  # GameConfig.skills; the kernel takes `assisted` as a flag
 
 
 @numba.njit(cache=True)
@@ -78,10 +84,11 @@ def go_to_ball(power, ball_visible, ball_distance, ball_direction, kickable, las
 
 @numba.njit(cache=True)
 def skill_command(action, direction, power, ball_visible, ball_distance, ball_direction, goal_direction,
-                  kickable, last_ball_side, speed, constants):
+                  kickable, last_ball_side, speed, assisted, constants):
     """The body command for `action` (HUNT when no rule fired). `ball_*` is the perceived ball (valid when
     ball_visible), `goal_direction` the goal centre's direction from the player's own pose, `kickable`
-    whether the ball is within kicking distance, `speed` the player's current speed (m/tick)."""
+    whether the ball is within kicking distance, `speed` the player's current speed (m/tick), `assisted`
+    whether the kicking skills fetch the ball first (the `assisted` skill set) or do nothing (`strict`)."""
     if action == HUNT:
         return hunt(ball_visible, ball_direction, last_ball_side, speed, constants)
     if action == A_TURN:
@@ -105,6 +112,8 @@ def skill_command(action, direction, power, ball_visible, ball_distance, ball_di
             if action == A_DRIBBLETOWARDGOAL:
                 return KICK, power * constants.dribble_power_fraction, goal_direction
             return KICK, power * constants.dribble_power_fraction, direction
+        if not assisted:
+            return NONE, 0.0, 0.0
         return go_to_ball(power, ball_visible, ball_distance, ball_direction, kickable, last_ball_side, speed,
                           constants)
     if action == A_GOTOBALL:

@@ -129,8 +129,10 @@ class WorldModel:
 class RcssPlayer:
     """One fuzzy player: `decide(cycle)` returns this cycle's body command(s) as text."""
 
-    def __init__(self, rulebase: Rulebase, params: ServerParams, vocabulary: Vocabulary | None = None):
+    def __init__(self, rulebase: Rulebase, params: ServerParams, vocabulary: Vocabulary | None = None,
+                 skills: str = "assisted"):
         self.vocabulary = vocabulary or Vocabulary.default()
+        self.assisted_skills = skills == "assisted"
         self.engine = Engine(rulebase, self.vocabulary)
         self.params = params
         self.world = WorldModel(params)
@@ -164,6 +166,7 @@ class RcssPlayer:
             perception.kickable,
             self.world.last_ball_side,
             perception.speed,
+            self.assisted_skills,
             self.constants,
         )
         self.world.note_command(kind, value, perception.speed)

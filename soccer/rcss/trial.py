@@ -23,6 +23,7 @@ from soccer.fitness import fitness as fitness_of
 from soccer.rcss.client import PlayerCycle, Session, TrainerCycle
 from soccer.rcss.localisation import PITCH_HALF_LENGTH, PITCH_HALF_WIDTH
 from soccer.rcss.player import RcssPlayer
+from soccer.skills import SKILL_SETS
 
 PLAY_ON = "play_on"
 CONTINUING_MODES = frozenset({PLAY_ON, "drop_ball"})  # the ball stays in play
@@ -37,11 +38,14 @@ class TrialConfig:
     goal_cap: int = 10  # 10 goals = the target fitness 0.05
     restart_wait_cycles: int = 5  # after a goal, cycles before the trainer restarts play
     fitness: str = "robocup-composite"
+    skills: str = "assisted"  # the skill set, as GameConfig.skills (soccer/skills.py)
 
     def __post_init__(self) -> None:
         for name in ("max_cycles", "idle_cycles", "goal_cap", "restart_wait_cycles"):
             if getattr(self, name) < 1:
                 raise ValueError(f"{name} must be at least 1, got {getattr(self, name)}")
+        if self.skills not in SKILL_SETS:
+            raise ValueError(f"unknown skills {self.skills!r}; expected one of {', '.join(SKILL_SETS)}")
         if self.fitness not in FITNESS_FUNCTIONS:
             raise ValueError(f"unknown fitness {self.fitness!r}; expected one of {', '.join(FITNESS_FUNCTIONS)}")
 
@@ -73,7 +77,7 @@ class Trial:
         self.config = config
         self.seed = seed
         self.rng = np.random.default_rng(seed)
-        self.player = RcssPlayer(rulebase, session.params)
+        self.player = RcssPlayer(rulebase, session.params, skills=config.skills)
         self.goals = self.kicks = self.ticks = self.idle = 0
         self.cycles_since_goal: int | None = None  # None: no goal freeze under way
         self.end: str | None = None

@@ -17,14 +17,31 @@ def shares(indices, n=len(FITNESS)):
 
 
 def test_roulette_picks_in_proportion_to_inverse_fitness():
-    picked = shares(roulette(FITNESS, DRAWS, np.random.default_rng(0)))
+    picked = shares(roulette(FITNESS, DRAWS, np.random.default_rng(0), "inverse"))
     expected = (1 / FITNESS) / (1 / FITNESS).sum()
     np.testing.assert_allclose(picked, expected, atol=0.005)
-    assert FITNESS[roulette(FITNESS, DRAWS, np.random.default_rng(1))].mean() < FITNESS.mean()
+    assert FITNESS[roulette(FITNESS, DRAWS, np.random.default_rng(1), "inverse")].mean() < FITNESS.mean()
+
+
+def test_linear_roulette_picks_in_proportion_to_one_minus_fitness():
+    picked = shares(roulette(FITNESS, DRAWS, np.random.default_rng(0), "linear"))
+    expected = (1 - FITNESS) / (1 - FITNESS).sum()
+    np.testing.assert_allclose(picked, expected, atol=0.005)
+    assert picked[4] == 0.0  # fitness 1.0 (never kicked) weighs nothing
+
+
+def test_linear_roulette_draws_uniformly_when_nobody_kicked():
+    picked = shares(roulette(np.ones(4), DRAWS, np.random.default_rng(0), "linear"), 4)
+    np.testing.assert_allclose(picked, 0.25, atol=0.005)
+
+
+def test_unknown_roulette_weighting_is_refused():
+    with pytest.raises(ValueError, match="linear or inverse"):
+        roulette(FITNESS, 3, np.random.default_rng(0), "square")
 
 
 def test_roulette_survives_a_perfect_fitness_of_zero():
-    picked = roulette(np.array([0.0, 0.5, 1.0]), 1000, np.random.default_rng(0))
+    picked = roulette(np.array([0.0, 0.5, 1.0]), 1000, np.random.default_rng(0), "inverse")
     assert np.all(picked == 0)  # the floored weight dwarfs the others
 
 

@@ -152,3 +152,14 @@ def test_noise_changes_the_game_but_stays_deterministic():
     a = play_games([demo], [4], noisy)
     assert a == play_games([demo], [4], noisy)
     assert a != play_games([demo], [4], GameConfig(max_ticks=300))
+
+
+def test_strict_kicking_skills_leave_an_unreachable_ball_alone():
+    """One rule "KickTowardGoal whenever the ball is in view" is a whole striker with assisted skills
+    (it fetches the ball) and does nothing with strict ones (the ball never comes within reach)."""
+    kicker = Rulebase((Rule((Premise("BALL", "VERYFAR"), Premise("BALL", "VERYFAR", True)), ("OR",),
+                            Consequent("KICKTOWARDGOAL", power="HIGH")),))
+    assisted = play_games([kicker] * 3, [1, 2, 3], GameConfig(skills="assisted"))
+    strict = play_games([kicker] * 3, [1, 2, 3], GameConfig(skills="strict"))
+    assert all(result.goals >= 5 for result in assisted)
+    assert all(result.kicks == 0 and result.fitness == 1.0 and result.end_reason == "idle" for result in strict)

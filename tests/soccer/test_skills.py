@@ -11,9 +11,9 @@ C = WorldConfig().constants()
 
 
 def command(action, direction=0.0, power=55.0, ball_visible=True, ball_distance=10.0, ball_direction=0.0,
-            goal_direction=0.0, kickable=False, last_side=LEFT, speed=0.0):
+            goal_direction=0.0, kickable=False, last_side=LEFT, speed=0.0, assisted=True):
     return skill_command(action, direction, power, ball_visible, ball_distance, ball_direction, goal_direction,
-                         kickable, last_side, speed, C)
+                         kickable, last_side, speed, assisted, C)
 
 
 def test_turn_and_dash_pass_their_value():
@@ -52,6 +52,16 @@ def test_kick_toward_goal_and_dribbles():
     assert command(A_DRIBBLE, direction=-40.0, power=50.0, kickable=True) == (KICK, 15.0, -40.0)
     for action in (A_KICKTOWARDGOAL, A_DRIBBLETOWARDGOAL, A_DRIBBLE):  # not kickable: GOTOBALL
         assert command(action, power=60.0, ball_distance=20.0) == (DASH, 60.0, 0.0)
+
+
+@pytest.mark.parametrize("action", [A_KICK, A_KICKTOWARDGOAL, A_DRIBBLETOWARDGOAL, A_DRIBBLE])
+def test_strict_kicking_skills_do_nothing_with_the_ball_out_of_reach(action):
+    assert command(action, power=60.0, ball_distance=20.0, assisted=False) == (NONE, 0.0, 0.0)
+    assert command(action, power=60.0, ball_visible=False, assisted=False) == (NONE, 0.0, 0.0)
+    kind, power, _ = command(action, power=60.0, ball_distance=0.9, kickable=True, assisted=False)
+    assert kind == KICK and power > 0.0  # kickable: the same kick as assisted
+    assert command(action, power=60.0, ball_distance=0.9, kickable=True, assisted=False) == command(
+        action, power=60.0, ball_distance=0.9, kickable=True, assisted=True)
 
 
 def test_do_nothing():
