@@ -21,7 +21,6 @@ from typing import Any, Mapping
 import numpy as np
 import rerun as rr
 
-from fuzzy.vocabulary import Vocabulary
 from soccer.config import WorldConfig
 
 APPLICATION_ID = "soccer-lab"
@@ -99,9 +98,8 @@ class RunRecorder:
         log_statistics(self.stream, stats.to_dict())
         self.stream.flush()  # a killed run keeps what it logged
 
-    def log_replay(self, trace: Any, world: WorldConfig, *, entity: str = REPLAY_ENTITY,
-                   vocabulary: Vocabulary | None = None) -> None:
-        log_replay(self.stream, trace, world, entity=entity, vocabulary=vocabulary)
+    def log_replay(self, trace: Any, world: WorldConfig, *, entity: str = REPLAY_ENTITY) -> None:
+        log_replay(self.stream, trace, world, entity=entity)
         self.stream.flush()
 
     def close(self) -> None:
@@ -146,10 +144,10 @@ def log_pitch(stream: rr.RecordingStream, world: WorldConfig, entity: str = REPL
                static=True)
 
 
-def log_replay(stream: rr.RecordingStream, trace: Any, world: WorldConfig, *, entity: str = REPLAY_ENTITY,
-               vocabulary: Vocabulary | None = None) -> None:
-    """One game's trace (soccer.engine GameTrace) on the tick timeline under `entity`, sent as columns."""
-    vocabulary = vocabulary or Vocabulary.default()
+def log_replay(stream: rr.RecordingStream, trace: Any, world: WorldConfig, *, entity: str = REPLAY_ENTITY) -> None:
+    """One game's trace (soccer.engine GameTrace) on the tick timeline under `entity`, sent as columns; its
+    actions are labelled in the vocabulary the game was played in."""
+    vocabulary = trace.vocabulary
     labels = [vocabulary.display(name) for name in (HUNT,) + vocabulary.action_names]  # action -1 = hunt
     stream.reset_time()  # the replay lives on the tick timeline only, not at some generation
     log_pitch(stream, world, entity)

@@ -22,11 +22,10 @@ class RulebaseFileError(ValueError):
     """A rulebase file that cannot be read or parsed; the message is one line."""
 
 
-def load_rulebase(path: str | Path, vocabulary: Vocabulary | None = None) -> Rulebase:
+def load_rulebase(path: str | Path, vocabulary: Vocabulary = Vocabulary.default()) -> Rulebase:
     """The rulebase in `path`, which must hold at least one rule written in `vocabulary`
     (default: the soccer vocabulary, the one SimpleSoccer plays with)."""
     path = Path(path)
-    vocabulary = vocabulary or Vocabulary.default()
     try:
         text = path.read_text(encoding="utf-8")
     except FileNotFoundError:
@@ -59,10 +58,10 @@ def load_rulebase(path: str | Path, vocabulary: Vocabulary | None = None) -> Rul
     return rulebase
 
 
-def rulebase_text(rulebase: Rulebase, vocabulary: Vocabulary | None = None) -> str:
+def rulebase_text(rulebase: Rulebase, vocabulary: Vocabulary) -> str:
     """Rule text as written to `.rules` files (ends with a newline)."""
     return format_rulebase(rulebase, vocabulary) + "\n"
 
 
-def rulebase_json(rulebase: Rulebase, vocabulary: Vocabulary | None = None) -> str:
-    return to_json(rulebase, vocabulary or Vocabulary.default()) + "\n"
+def rulebase_json(rulebase: Rulebase, vocabulary: Vocabulary) -> str:
+    return to_json(rulebase, vocabulary) + "\n"

@@ -177,8 +177,9 @@ class StoreWriter:
                 self._record(row, best)
 
     def _record(self, stats: dict[str, Any], best: Individual, players: tuple[SampledPlayer, ...] = ()) -> None:
-        rules = format_rulebase(self.codec.decode(best.chromosome))
-        self.store.record_generation(self.run_id, stats, rules, format_compact(best.chromosome), best.fitness)
+        rules = format_rulebase(self.codec.decode(best.chromosome), self.codec.vocabulary)
+        compact = format_compact(best.chromosome, self.codec.vocabulary)
+        self.store.record_generation(self.run_id, stats, rules, compact, best.fitness)
         self.notify(RunEvent(self.run_id, RunStatus.RUNNING, stats, best.fitness, players))
 
 
@@ -317,7 +318,7 @@ class RunManager:
 
     def best_rulebase(self, run_id: int) -> Rulebase:
         """The best individual so far (also while the run goes on), ready to play."""
-        return parse_rulebase(self.store.best_individual(run_id).rules)
+        return parse_rulebase(self.store.best_individual(run_id).rules, Vocabulary.default())
 
     def _check_capacity(self) -> None:
         if len(self._active) >= self.max_concurrent_runs:
@@ -367,7 +368,8 @@ class RunManager:
         """Play the run to its end or until `stop`; the GA's stop reason."""
         folder = RunFolder(Path(record.folder))
         folder.path.mkdir(parents=True, exist_ok=True)
-        codec = ChromosomeCodec()
+        vocabulary = Vocabulary.default()
+        codec = ChromosomeCodec(vocabulary)
         writer = StoreWriter(self.store, record.id, codec, self._notify)
         from_checkpoint = resume_run and folder.checkpoint.is_file()
         if from_checkpoint:
@@ -378,15 +380,15 @@ class RunManager:
             outputs = RunOutputs(folder, state.vocabulary, history=history, best=state.best)
         else:
             recorder = RunRecorder(folder.recording)
-            outputs = RunOutputs(folder, Vocabulary.default())
+            outputs = RunOutputs(folder, vocabulary)
         try:
             callbacks = (writer, outputs, recorder)
             with settings.evaluator() as evaluate:
                 if from_checkpoint:
                     result = resume(folder.checkpoint, evaluate, callbacks=callbacks, stop=stop)
                 else:
-                    result = evolve(settings.ga, evaluate, callbacks=callbacks, checkpoint=folder.checkpoint,
-                                    stop=stop)
+                    result = evolve(settings.ga, evaluate, vocabulary, callbacks=callbacks,
+                                    checkpoint=folder.checkpoint, stop=stop)
         finally:
             recorder.close()
         return result.stop_reason

@@ -1,4 +1,4 @@
-"""Microseconds per game-tick of SimpleSoccer with the full controller (spec 9): 200 random rulebases
+"""Microseconds per game-tick of SimpleSoccer with the full controller (README, Performance): 200 random rulebases
 played (a) together by the batched engine in one pymunk Space and (b) one Space per game in a Python
 loop (each game its own batch of one, the same kernel), and the ratio, in one run.
 
@@ -16,19 +16,22 @@ import time
 import numpy as np
 
 from fuzzy.random_rulebase import random_rulebase
+from fuzzy.vocabulary import Vocabulary
 from soccer.config import GameConfig
 from soccer.engine import GameBatch
 
+VOCABULARY = Vocabulary.default()
+
 
 def time_batched(rulebases, seeds, config) -> tuple[float, int]:
-    batch = GameBatch(rulebases, seeds, config)
+    batch = GameBatch(rulebases, seeds, config, VOCABULARY)
     start = time.perf_counter()
     results = batch.run()
     return time.perf_counter() - start, sum(r.ticks for r in results)
 
 
 def time_per_game(rulebases, seeds, config) -> tuple[float, int]:
-    batches = [GameBatch([r], [s], config) for r, s in zip(rulebases, seeds)]
+    batches = [GameBatch([r], [s], config, VOCABULARY) for r, s in zip(rulebases, seeds)]
     start = time.perf_counter()
     ticks = sum(b.run()[0].ticks for b in batches)
     return time.perf_counter() - start, ticks
@@ -42,7 +45,7 @@ def main() -> None:
     parser.add_argument("--loop-games", type=int, default=40)
     args = parser.parse_args()
     rng = np.random.default_rng(args.seed)
-    rulebases = [random_rulebase(rng, rules=args.rules) for _ in range(args.games)]
+    rulebases = [random_rulebase(rng, VOCABULARY, rules=args.rules) for _ in range(args.games)]
     seeds = [args.seed * 1_000_003 + g for g in range(args.games)]
     config = GameConfig()
     time_batched(rulebases[:2], seeds[:2], config)  # compile / load the numba cache

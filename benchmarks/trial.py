@@ -1,4 +1,4 @@
-"""Times one Table 2 trial (spec 9): population 200 x 25 generations with the chapter's defaults,
+"""Times one Table 2 trial (README, Performance): population 200 x 25 generations with the chapter's defaults,
 SimpleSoccer games, 2 worker processes. Target: under 10 s on a 2-core machine.
 
     python benchmarks/trial.py [--workers 2] [--seed 0] [--population-size 200] [--generations 25] [--full]
@@ -9,12 +9,15 @@ from __future__ import annotations
 import argparse
 import time
 
+from fuzzy.vocabulary import Vocabulary
 from ga.algorithms import evolve
 from ga.config import GAConfig
 from soccer.config import GameConfig
 from soccer.demo import demo_rulebase
 from soccer.engine import play_games
 from soccer.evaluate import SimpleSoccerEvaluator
+
+VOCABULARY = Vocabulary.default()
 
 TABLE_2 = GAConfig()  # the chapter's Table 2: population 200, 25 generations
 TARGET_SECONDS = 10.0
@@ -37,7 +40,7 @@ def main() -> None:
     play_games([demo_rulebase()], [args.seed], game)  # load the compiled kernels before the clock starts
 
     started = time.perf_counter()
-    result = evolve(config, SimpleSoccerEvaluator(game))
+    result = evolve(config, SimpleSoccerEvaluator(game), VOCABULARY)
     seconds = time.perf_counter() - started
 
     print(f"trial: population {config.population_size} x {len(result.history)} generations "

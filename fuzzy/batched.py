@@ -111,8 +111,7 @@ class VocabularyTables:
         )
 
 
-def compile_rulebases(rulebases: list[Rulebase], vocabulary: Vocabulary | None = None) -> CompiledRulebases:
-    vocabulary = vocabulary or Vocabulary.default()
+def compile_rulebases(rulebases: list[Rulebase], vocabulary: Vocabulary) -> CompiledRulebases:
     objects = vocabulary.object_names
     terms = vocabulary.premise_terms
     actions = vocabulary.action_names

@@ -1,4 +1,4 @@
-"""The scalar Mamdani engine: the readable reference the batched kernel is tested against (spec 2.2)."""
+"""The scalar Mamdani engine: the readable reference the batched kernel is tested against."""
 
 from __future__ import annotations
 
@@ -41,9 +41,9 @@ class Engine:
     are missing or None is not visible, and every premise about it has degree 0.
     """
 
-    def __init__(self, rulebase: Rulebase, vocabulary: Vocabulary | None = None):
+    def __init__(self, rulebase: Rulebase, vocabulary: Vocabulary):
         self.rulebase = rulebase
-        self.vocabulary = vocabulary or Vocabulary.default()
+        self.vocabulary = vocabulary
 
     def visible_objects(self, inputs: Mapping[str, float | None]) -> set[str]:
         return {

@@ -1,4 +1,4 @@
-"""Rule text -> Rulebase (spec 2.3), by recursive descent over the tokens of fuzzy/tokenizer.py.
+"""Rule text -> Rulebase, by recursive descent over the tokens of fuzzy/tokenizer.py.
 
 One rule a line; keywords, objects, terms and actions in any case; `#` comments; blank lines.
 
@@ -48,9 +48,8 @@ class RuleSyntaxError(ValueError):
         return f"line {self.line}, column {self.column}: {self.message}"
 
 
-def parse_rulebase(text: str, vocabulary: Vocabulary | None = None) -> Rulebase:
+def parse_rulebase(text: str, vocabulary: Vocabulary) -> Rulebase:
     """Parse every line of `text`; raise RuleSyntaxError (with all errors in `.errors`) if any line is wrong."""
-    vocabulary = vocabulary or Vocabulary.default()
     rules: list[Rule] = []
     errors: list[RuleSyntaxError] = []
     for tokens in tokenize(text):
@@ -66,7 +65,7 @@ def parse_rulebase(text: str, vocabulary: Vocabulary | None = None) -> Rulebase:
     return Rulebase(tuple(rules))
 
 
-def parse_rule(text: str, vocabulary: Vocabulary | None = None) -> Rule:
+def parse_rule(text: str, vocabulary: Vocabulary) -> Rule:
     """Parse exactly one rule (one line)."""
     rulebase = parse_rulebase(text, vocabulary)
     if len(rulebase) != 1:

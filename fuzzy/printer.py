@@ -1,4 +1,4 @@
-"""Rulebase -> rule text (spec 2.3): the exact inverse of fuzzy/parser.py.
+"""Rulebase -> rule text: the exact inverse of fuzzy/parser.py.
 
 Display names come from the vocabulary (CamelCase). The strict left-to-right grouping is made
 explicit: the running group is parenthesised wherever the connector changes, e.g.
@@ -12,15 +12,13 @@ from fuzzy.rule import Consequent, Premise, Rule, Rulebase
 from fuzzy.vocabulary import Vocabulary
 
 
-def format_premise(premise: Premise, vocabulary: Vocabulary | None = None) -> str:
-    vocabulary = vocabulary or Vocabulary.default()
+def format_premise(premise: Premise, vocabulary: Vocabulary) -> str:
     words = [vocabulary.display(premise.object), IS] + ([NOT] if premise.negated else [])
     return " ".join(words + [vocabulary.display(premise.term)])
 
 
-def format_antecedent(rule: Rule, vocabulary: Vocabulary | None = None) -> str:
+def format_antecedent(rule: Rule, vocabulary: Vocabulary) -> str:
     """Premises joined left to right; a group is closed in parentheses before a different connector."""
-    vocabulary = vocabulary or Vocabulary.default()
     text = format_premise(rule.premises[0], vocabulary)
     previous = None
     for connector, premise in zip(rule.connectors, rule.premises[1:]):
@@ -31,9 +29,8 @@ def format_antecedent(rule: Rule, vocabulary: Vocabulary | None = None) -> str:
     return text
 
 
-def format_consequent(consequent: Consequent, vocabulary: Vocabulary | None = None) -> str:
+def format_consequent(consequent: Consequent, vocabulary: Vocabulary) -> str:
     """`Kick SlightlyRight High`; Null parameters are left out; unused ones go in brackets: `Turn Left [power High]`."""
-    vocabulary = vocabulary or Vocabulary.default()
     uses = vocabulary.actions[consequent.action]
     words = [vocabulary.display(consequent.action)]
     unused = []
@@ -50,11 +47,10 @@ def format_consequent(consequent: Consequent, vocabulary: Vocabulary | None = No
     return " ".join(words)
 
 
-def format_rule(rule: Rule, vocabulary: Vocabulary | None = None) -> str:
-    vocabulary = vocabulary or Vocabulary.default()
+def format_rule(rule: Rule, vocabulary: Vocabulary) -> str:
     return f"{IF} {format_antecedent(rule, vocabulary)} {THEN} {format_consequent(rule.consequent, vocabulary)}"
 
 
-def format_rulebase(rulebase: Rulebase, vocabulary: Vocabulary | None = None) -> str:
+def format_rulebase(rulebase: Rulebase, vocabulary: Vocabulary) -> str:
     """One rule a line (no trailing newline)."""
     return "\n".join(format_rule(rule, vocabulary) for rule in rulebase)

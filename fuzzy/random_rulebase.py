@@ -34,7 +34,6 @@ def random_rule(rng: np.random.Generator, vocabulary: Vocabulary, max_premises: 
     return Rule(premises, connectors, Consequent(_pick(rng, vocabulary.action_names), **fields))
 
 
-def random_rulebase(rng: np.random.Generator, vocabulary: Vocabulary | None = None, rules: int = 10,
+def random_rulebase(rng: np.random.Generator, vocabulary: Vocabulary, rules: int = 10,
                     max_premises: int = MAX_PREMISES) -> Rulebase:
-    vocabulary = vocabulary or Vocabulary.default()
     return Rulebase(tuple(random_rule(rng, vocabulary, max_premises) for _ in range(rules)))

@@ -6,6 +6,9 @@ from dataclasses import dataclass
 
 AND, OR = "AND", "OR"
 CONNECTORS = (AND, OR)
+# A consequent's parameter fields; a vocabulary's outputs are exactly these (fuzzy/vocabulary.py checks it).
+DIRECTION, POWER = "direction", "power"
+PARAMETERS = (DIRECTION, POWER)
 
 
 @dataclass(frozen=True)
@@ -19,7 +22,8 @@ class Premise:
 
 @dataclass(frozen=True)
 class Consequent:
-    """(Action, Direction|None, Power|None). A field the action does not use is kept but ignored."""
+    """(Action, Direction|None, Power|None): one term (or None) per name in PARAMETERS. A field the
+    action does not use is kept but ignored."""
 
     action: str
     direction: str | None = None

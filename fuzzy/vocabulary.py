@@ -1,18 +1,21 @@
 """The vocabulary a rulebase is written in: variables and terms, objects, inputs, actions.
 
-The soccer vocabulary lives in one data file, `fuzzy/data/soccer_vocabulary.json`; `soccer`
-loads it and the UI and API publish it. Everything else (parser, GA genes, compiled arrays)
-derives its indices from a Vocabulary, never from literals.
+The soccer vocabulary lives in one data file, `fuzzy/data/soccer_vocabulary.json`, together with
+the abbreviations of the chapter's compact chromosome notation; the edges (the CLI, the app, the
+soccer package's entry points) load it with `Vocabulary.default()` and pass it down explicitly.
+Everything else (parser, printer, engines, GA genes, compiled arrays, the skills' action table)
+takes the vocabulary as an argument and derives its indices from it by name, never from literals.
 """
 
 from __future__ import annotations
 
 import json
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import cache
 from pathlib import Path
 from typing import Any
 
+from fuzzy.rule import CONNECTORS, PARAMETERS
 from fuzzy.term import Term
 from fuzzy.variable import LinguisticVariable
 
@@ -32,6 +35,9 @@ class Vocabulary:
     outputs: dict[str, tuple[str, float]]  # output name -> (variable name, default value)
     actions: dict[str, tuple[str, ...]]  # action -> the outputs it uses, in action-index order
     display_names: dict[str, str]
+    # name (object, connector, term, action) -> its compact-notation abbreviation. How chromosomes are
+    # written, not what rules mean: two vocabularies differing only here compare equal.
+    abbreviations: dict[str, str] = field(default_factory=dict, compare=False)
 
     # ---- construction -------------------------------------------------------------------
     @classmethod
@@ -52,9 +58,10 @@ class Vocabulary:
             outputs = {o: (s["variable"], float(s["default"])) for o, s in data["outputs"].items()}
             actions = {a.upper(): tuple(uses) for a, uses in data["actions"].items()}
             display = {k.upper(): v for k, v in data.get("display_names", {}).items()}
-        except (KeyError, TypeError, IndexError, ValueError) as exc:
+            abbreviations = {k.upper(): str(v) for k, v in data.get("abbreviations", {}).items()}
+        except (KeyError, TypeError, IndexError, ValueError, AttributeError) as exc:
             raise VocabularyError(f"malformed vocabulary: {exc}") from exc
-        vocabulary = cls(variables, objects, inputs, outputs, actions, display)
+        vocabulary = cls(variables, objects, inputs, outputs, actions, display, abbreviations)
         vocabulary._validate()
         return vocabulary
 
@@ -83,11 +90,12 @@ class Vocabulary:
                 }
                 for name, v in self.variables.items()
             },
-            "objects": self.objects,
-            "inputs": self.inputs,
+            "objects": {obj: dict(kinds) for obj, kinds in self.objects.items()},
+            "inputs": dict(self.inputs),
             "outputs": {o: {"variable": v, "default": d} for o, (v, d) in self.outputs.items()},
             "actions": {a: list(u) for a, u in self.actions.items()},
-            "display_names": self.display_names,
+            "display_names": dict(self.display_names),
+            "abbreviations": dict(self.abbreviations),
         }
 
     def _validate(self) -> None:
@@ -95,6 +103,9 @@ class Vocabulary:
             for kind, input_name in kinds.items():
                 if kind not in self.variables or self.inputs.get(input_name) != kind:
                     raise VocabularyError(f"object {obj}: input {input_name} is not a {kind} input")
+        if set(self.outputs) != set(PARAMETERS):
+            raise VocabularyError(f"the outputs must be {' and '.join(PARAMETERS)} (a consequent's parameters), "
+                                  f"found {', '.join(self.outputs) or 'none'}")
         for out, (var, _) in self.outputs.items():
             if var not in self.variables:
                 raise VocabularyError(f"output {out}: unknown variable {var}")
@@ -105,6 +116,10 @@ class Vocabulary:
         names = [t for kind in self.premise_variables for t in self.variables[kind].term_names]
         if len(set(names)) != len(names):
             raise VocabularyError("premise term names must be unique across variables")
+        named = {*self.objects, *CONNECTORS, *self.actions, *(t for v in self.variables.values() for t in v.term_names)}
+        unknown = [name for name in self.abbreviations if name not in named]
+        if unknown:
+            raise VocabularyError(f"abbreviations of unknown names: {', '.join(unknown)}")
 
     # ---- derived views ------------------------------------------------------------------
     @property

@@ -1,4 +1,4 @@
-"""The evolution loop and the random-search baseline (spec 3.2).
+"""The evolution loop and the random-search baseline (the chapter, 6.5 for the baseline).
 
 Generation 0 is the evaluated initial population; a run evaluates at most `max_generations`
 generations, i.e. population_size x max_generations evaluations. Each generation: breed (or, for
@@ -34,16 +34,16 @@ from ga.statistics import generation_stats
 Callback = Any
 
 
-def evolve(config: GAConfig, evaluate: Evaluator, *, callbacks: Iterable[Callback] = (),
-           checkpoint: str | Path | None = None, stop: threading.Event | None = None,
-           vocabulary: Vocabulary | None = None) -> RunResult:
-    """Run the messy-coded GA; `stop` ends it after the generation in progress."""
+def evolve(config: GAConfig, evaluate: Evaluator, vocabulary: Vocabulary, *, callbacks: Iterable[Callback] = (),
+           checkpoint: str | Path | None = None, stop: threading.Event | None = None) -> RunResult:
+    """Run the messy-coded GA over rules in `vocabulary` (the one `evaluate` plays them in); `stop`
+    ends it after the generation in progress."""
     return _run(_fresh_state(GA, config, vocabulary), evaluate, callbacks, checkpoint, stop)
 
 
-def random_search(config: GAConfig, evaluate: Evaluator, *, callbacks: Iterable[Callback] = (),
-                  checkpoint: str | Path | None = None, stop: threading.Event | None = None,
-                  vocabulary: Vocabulary | None = None) -> RunResult:
+def random_search(config: GAConfig, evaluate: Evaluator, vocabulary: Vocabulary, *,
+                  callbacks: Iterable[Callback] = (), checkpoint: str | Path | None = None,
+                  stop: threading.Event | None = None) -> RunResult:
     """The baseline: each "generation" is population_size fresh random individuals, same statistics."""
     return _run(_fresh_state(RANDOM_SEARCH, config, vocabulary), evaluate, callbacks, checkpoint, stop)
 
@@ -58,9 +58,9 @@ def resume(checkpoint_path: str | Path, evaluate: Evaluator, *, callbacks: Itera
     return _run(state, evaluate, callbacks, checkpoint_path, stop)
 
 
-def _fresh_state(algorithm: str, config: GAConfig, vocabulary: Vocabulary | None) -> RunState:
+def _fresh_state(algorithm: str, config: GAConfig, vocabulary: Vocabulary) -> RunState:
     rng = np.random.default_rng(config.seed)
-    return RunState(algorithm, config, vocabulary or Vocabulary.default(), [], rng.bit_generator.state, [], None)
+    return RunState(algorithm, config, vocabulary, [], rng.bit_generator.state, [], None)
 
 
 def _run(state: RunState, evaluate: Evaluator, callbacks: Iterable[Callback], checkpoint: str | Path | None,

@@ -1,4 +1,4 @@
-"""Chromosome <-> Rulebase (spec 3.1).
+"""Chromosome <-> Rulebase.
 
 Decoding reads left to right: premises accumulate until a consequent closes a rule. A rule with
 no premises is skipped, trailing premises form no rule; the connector of the last premise before
@@ -21,7 +21,8 @@ UNUSED_CONNECTOR = 0
 
 
 class ChromosomeCodec:
-    def __init__(self, vocabulary: Vocabulary | None = None):
+    def __init__(self, vocabulary: Vocabulary):
+        self.vocabulary = vocabulary
         self.space = GeneSpace.from_vocabulary(vocabulary)
         # Genes repeat a lot across a population: share one Premise/Consequent object per code.
         self._premise = lru_cache(maxsize=None)(self._make_premise)

@@ -1,4 +1,4 @@
-"""Int-coded messy genes (spec 3.1).
+"""Int-coded messy genes (the chapter, section 4, Figs. 6 and 7).
 
 A chromosome is an (n, GENE_WIDTH) int8 numpy array, one row per gene: column KIND says
 premise or consequent, the other columns hold field indices into a GeneSpace. Integer rows
@@ -16,6 +16,7 @@ from functools import cached_property
 
 import numpy as np
 
+from fuzzy import rule
 from fuzzy.rule import CONNECTORS
 from fuzzy.vocabulary import Vocabulary
 
@@ -42,14 +43,13 @@ class GeneSpace:
     connectors: tuple[str, ...] = CONNECTORS
 
     @classmethod
-    def from_vocabulary(cls, vocabulary: Vocabulary | None = None) -> "GeneSpace":
-        vocabulary = vocabulary or Vocabulary.default()
+    def from_vocabulary(cls, vocabulary: Vocabulary) -> "GeneSpace":
         return cls(
             objects=vocabulary.object_names,
             terms=vocabulary.premise_terms,
             actions=vocabulary.action_names,
-            directions=vocabulary.output_variable("direction").term_names,
-            powers=vocabulary.output_variable("power").term_names,
+            directions=vocabulary.output_variable(rule.DIRECTION).term_names,
+            powers=vocabulary.output_variable(rule.POWER).term_names,
         )
 
     @property

@@ -2,35 +2,22 @@
 
 `(B,N,O) (B,nF,A) (G,N,A) (RB,n,L)`: a premise gene is (object, [n]term, connector), a
 consequent gene is (action, direction|n, power|n). The first field tells the kind (objects and
-actions have disjoint abbreviations); the position of a field tells which table reads it, so
+actions have disjoint abbreviations); the position of a field tells which names it reads, so
 `M` is MediumDistant in a premise and MediumPower in a consequent, and `n` prefixing a term
-means not while `n` alone means Null.
+means not while `n` alone means Null. The abbreviations are the vocabulary's (its data file holds
+them beside the names they abbreviate).
 """
 
 from __future__ import annotations
 
 import re
-from functools import cache
 
 import numpy as np
 
+from fuzzy.vocabulary import Vocabulary
 from ga.genes import (ACTION, CONNECTOR, CONSEQUENT, DIRECTION, GENE_DTYPE, GENE_WIDTH, IS, IS_NOT, KIND,
                       OBJECT, POWER, PREMISE, QUALIFIER, TERM, GeneSpace)
 
-# The one abbreviation table (spec 3.1), keyed by canonical vocabulary name.
-ABBREVIATIONS = {
-    "BALL": "B", "GOAL": "G",
-    "AND": "A", "OR": "O",
-    "AT": "A", "VERYNEAR": "vN", "NEAR": "N", "SLIGHTLYNEAR": "sN", "MEDIUMDISTANT": "M",
-    "SLIGHTLYFAR": "sF", "FAR": "F", "VERYFAR": "vF",
-    "LEFT180": "L180", "VERYLEFT": "vL", "LEFT": "L", "SLIGHTLYLEFT": "sL", "STRAIGHT": "S",
-    "SLIGHTLYRIGHT": "sR", "RIGHT": "R", "VERYRIGHT": "vR", "RIGHT180": "R180",
-    "VERYLOW": "vL", "LOW": "L", "SLIGHTLYLOW": "sL", "MEDIUMPOWER": "M", "SLIGHTLYHIGH": "sH",
-    "HIGH": "H", "VERYHIGH": "vH",
-    "TURN": "T", "DASH": "D", "KICK": "K", "RUNTOWARDGOAL": "RG", "RUNTOWARDBALL": "RB",
-    "GOTOBALL": "GB", "KICKTOWARDGOAL": "KG", "DRIBBLETOWARDGOAL": "DG", "DRIBBLE": "Dr",
-    "DONOTHING": "DN",
-}
 NOT = "n"  # prefixes a premise term
 NULL = "n"  # an empty consequent field
 FIELDS_PER_GENE = 3
@@ -45,10 +32,11 @@ class NotationError(ValueError):
 
 
 class CompactNotation:
-    """Reads and writes chromosomes over one GeneSpace in the compact notation."""
+    """Reads and writes chromosomes over a vocabulary's genes, with its abbreviations."""
 
-    def __init__(self, space: GeneSpace):
-        self.space = space
+    def __init__(self, vocabulary: Vocabulary):
+        self.space = space = GeneSpace.from_vocabulary(vocabulary)
+        self.abbreviations = vocabulary.abbreviations
         self.objects = self._reader("object", space.objects)
         self.terms = self._reader("term", space.terms)
         self.connectors = self._reader("connector", space.connectors)
@@ -58,12 +46,11 @@ class CompactNotation:
         if set(self.objects) & set(self.actions):
             raise NotationError("object and action abbreviations must differ: the first field tells the kind")
 
-    @staticmethod
-    def _reader(field: str, names: tuple[str, ...]) -> dict[str, int]:
-        missing = [n for n in names if n not in ABBREVIATIONS]
+    def _reader(self, field: str, names: tuple[str, ...]) -> dict[str, int]:
+        missing = [n for n in names if n not in self.abbreviations]
         if missing:
             raise NotationError(f"no abbreviation for {field} {', '.join(missing)}")
-        reader = {ABBREVIATIONS[n]: i for i, n in enumerate(names)}
+        reader = {self.abbreviations[n]: i for i, n in enumerate(names)}
         if len(reader) != len(names):
             raise NotationError(f"two {field}s share an abbreviation")
         return reader
@@ -73,15 +60,18 @@ class CompactNotation:
         return " ".join(self.format_gene(gene) for gene in chromosome.tolist())
 
     def format_gene(self, gene: list[int]) -> str:
-        s = self.space
+        s, short = self.space, self.abbreviations
         if gene[KIND] == PREMISE:
             negation = NOT if gene[QUALIFIER] == IS_NOT else ""
-            fields = (ABBREVIATIONS[s.objects[gene[OBJECT]]], negation + ABBREVIATIONS[s.terms[gene[TERM]]],
-                      ABBREVIATIONS[s.connectors[gene[CONNECTOR]]])
+            fields = (short[s.objects[gene[OBJECT]]], negation + short[s.terms[gene[TERM]]],
+                      short[s.connectors[gene[CONNECTOR]]])
         else:
-            fields = (ABBREVIATIONS[s.actions[gene[ACTION]]], _abbreviation_or_null(s.directions, gene[DIRECTION]),
-                      _abbreviation_or_null(s.powers, gene[POWER]))
+            fields = (short[s.actions[gene[ACTION]]], self._abbreviation_or_null(s.directions, gene[DIRECTION]),
+                      self._abbreviation_or_null(s.powers, gene[POWER]))
         return "(" + ",".join(fields) + ")"
+
+    def _abbreviation_or_null(self, names: tuple[str, ...], index: int) -> str:
+        return self.abbreviations[names[index]] if index < len(names) else NULL
 
     # ---- reading --------------------------------------------------------------------------
     def parse(self, text: str) -> np.ndarray:
@@ -128,25 +118,16 @@ class CompactNotation:
         return gene
 
 
-def _abbreviation_or_null(names: tuple[str, ...], index: int) -> str:
-    return ABBREVIATIONS[names[index]] if index < len(names) else NULL
-
-
 def _read(reader: dict[str, int], word: str, what: str, note: str = "") -> int:
     if word not in reader:
         raise NotationError(f"unknown {what} {word!r} (expected one of {', '.join(reader)}{note})")
     return reader[word]
 
 
-@cache
-def _notation(space: GeneSpace) -> CompactNotation:
-    return CompactNotation(space)
+def parse_compact(text: str, vocabulary: Vocabulary) -> np.ndarray:
+    """`parse_compact("(B,N,O) (RB,n,L)", vocabulary)` -> chromosome array; NotationError says what is wrong where."""
+    return CompactNotation(vocabulary).parse(text)
 
 
-def parse_compact(text: str, space: GeneSpace | None = None) -> np.ndarray:
-    """`parse_compact("(B,N,O) (RB,n,L)")` -> chromosome array; NotationError says what is wrong where."""
-    return _notation(space or GeneSpace.from_vocabulary()).parse(text)
-
-
-def format_compact(chromosome: np.ndarray, space: GeneSpace | None = None) -> str:
-    return _notation(space or GeneSpace.from_vocabulary()).format(chromosome)
+def format_compact(chromosome: np.ndarray, vocabulary: Vocabulary) -> str:
+    return CompactNotation(vocabulary).format(chromosome)

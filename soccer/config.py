@@ -1,4 +1,4 @@
-"""Every SimpleSoccer constant in one place (spec 4.1): the world (rcssserver 19 defaults plus the
+"""Every SimpleSoccer constant in one place: the world (rcssserver 19 defaults plus the
 few decisions that are ours) and the game rules. Both are frozen, validated pydantic models, so the
 REST API and the UI publish them with `.model_dump()` and a changed value reaches every kernel."""
 
@@ -7,6 +7,13 @@ from __future__ import annotations
 from typing import Literal, NamedTuple, get_args
 
 from pydantic import BaseModel, ConfigDict, Field, PositiveFloat, PositiveInt, model_validator
+
+from fuzzy.vocabulary import Vocabulary
+
+# The vocabulary SimpleSoccer's player is written in (fuzzy/data/soccer_vocabulary.json). The soccer
+# package's entry points (play_games, play_game, SoccerEnv, SimpleSoccerEvaluator) play in it unless
+# given another; GameBatch, the engine itself, always takes its vocabulary explicitly.
+SOCCER_VOCABULARY = Vocabulary.default()
 
 FitnessName = Literal["simple-composite", "goals-only", "robocup-composite"]
 FITNESS_NAMES: tuple[str, ...] = get_args(FitnessName)
@@ -81,13 +88,13 @@ class WorldConfig(BaseModel):
     # overlapping player and ball are pushed apart along the line of their centres, each half the
     # way from their midpoint, and both velocities are multiplied by collision_rebound. pymunk only
     # resolves contacts of a body with its own pitch's walls, net and posts: a body's contacts then
-    # never depend on the other games in the space, so results do not depend on the batch (spec 4.5).
+    # never depend on the other games in the space, so results do not depend on the batch (soccer/world.py).
     collision_rebound: float = Field(-0.1, ge=-1.0, le=1.0)
     # pymunk contact model with walls, net and posts (ours: rcssserver has no elastic collisions)
     elasticity: float = Field(0.5, ge=0.0, le=1.0)
     ball_mass: PositiveFloat = 0.45
     player_mass: PositiveFloat = 70.0
-    # mid-level skills (spec 4.2, 4.3)
+    # mid-level skills and the hunt (soccer/skills.py)
     turn_threshold: float = Field(10.0, ge=0.0, le=180.0)  # turn instead of dash when further off than this
     dribble_power_fraction: float = Field(0.3, gt=0.0, le=1.0)
     hunt_turn: float = Field(45.0, gt=0.0, le=180.0)
@@ -136,7 +143,7 @@ class WorldConfig(BaseModel):
 
 
 class GameConfig(BaseModel):
-    """The rules of one SimpleSoccer game (spec 4.1, 4.4)."""
+    """The rules of one SimpleSoccer game: when it ends, its fitness (the chapter, 5.1 and 5.2), its skill set."""
 
     model_config = ConfigDict(frozen=True, extra="forbid")
 

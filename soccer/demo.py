@@ -6,6 +6,8 @@ from pathlib import Path
 
 from fuzzy.parser import parse_rulebase
 from fuzzy.rule import Rulebase
+from fuzzy.vocabulary import Vocabulary
+from soccer.config import SOCCER_VOCABULARY
 
 DEMO_RULES_FILE = Path(__file__).parent / "data" / "demo.rules"
 
@@ -14,5 +16,5 @@ def demo_rules_text() -> str:
     return DEMO_RULES_FILE.read_text()
 
 
-def demo_rulebase() -> Rulebase:
-    return parse_rulebase(demo_rules_text())
+def demo_rulebase(vocabulary: Vocabulary = SOCCER_VOCABULARY) -> Rulebase:
+    return parse_rulebase(demo_rules_text(), vocabulary)

@@ -1,4 +1,4 @@
-"""The batched SimpleSoccer engine (spec 4.5): every game of a population in one pymunk Space,
+"""The batched SimpleSoccer engine: every game of a population in one pymunk Space,
 one numba kernel per tick over all live games.
 
 Per tick: read every body's position and velocity with `pymunk.batch`, run `tick_kernel` (the previous
@@ -21,14 +21,15 @@ import pymunk
 import pymunk.batch
 
 from fuzzy.batched import NO_ACTION, compile_rulebases, decide
-from fuzzy.rule import Rulebase
-from fuzzy.vocabulary import Vocabulary
-from soccer.config import GameConfig, WorldConstants
+from fuzzy.rule import POWER, Rulebase
+from fuzzy.rule import DIRECTION as DIRECTION_OUTPUT
+from fuzzy.vocabulary import Vocabulary, VocabularyError
+from soccer.config import SOCCER_VOCABULARY, GameConfig, WorldConstants
 from soccer.fitness import fitness
-from soccer.perception import perceive
+from soccer.perception import BALL, DIRECTION, DISTANCE, GOAL, perceive
 from soccer.physics import cap_speed, dash, decay, is_kickable, kick, separate, turn
 from soccer.random_stream import seed_states, uniform
-from soccer.skills import DASH, KICK, LEFT, RIGHT, TURN, skill_command
+from soccer.skills import DASH, HUNT, KICK, LEFT, RIGHT, TURN, skill_command, skill_table
 from soccer.world import World
 
 RUNNING, MAX_TICKS, GOAL_CAP, IDLE = 0, 1, 2, 3
@@ -52,8 +53,9 @@ class GameRules(NamedTuple):
                    config.skills == "assisted")
 
 
-class InputLayout(NamedTuple):
-    """Where the perceived quantities go among the vocabulary's inputs, objects and outputs."""
+class VocabularyLayout(NamedTuple):
+    """Where SimpleSoccer's quantities sit in a vocabulary, found by name: the perceived inputs and
+    objects, the outputs the skills read, and the skill of each action (soccer/skills.py)."""
 
     ball_distance: int
     ball_direction: int
@@ -63,19 +65,27 @@ class InputLayout(NamedTuple):
     goal: int
     direction: int
     power: int
+    skills: np.ndarray  # int64[n_actions]: skill id of each vocabulary action
 
     @classmethod
-    def from_vocabulary(cls, vocabulary: Vocabulary) -> "InputLayout":
+    def from_vocabulary(cls, vocabulary: Vocabulary) -> "VocabularyLayout":
+        """VocabularyError when the vocabulary lacks an object or input perception gives, or has an
+        action the skills cannot perform."""
         inputs, objects = vocabulary.input_names, vocabulary.objects
+        for obj in (BALL, GOAL):
+            if obj not in objects or not {DISTANCE, DIRECTION} <= set(objects[obj]):
+                raise VocabularyError(f"SimpleSoccer perceives {BALL} and {GOAL}, each as a {DISTANCE} and a "
+                                      f"{DIRECTION}: the vocabulary has no {obj} {DISTANCE} and {DIRECTION}")
         return cls(
-            inputs.index(objects["BALL"]["distance"]),
-            inputs.index(objects["BALL"]["direction"]),
-            inputs.index(objects["GOAL"]["distance"]),
-            inputs.index(objects["GOAL"]["direction"]),
-            vocabulary.object_names.index("BALL"),
-            vocabulary.object_names.index("GOAL"),
-            vocabulary.output_names.index("direction"),
-            vocabulary.output_names.index("power"),
+            inputs.index(objects[BALL][DISTANCE]),
+            inputs.index(objects[BALL][DIRECTION]),
+            inputs.index(objects[GOAL][DISTANCE]),
+            inputs.index(objects[GOAL][DIRECTION]),
+            vocabulary.object_names.index(BALL),
+            vocabulary.object_names.index(GOAL),
+            vocabulary.output_names.index(DIRECTION_OUTPUT),
+            vocabulary.output_names.index(POWER),
+            skill_table(vocabulary),
         )
 
 
@@ -105,6 +115,7 @@ class GameTrace:
     direction: np.ndarray  # float[T]: the selected action's direction value
     power: np.ndarray  # float[T]
     goals: np.ndarray  # int[T]: goals scored before this tick
+    vocabulary: Vocabulary  # the one the game was played in: it names `action` and orders `inputs`
 
     def __len__(self) -> int:
         return len(self.action)
@@ -115,7 +126,7 @@ class GameTrace:
 
 @numba.njit(cache=True)
 def start_positions(states, constants):
-    """Start of a game (spec 4.1): player uniform in its own half, ball at rest on the centre line."""
+    """Start of a game (the chapter, 5.1): player uniform in its own half, ball at rest on the centre line."""
     n = states.shape[0]
     player = np.empty((n, 2))
     ball = np.empty((n, 2))
@@ -235,8 +246,9 @@ def tick_kernel(
             last_side[g] = LEFT if ball_direction < 0.0 else RIGHT
         speed = math.sqrt(pvx * pvx + pvy * pvy)
         kickable = is_kickable(ball_distance, c)
+        skill = HUNT if chosen == NO_ACTION else layout.skills[chosen]
         kind, value, direction = skill_command(
-            chosen, values[g, layout.direction], values[g, layout.power], ball_seen, ball_distance, ball_direction,
+            skill, values[g, layout.direction], values[g, layout.power], ball_seen, ball_distance, ball_direction,
             goal_direction, kickable, last_side[g], speed, rules.assisted_skills, c)
         kicked[g] = False
         if kind == TURN:
@@ -270,16 +282,15 @@ def tick_kernel(
 class GameBatch:
     """Games of N players (each its own rulebase and seed) played together, tick by tick."""
 
-    def __init__(self, rulebases: Sequence[Rulebase], seeds: Sequence[int], config: GameConfig = GameConfig(),
-                 vocabulary: Vocabulary | None = None):
+    def __init__(self, rulebases: Sequence[Rulebase], seeds: Sequence[int], config: GameConfig,
+                 vocabulary: Vocabulary):
         if len(rulebases) != len(seeds):
             raise ValueError(f"{len(rulebases)} rulebases but {len(seeds)} seeds: need one seed per game")
-        vocabulary = vocabulary or Vocabulary.default()
         self.config = config
         self.vocabulary = vocabulary
         self.constants: WorldConstants = config.world.constants()
         self.rules = GameRules.from_config(config)
-        self.layout = InputLayout.from_vocabulary(vocabulary)
+        self.layout = VocabularyLayout.from_vocabulary(vocabulary)
         n = len(rulebases)
         self.games = n
         self.states = seed_states(seeds)
@@ -375,17 +386,18 @@ class GameBatch:
         return [self.result(g) for g in range(self.games)]
 
 
-def play_games(rulebases: Sequence[Rulebase], seeds: Sequence[int], config: GameConfig = GameConfig()) -> list[GameResult]:
+def play_games(rulebases: Sequence[Rulebase], seeds: Sequence[int], config: GameConfig = GameConfig(),
+               vocabulary: Vocabulary = SOCCER_VOCABULARY) -> list[GameResult]:
     """Play one game per (rulebase, seed), all in one batch; results in the same order."""
     if not rulebases:
         return []
-    return GameBatch(rulebases, seeds, config).run()
+    return GameBatch(rulebases, seeds, config, vocabulary).run()
 
 
-def play_game(rulebase: Rulebase, seed: int, config: GameConfig = GameConfig(),
-              trace: bool = True) -> tuple[GameResult, GameTrace | None]:
+def play_game(rulebase: Rulebase, seed: int, config: GameConfig = GameConfig(), trace: bool = True,
+              vocabulary: Vocabulary = SOCCER_VOCABULARY) -> tuple[GameResult, GameTrace | None]:
     """One game (a batch of one) and, when `trace`, what happened at every tick."""
-    batch = GameBatch([rulebase], [seed], config)
+    batch = GameBatch([rulebase], [seed], config, vocabulary)
     rows: list[tuple] = []
     while not batch.finished:
         before = int(batch.ticks[0])
@@ -398,10 +410,11 @@ def play_game(rulebase: Rulebase, seed: int, config: GameConfig = GameConfig(),
     result = batch.result(0)
     if not trace:
         return result, None
-    return result, _trace(rows, batch.layout, len(rulebase), len(batch.vocabulary.input_names))
+    return result, _trace(rows, batch.layout, len(rulebase), batch.vocabulary)
 
 
-def _trace(rows: list[tuple], layout: InputLayout, rules: int, inputs: int) -> GameTrace:
+def _trace(rows: list[tuple], layout: VocabularyLayout, rules: int, vocabulary: Vocabulary) -> GameTrace:
+    inputs = len(vocabulary.input_names)
     observed = np.array([r[0] for r in rows]).reshape(-1, 5)
     values = np.array([r[5] for r in rows]).reshape(len(rows), -1)
     return GameTrace(
@@ -417,4 +430,5 @@ def _trace(rows: list[tuple], layout: InputLayout, rules: int, inputs: int) -> G
         direction=values[:, layout.direction] if len(rows) else np.zeros(0),
         power=values[:, layout.power] if len(rows) else np.zeros(0),
         goals=np.array([r[6] for r in rows], dtype=np.int64),
+        vocabulary=vocabulary,
     )

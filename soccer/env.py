@@ -9,7 +9,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from fuzzy.rule import Rulebase
-from soccer.config import GameConfig
+from fuzzy.vocabulary import Vocabulary
+from soccer.config import SOCCER_VOCABULARY, GameConfig
 from soccer.engine import END_REASONS, GameBatch
 
 TRAIL_LENGTH = 60  # ball positions kept for the trail (6 s)
@@ -37,8 +38,10 @@ class SoccerState:
 class SoccerEnv:
     """reset(seed) -> state; step() -> state plays one tick with the player's own controller."""
 
-    def __init__(self, rulebase: Rulebase, config: GameConfig = GameConfig()):
+    def __init__(self, rulebase: Rulebase, config: GameConfig = GameConfig(),
+                 vocabulary: Vocabulary = SOCCER_VOCABULARY):
         self.config = config
+        self.vocabulary = vocabulary
         self.rulebase = rulebase
         self._batch: GameBatch | None = None
         self._trail: deque[tuple[float, float]] = deque(maxlen=TRAIL_LENGTH)
@@ -54,7 +57,7 @@ class SoccerEnv:
 
     def reset(self, seed: int) -> SoccerState:
         self._seed = int(seed)
-        self._batch = GameBatch([self.rulebase], [self._seed], self.config)
+        self._batch = GameBatch([self.rulebase], [self._seed], self.config, self.vocabulary)
         self._trail.clear()
         return self.state
 

@@ -1,4 +1,4 @@
-"""The GA's evaluator: rulebases in, one GameResult each out (spec 3, 4.4)."""
+"""The GA's evaluator: rulebases in, one GameResult each out."""
 
 from __future__ import annotations
 
@@ -9,7 +9,8 @@ from typing import Sequence
 import numpy as np
 
 from fuzzy.rule import Rulebase
-from soccer.config import GameConfig
+from fuzzy.vocabulary import Vocabulary
+from soccer.config import SOCCER_VOCABULARY, GameConfig
 from soccer.engine import GameResult, play_games
 
 
@@ -27,15 +28,16 @@ class SimpleSoccerEvaluator:
     averaged; the closest approach is the minimum; end_reason is the first game's)."""
 
     config: GameConfig = GameConfig()
+    vocabulary: Vocabulary = SOCCER_VOCABULARY  # the rulebases' vocabulary (the GA's)
 
     def __call__(self, rulebases: Sequence[Rulebase], seeds: Sequence[int]) -> list[GameResult]:
         if len(rulebases) != len(seeds):
             raise ValueError(f"{len(rulebases)} rulebases but {len(seeds)} seeds: need one seed per rulebase")
         k = self.config.games_per_evaluation
         if k == 1:
-            return play_games(list(rulebases), list(seeds), self.config)
+            return play_games(list(rulebases), list(seeds), self.config, self.vocabulary)
         all_seeds = [s for seed in seeds for s in game_seeds(int(seed), k)]
-        results = play_games([r for r in rulebases for _ in range(k)], all_seeds, self.config)
+        results = play_games([r for r in rulebases for _ in range(k)], all_seeds, self.config, self.vocabulary)
         return [_mean(results[i * k:(i + 1) * k]) for i in range(len(rulebases))]
 
 

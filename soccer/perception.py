@@ -1,12 +1,17 @@
-"""What the player perceives (spec 4.1): exact relative distance and direction of an object, and
-whether it lies within the view cone. Directions follow rcssserver: degrees relative to the
-player's facing, negative = to its left (y grows to the player's right when it faces +x)."""
+"""What the player perceives: exact relative distance and direction of an object, and whether it
+lies within the view cone. Directions follow rcssserver: degrees relative to the player's facing,
+negative = to its left (y grows to the player's right when it faces +x)."""
 
 from __future__ import annotations
 
 import math
 
 import numba
+
+# What is perceived, as a vocabulary names it: two objects, each read as a distance and a direction
+# (the keys of Vocabulary.objects[object]). The engine finds their inputs in a vocabulary by these names.
+BALL, GOAL = "BALL", "GOAL"
+DISTANCE, DIRECTION = "distance", "direction"
 
 
 @numba.njit(cache=True)

@@ -1,45 +1,72 @@
-"""The ten mid-level skills (spec 4.2) and the default hunt (4.3), free of pymunk.
+"""The ten mid-level skills and the default hunt, free of pymunk.
 
 Two skill sets (`GameConfig.skills`): `strict`, where KICK, KICKTOWARDGOAL, DRIBBLETOWARDGOAL and
 DRIBBLE kick when the ball is kickable and otherwise do nothing (as rcssserver's kick does), and
 `assisted`, where the last three fall back to GOTOBALL when the ball is out of reach (so one rule
 "if <anything> then KickTowardGoal High" is a whole striker).
 
-A skill turns the selected action, its direction and power values, what the player perceives and its
+A skill turns the selected action's direction and power values, what the player perceives and its
 own state into ONE rcssserver body command `(kind, value, direction)`:
 TURN (value = moment), DASH (value = power), KICK (value = power, direction relative to the facing)
 or NONE. The SimpleSoccer engine applies it with soccer/physics.py; the rcssserver client sends it as
 `(turn m)`, `(dash p)`, `(kick p d)`. Skills steer by the goal's known position (the caller passes its
 direction computed from the player's own pose), even when the goal is out of view.
+
+Skills have ids of their own (SKILL_TURN ... SKILL_DONOTHING, HUNT), fixed here. A vocabulary names
+actions in whatever order it likes; `skill_table` maps each of its action indices to the skill of the
+same name, and refuses a vocabulary with an action no skill performs or whose parameters are not the
+ones the skill reads. The kernels take that table as data, so no vocabulary order is frozen in code.
 """
 
 from __future__ import annotations
 
 import numba
+import numpy as np
 
-from fuzzy.batched import NO_ACTION
-from fuzzy.vocabulary import Vocabulary
+from fuzzy.rule import DIRECTION, POWER
+from fuzzy.vocabulary import Vocabulary, VocabularyError
 
 from soccer.physics import clamp, kickable_distance
 
-NONE, TURN, DASH, KICK = 0, 1, 2, 3
-HUNT = NO_ACTION  # the action index the engine passes when no rule fired
+NONE, TURN, DASH, KICK = 0, 1, 2, 3  # body command kinds
 
-_ACTIONS = Vocabulary.default().action_names
-# Action indices as the vocabulary orders them (numba freezes these module globals at compile time).
-A_TURN = _ACTIONS.index("TURN")
-A_DASH = _ACTIONS.index("DASH")
-A_KICK = _ACTIONS.index("KICK")
-A_RUNTOWARDGOAL = _ACTIONS.index("RUNTOWARDGOAL")
-A_RUNTOWARDBALL = _ACTIONS.index("RUNTOWARDBALL")
-A_GOTOBALL = _ACTIONS.index("GOTOBALL")
-A_KICKTOWARDGOAL = _ACTIONS.index("KICKTOWARDGOAL")
-A_DRIBBLETOWARDGOAL = _ACTIONS.index("DRIBBLETOWARDGOAL")
-A_DRIBBLE = _ACTIONS.index("DRIBBLE")
-A_DONOTHING = _ACTIONS.index("DONOTHING")
+# The skills: the action each performs (by name) and the action parameters it reads. Index = skill id.
+SKILLS: tuple[tuple[str, tuple[str, ...]], ...] = (
+    ("TURN", (DIRECTION,)),
+    ("DASH", (POWER,)),
+    ("KICK", (DIRECTION, POWER)),
+    ("RUNTOWARDGOAL", (POWER,)),
+    ("RUNTOWARDBALL", (POWER,)),
+    ("GOTOBALL", (POWER,)),
+    ("KICKTOWARDGOAL", (POWER,)),
+    ("DRIBBLETOWARDGOAL", (POWER,)),
+    ("DRIBBLE", (DIRECTION, POWER)),
+    ("DONOTHING", ()),
+)
+(SKILL_TURN, SKILL_DASH, SKILL_KICK, SKILL_RUNTOWARDGOAL, SKILL_RUNTOWARDBALL, SKILL_GOTOBALL, SKILL_KICKTOWARDGOAL,
+ SKILL_DRIBBLETOWARDGOAL, SKILL_DRIBBLE, SKILL_DONOTHING) = range(len(SKILLS))
+HUNT = -1  # what the player does when no rule fired
 
 LEFT, RIGHT = -1, 1  # side where the ball was last seen
 SKILL_SETS = ("strict", "assisted")  # GameConfig.skills; the kernel takes `assisted` as a flag
+
+
+def skill_table(vocabulary: Vocabulary) -> np.ndarray:
+    """int64[n_actions]: the skill id of each of the vocabulary's actions, matched by name.
+    VocabularyError when an action has no skill or uses other parameters than its skill reads."""
+    reads = dict(SKILLS)
+    ids = {name: skill for skill, (name, _) in enumerate(SKILLS)}
+    problems = []
+    for action, uses in vocabulary.actions.items():
+        if action not in reads:
+            problems.append(f"no skill performs {action}")
+        elif set(uses) != set(reads[action]):
+            problems.append(f"{action} uses {', '.join(uses) or 'no parameter'} but its skill reads "
+                            f"{', '.join(reads[action]) or 'none'}")
+    if problems:
+        raise VocabularyError(f"the soccer skills cannot play this vocabulary: {'; '.join(problems)} "
+                              f"(the skills are {', '.join(ids)})")
+    return np.array([ids[action] for action in vocabulary.action_names], dtype=np.int64)
 
 
 @numba.njit(cache=True)
@@ -83,40 +110,41 @@ def go_to_ball(power, ball_visible, ball_distance, ball_direction, kickable, las
 
 
 @numba.njit(cache=True)
-def skill_command(action, direction, power, ball_visible, ball_distance, ball_direction, goal_direction,
+def skill_command(skill, direction, power, ball_visible, ball_distance, ball_direction, goal_direction,
                   kickable, last_ball_side, speed, assisted, constants):
-    """The body command for `action` (HUNT when no rule fired). `ball_*` is the perceived ball (valid when
+    """The body command of `skill` (a skill id, HUNT when no rule fired) with the selected action's
+    `direction` and `power` values. `ball_*` is the perceived ball (valid when
     ball_visible), `goal_direction` the goal centre's direction from the player's own pose, `kickable`
     whether the ball is within kicking distance, `speed` the player's current speed (m/tick), `assisted`
     whether the kicking skills fetch the ball first (the `assisted` skill set) or do nothing (`strict`)."""
-    if action == HUNT:
+    if skill == HUNT:
         return hunt(ball_visible, ball_direction, last_ball_side, speed, constants)
-    if action == A_TURN:
+    if skill == SKILL_TURN:
         return TURN, direction, 0.0
-    if action == A_DASH:
+    if skill == SKILL_DASH:
         return DASH, power, 0.0
-    if action == A_KICK:
+    if skill == SKILL_KICK:
         if kickable:
             return KICK, power, direction
         return NONE, 0.0, 0.0
-    if action == A_RUNTOWARDGOAL:
+    if skill == SKILL_RUNTOWARDGOAL:
         return run_toward(goal_direction, power, speed, constants)
-    if action == A_RUNTOWARDBALL:
+    if skill == SKILL_RUNTOWARDBALL:
         if ball_visible:
             return run_toward(ball_direction, power, speed, constants)
         return hunt(ball_visible, ball_direction, last_ball_side, speed, constants)
-    if action == A_KICKTOWARDGOAL or action == A_DRIBBLETOWARDGOAL or action == A_DRIBBLE:
+    if skill == SKILL_KICKTOWARDGOAL or skill == SKILL_DRIBBLETOWARDGOAL or skill == SKILL_DRIBBLE:
         if kickable:
-            if action == A_KICKTOWARDGOAL:
+            if skill == SKILL_KICKTOWARDGOAL:
                 return KICK, power, goal_direction
-            if action == A_DRIBBLETOWARDGOAL:
+            if skill == SKILL_DRIBBLETOWARDGOAL:
                 return KICK, power * constants.dribble_power_fraction, goal_direction
             return KICK, power * constants.dribble_power_fraction, direction
         if not assisted:
             return NONE, 0.0, 0.0
         return go_to_ball(power, ball_visible, ball_distance, ball_direction, kickable, last_ball_side, speed,
                           constants)
-    if action == A_GOTOBALL:
+    if skill == SKILL_GOTOBALL:
         return go_to_ball(power, ball_visible, ball_distance, ball_direction, kickable, last_ball_side, speed,
                           constants)
-    return NONE, 0.0, 0.0  # DONOTHING
+    return NONE, 0.0, 0.0  # SKILL_DONOTHING

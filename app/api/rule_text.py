@@ -6,16 +6,19 @@ from app.api.models import ConsequentOut, PremiseOut, RuleOut
 from fuzzy.parser import parse_rulebase
 from fuzzy.printer import format_rule
 from fuzzy.rule import Rule, Rulebase
+from fuzzy.vocabulary import Vocabulary
+
+VOCABULARY = Vocabulary.default()  # the API's rules are written in the soccer vocabulary it publishes
 
 
 def parse(text: str) -> Rulebase:
     """The rulebase; RuleSyntaxError (every error of the text) is answered 422 by the error handlers."""
-    return parse_rulebase(text)
+    return parse_rulebase(text, VOCABULARY)
 
 
 def rule_out(rule: Rule) -> RuleOut:
     return RuleOut(
-        text=format_rule(rule),
+        text=format_rule(rule, VOCABULARY),
         premises=[PremiseOut(object=p.object, term=p.term, negated=p.negated) for p in rule.premises],
         connectors=list(rule.connectors),
         consequent=ConsequentOut(**vars(rule.consequent)),

@@ -237,8 +237,10 @@ def _start(algorithm: str, options: dict[str, Any]) -> None:
         except RunFolderError as exc:
             fail(str(exc))
         run = evolve if algorithm == GA else random_search
-        _drive(folder, config, environment, algorithm, Vocabulary.default(), history=[], best=None,
-               launch=lambda callbacks: run(config, evaluate, callbacks=callbacks, checkpoint=folder.checkpoint))
+        vocabulary = Vocabulary.default()
+        _drive(folder, config, environment, algorithm, vocabulary, history=[], best=None,
+               launch=lambda callbacks: run(config, evaluate, vocabulary, callbacks=callbacks,
+                                            checkpoint=folder.checkpoint))
 
 
 def _resume(path: Path, servers: list[str] | None) -> None:

@@ -148,10 +148,11 @@ def decode(
     from ga.notation import NotationError, parse_compact
 
     try:
-        rulebase = ChromosomeCodec().decode(parse_compact(notation))
+        vocabulary = Vocabulary.default()
+        rulebase = ChromosomeCodec(vocabulary).decode(parse_compact(notation, vocabulary))
     except NotationError as exc:
         fail(f"malformed chromosome notation: {exc}")
     if not len(rulebase):
         typer.echo("# no valid rule: an invalid ruleset, fitness 1.0")
     for rule in rulebase:
-        typer.echo(format_rule(rule))
+        typer.echo(format_rule(rule, vocabulary))

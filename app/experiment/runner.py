@@ -52,10 +52,12 @@ class TrialSpec:
 def run_trial(spec: TrialSpec) -> list[dict[str, Any]]:
     """One whole GA (or random search) run; its statistics rows. Runs in a worker process or Ray task."""
     from ga.algorithms import evolve, random_search
+    from soccer.config import SOCCER_VOCABULARY
     from soccer.evaluate import SimpleSoccerEvaluator
 
     run = evolve if spec.setting.algorithm == GA else random_search
-    return [stats.to_dict() for stats in run(spec.config, SimpleSoccerEvaluator(spec.game)).history]
+    evaluate = SimpleSoccerEvaluator(spec.game, SOCCER_VOCABULARY)
+    return [stats.to_dict() for stats in run(spec.config, evaluate, SOCCER_VOCABULARY).history]
 
 
 @dataclass(frozen=True)

@@ -63,7 +63,7 @@ def start_ui(
     port: int = DEFAULT_PORT,
     *,
     game: GameConfig | None = None,
-    vocabulary: Vocabulary | None = None,
+    vocabulary: Vocabulary = Vocabulary.default(),
     api_url: str | None = None,
 ) -> UiHandle:
     """Start the viser server on host:port (PortBusyError if the port is taken: viser would silently
@@ -71,7 +71,7 @@ def start_ui(
     JSON API answers, for links to the files it serves."""
     from app.ui.session import Session
 
-    context = UiContext(store, runs, vocabulary or Vocabulary.default(), game or GameConfig(), api_url=api_url)
+    context = UiContext(store, runs, vocabulary, game or GameConfig(), api_url=api_url)
     server = viser.ViserServer(host=host, port=port, label=TITLE, verbose=False)
     if server.get_port() != port:
         server.stop()

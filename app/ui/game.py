@@ -22,7 +22,7 @@ class Game:
     def __init__(self, context: UiContext, rulebase: Rulebase, name: str, seed: int):
         self.context = context
         self.vocabulary = context.vocabulary
-        self.env = SoccerEnv(rulebase, context.game)
+        self.env = SoccerEnv(rulebase, context.game, context.vocabulary)
         self.view_half_angle = context.game.world.view_width / 2
         self.constants = context.game.world.constants()
         self.set_rulebase(rulebase, name)

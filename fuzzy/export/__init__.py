@@ -18,11 +18,11 @@ EXPORTERS = {"json": to_json, "fcl": to_fcl, "fll": to_fll}
 FORMATS = tuple(EXPORTERS)
 
 
-def export_rulebase(rulebase: Rulebase, fmt: str, vocabulary: Vocabulary | None = None) -> str:
+def export_rulebase(rulebase: Rulebase, fmt: str, vocabulary: Vocabulary) -> str:
     """The rulebase as text in `fmt` (one of FORMATS)."""
     if fmt not in EXPORTERS:
         raise ValueError(f"unknown export format {fmt!r}; expected one of {', '.join(FORMATS)}")
-    return EXPORTERS[fmt](rulebase, vocabulary or Vocabulary.default())
+    return EXPORTERS[fmt](rulebase, vocabulary)
 
 
 __all__ = [

@@ -16,11 +16,11 @@ from dataclasses import dataclass
 from fuzzy.engine import Engine, Inference
 from fuzzy.rule import Rulebase
 from fuzzy.vocabulary import Vocabulary
-from soccer.config import WorldConfig, WorldConstants
+from soccer.config import SOCCER_VOCABULARY, WorldConfig, WorldConstants
 from soccer.rcss.client import PlayerCycle
 from soccer.rcss.localisation import Pose, goal_relative, localise, normalise_angle
 from soccer.rcss.params import VIEW_HALF_ANGLE, ServerParams
-from soccer.skills import DASH, HUNT, KICK, LEFT, RIGHT, TURN, skill_command
+from soccer.skills import DASH, HUNT, KICK, LEFT, RIGHT, TURN, skill_command, skill_table
 
 
 def world_constants(params: ServerParams, view_width: str = "normal") -> WorldConstants:
@@ -129,9 +129,10 @@ class WorldModel:
 class RcssPlayer:
     """One fuzzy player: `decide(cycle)` returns this cycle's body command(s) as text."""
 
-    def __init__(self, rulebase: Rulebase, params: ServerParams, vocabulary: Vocabulary | None = None,
+    def __init__(self, rulebase: Rulebase, params: ServerParams, vocabulary: Vocabulary = SOCCER_VOCABULARY,
                  skills: str = "assisted"):
-        self.vocabulary = vocabulary or Vocabulary.default()
+        self.vocabulary = vocabulary
+        self.skill_of_action = skill_table(vocabulary)
         self.assisted_skills = skills == "assisted"
         self.engine = Engine(rulebase, self.vocabulary)
         self.params = params
@@ -150,13 +151,13 @@ class RcssPlayer:
         inference = self.engine.infer(perception.inputs())
         selected = inference.selected
         if selected is None:
-            action, direction, power = HUNT, 0.0, 0.0
+            skill, direction, power = HUNT, 0.0, 0.0
         else:
-            action = self.vocabulary.action_names.index(selected.action)
+            skill = self.skill_of_action[self.vocabulary.action_names.index(selected.action)]
             direction = selected.parameters.get("direction", self.vocabulary.output_default("direction"))
             power = selected.parameters.get("power", self.vocabulary.output_default("power"))
         kind, value, kick_direction = skill_command(
-            action,
+            skill,
             direction,
             power,
             perception.ball_direction is not None,

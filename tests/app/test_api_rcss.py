@@ -10,12 +10,15 @@ import pytest
 
 from app.runs import RunSettings
 from fuzzy.parser import parse_rulebase
+from fuzzy.vocabulary import Vocabulary
 from soccer.rcss.client import DEFAULT_SERVER
 from soccer.rcss.errors import RcssTimeoutError
 from soccer.rcss.evaluate import RcssEvaluator
 from soccer.rcss.trial import TrialConfig
 from tests.app.api_client import TINY_GA, api_client, wait_for
 from tests.app.rcss_fakes import GOALS_CYCLES, GOALS_FITNESS, silent_server, transcripts_missing, two_recorded_trials
+
+VOCABULARY = Vocabulary.default()
 
 ONE_GENERATION = {**TINY_GA, "population_size": 2, "max_generations": 1, "seed": 0}
 
@@ -99,5 +102,5 @@ def test_a_run_on_two_replayed_servers_finishes_with_the_better_trial_as_best(tm
         assert done["status"] == "finished" and done["error"] is None and done["generations"] == 1
         assert done["best_fitness"] == pytest.approx(GOALS_FITNESS)
         best = client.get(f"/api/runs/{run['id']}/best").json()
-        assert len(parse_rulebase(best["rules"])) > 0
+        assert len(parse_rulebase(best["rules"], VOCABULARY)) > 0
         assert goals.wait().error is None and kick_in.wait().error is None

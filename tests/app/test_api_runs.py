@@ -10,6 +10,9 @@ from app.store import RunStatus, Store
 from fuzzy.parser import parse_rulebase
 from fuzzy.printer import format_rulebase
 from tests.app.api_client import SHORT_GAMES, TINY_GA, api_client, wait_for
+from fuzzy.vocabulary import Vocabulary
+
+VOCABULARY = Vocabulary.default()
 
 LONG_GA = {**TINY_GA, "max_generations": 10_000}  # runs until stopped
 
@@ -37,7 +40,7 @@ def test_small_run_reports_statistics_best_and_recording(tmp_path):
 
         best = client.get(f"/api/runs/{run['id']}/best").json()
         assert best["fitness"] == done["best_fitness"] == min(row["best"] for row in statistics)
-        parse_rulebase(best["rules"])  # the best is stored as valid rule text
+        parse_rulebase(best["rules"], VOCABULARY)  # the best is stored as valid rule text
         assert best["chromosome"].startswith("(")
 
         assert done["recording"].endswith(f"/api/runs/{run['id']}/recording.rrd")
@@ -136,7 +139,7 @@ def test_listeners_hear_generations_and_status_and_best_rulebase_plays(tmp_path)
     generations = [e.stats["generation"] for e in events if e.stats is not None]
     assert generations == [0, 1]
     assert events[0].status is RunStatus.RUNNING and events[-1].status is RunStatus.FINISHED
-    assert format_rulebase(runs.best_rulebase(record.id)) == store.best_individual(record.id).rules
+    assert format_rulebase(runs.best_rulebase(record.id), VOCABULARY) == store.best_individual(record.id).rules
     store.close()
 
 

@@ -14,9 +14,12 @@ from app.cli import _register, app
 from app.run_outputs import RunFolder
 from fuzzy.export import rulebase_from_json
 from fuzzy.parser import parse_rulebase
+from fuzzy.vocabulary import Vocabulary
 from ga.statistics import GenerationStats
 from soccer.demo import demo_rulebase
 from soccer.engine import play_game
+
+VOCABULARY = Vocabulary.default()
 
 _register()
 TINY = ["--population-size", "8", "--generations", "3", "--max-ticks", "60", "--workers", "1", "--seed", "5"]
@@ -57,7 +60,7 @@ def test_evolve_writes_every_output(evolved):
     with (folder / "statistics.csv").open() as handle:
         assert next(csv.reader(handle)) == list(GenerationStats.field_names())
     # The best rulebase, as text and as JSON, is one and the same and what the summary prints.
-    text_rules = parse_rulebase((folder / "best.rules").read_text())
+    text_rules = parse_rulebase((folder / "best.rules").read_text(), VOCABULARY)
     json_rules, _ = rulebase_from_json((folder / "best.json").read_text())
     assert text_rules == json_rules and len(text_rules) > 0
     assert "best fitness" in result.output and f"outputs in {folder}" in result.output
@@ -191,7 +194,7 @@ def demo_file(tmp_path) -> Path:
     path = tmp_path / "demo.rules"
     from app.rulebase_files import rulebase_text
 
-    path.write_text(rulebase_text(demo_rulebase()))
+    path.write_text(rulebase_text(demo_rulebase(), VOCABULARY))
     return path
 
 
@@ -217,7 +220,7 @@ def test_play_reads_json_and_writes_replays(demo_file, tmp_path):
     from app.rulebase_files import rulebase_json
 
     as_json = tmp_path / "demo.json"
-    as_json.write_text(rulebase_json(demo_rulebase()))
+    as_json.write_text(rulebase_json(demo_rulebase(), VOCABULARY))
     rrd = tmp_path / "games.rrd"
     result = run("play", as_json, "--games", "2", "--max-ticks", "40", "--rrd", rrd)
     assert result.exit_code == 0, result.output

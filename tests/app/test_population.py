@@ -22,14 +22,16 @@ from soccer.config import GameConfig
 from soccer.engine import GameBatch
 from tests.app.api_client import SHORT_GAMES, TINY_GA
 
-CODEC = ChromosomeCodec()
+VOCABULARY = Vocabulary.default()
+
+CODEC = ChromosomeCodec(VOCABULARY)
 SCORER = "(B,vN,A)(KG,n,H)"  # if Ball is VeryNear then KickTowardGoal High
 CHASER = "(B,nF,A)(GB,n,M)"  # if Ball is not Far then GoToBall MediumPower
 INVALID = "(T,L,n)(B,N,A)"  # a consequent with no premise, then a premise with no consequent: no rule
 
 
 def individual(compact: str, fitness: float) -> Individual:
-    return Individual(parse_compact(compact)).evaluated(fitness, 0)
+    return Individual(parse_compact(compact, VOCABULARY)).evaluated(fitness, 0)
 
 
 def test_sample_is_the_best_playable_individuals_best_first():
@@ -38,8 +40,8 @@ def test_sample_is_the_best_playable_individuals_best_first():
     sampled = sample_players(population, CODEC, count=2)
     assert [p.fitness for p in sampled] == [0.4, 0.4]  # the invalid one (never played) is skipped
     # Equal fitness keeps population order: the scorer came before the second chaser.
-    assert [format_rulebase(p.rulebase) for p in sampled] == [
-        format_rulebase(CODEC.decode(parse_compact(SCORER))), format_rulebase(CODEC.decode(parse_compact(CHASER)))]
+    assert [format_rulebase(p.rulebase, VOCABULARY) for p in sampled] == [
+        format_rulebase(CODEC.decode(parse_compact(text, VOCABULARY)), VOCABULARY) for text in (SCORER, CHASER)]
     assert len(sample_players(population, CODEC)) == 3
     assert sample_players([individual(INVALID, 1.0)], CODEC) == ()
 
@@ -68,7 +70,7 @@ def test_every_finished_generation_is_published_with_its_best_players(tmp_path):
         fitnesses = [p.fitness for p in players]
         assert fitnesses == sorted(fitnesses) and all(len(p.rulebase) for p in players)
         if best.fitness < 1.0:  # the best individual played, so it leads the sample
-            assert fitnesses[0] == best.fitness and format_rulebase(players[0].rulebase) == best.rules
+            assert fitnesses[0] == best.fitness and format_rulebase(players[0].rulebase, VOCABULARY) == best.rules
     store.close()
 
 
@@ -90,7 +92,7 @@ def test_panel_plays_the_published_players_in_one_batch_from_one_start(monkeypat
     panel = PopulationPanel(FakeGui(), session)
     panel.advance(3)
     assert panel.batch is None and "Start an evolution" in panel.grid.content
-    rulebases = [CODEC.decode(parse_compact(text)) for text in (SCORER, CHASER, SCORER)]
+    rulebases = [CODEC.decode(parse_compact(text, VOCABULARY)) for text in (SCORER, CHASER, SCORER)]
     players = tuple(SampledPlayer(r, f) for r, f in zip(rulebases, (0.25, 0.5, 0.75)))
     panel.generation_finished(9, 4, players)
     panel.advance(30)
@@ -98,7 +100,7 @@ def test_panel_plays_the_published_players_in_one_batch_from_one_start(monkeypat
     assert 'data-run="9" data-generation="4"' in panel.caption.content
     assert panel.grid.content.count('class="mini-pitch"') == 3
     # The very games the engine plays for these rulebases from the session's start.
-    reference = GameBatch(rulebases, [session.game.seed] * 3, session.context.game)
+    reference = GameBatch(rulebases, [session.game.seed] * 3, session.context.game, VOCABULARY)
     for _ in range(30):
         reference.step()
     np.testing.assert_array_equal(panel.batch.observed, reference.observed)
@@ -107,7 +109,7 @@ def test_panel_plays_the_published_players_in_one_batch_from_one_start(monkeypat
 
 def test_panel_shows_at_most_the_grid_and_ignores_an_empty_generation():
     panel = PopulationPanel(FakeGui(), fake_session())
-    rulebase = CODEC.decode(parse_compact(CHASER))
+    rulebase = CODEC.decode(parse_compact(CHASER, VOCABULARY))
     many = tuple(SampledPlayer(rulebase, 0.5) for _ in range(SAMPLED_PLAYERS + 4))
     panel.generation_finished(1, 0, many)
     panel.advance(1)

@@ -14,6 +14,7 @@ from rerun.chunk import RrdReader
 from app.recording import (GOAL_BINS, GOAL_HISTOGRAM_ENTITY, VIEW_CONE_LENGTH, RunRecorder, goal_outline,
                            log_replay, open_stream, statistic_entity, view_cone)
 from app.run_outputs import RunFolder, RunFolderError, StatisticsFile, default_run_dir
+from fuzzy.vocabulary import Vocabulary
 from ga.statistics import GenerationStats
 from soccer.config import WorldConfig
 
@@ -87,7 +88,7 @@ def test_replay_logs_each_tick_of_a_trace(tmp_path):
     trace = SimpleNamespace(  # a three-tick trace in the engine's GameTrace layout
         player_x=np.array([-10.0, -9.5, -9.0]), player_y=np.array([1.0, 1.0, 1.5]),
         facing=np.array([0.0, 0.0, 30.0]), ball_x=np.array([0.0, 0.0, 0.5]), ball_y=np.array([3.0, 3.0, 3.0]),
-        action=np.array([-1, 1, 2]), goals=np.array([0, 0, 1]),
+        action=np.array([-1, 1, 2]), goals=np.array([0, 0, 1]), vocabulary=Vocabulary.default(),
     )
     path = tmp_path / "replay.rrd"
     stream = open_stream(path)

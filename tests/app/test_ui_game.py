@@ -12,6 +12,8 @@ from fuzzy.vocabulary import Vocabulary
 from soccer.config import GameConfig
 from soccer.demo import demo_rulebase
 
+VOCABULARY = Vocabulary.default()
+
 CONTEXT = UiContext(store=None, runs=None, vocabulary=Vocabulary.default(), game=GameConfig())
 
 
@@ -42,7 +44,7 @@ def test_loading_a_rulebase_with_a_restart_explains_its_first_decision():
     game = Game(CONTEXT, demo_rulebase(), "demo", seed=3)
     for _ in range(5):
         game.step()
-    game.set_rulebase(parse_rulebase("if Goal is not At then Turn Left"), "turner")
+    game.set_rulebase(parse_rulebase("if Goal is not At then Turn Left", VOCABULARY), "turner")
     game.restart(game.seed)
     inference = game.inference()
     assert inference.selected.action == "TURN" and inference.strengths[0] > 0

@@ -23,7 +23,7 @@ VOCABULARY = Vocabulary.default()
 RULES = parse_rulebase(
     "if Ball is Near then KickTowardGoal High\n"
     "if Ball is SlightlyNear and Ball is SlightlyLeft then Kick Left Low\n"
-    "if Goal is Far then Turn Right\n"
+    "if Goal is Far then Turn Right\n", VOCABULARY
 )
 INPUTS = {"ball_distance": 5.0, "ball_direction": -20.0, "goal_distance": None, "goal_direction": None}
 
@@ -49,26 +49,28 @@ def test_membership_shows_hand_computed_degrees_and_greys_unseen_objects():
 
 
 def test_rules_panel_shows_strengths_and_only_fired_switch():
-    inference = Engine(RULES).infer(INPUTS)
+    inference = Engine(RULES, VOCABULARY).infer(INPUTS)
     all_rows = rules_html(["r1", "r2", "r3"], inference, only_fired=False)
     fired_rows = rules_html(["r1", "r2", "r3"], inference, only_fired=True)
     strengths = [float(s) for s in re.findall(r'data-strength="([0-9.]+)"', all_rows)]
     assert strengths == pytest.approx([0.75, 0.25, 0.0])
     assert re.findall(r'class="rule" data-index="(\d)"', fired_rows) == ["0", "1"]
-    assert "No rule fired" in rules_html(["r3"], Engine(parse_rulebase("if Goal is Far then Turn Right")).infer(INPUTS), True)
+    turner = parse_rulebase("if Goal is Far then Turn Right", VOCABULARY)
+    assert "No rule fired" in rules_html(["r3"], Engine(turner, VOCABULARY).infer(INPUTS), True)
 
 
 def test_decision_names_the_selected_action_and_the_hunt():
-    inference = Engine(RULES).infer(INPUTS)
+    inference = Engine(RULES, VOCABULARY).infer(INPUTS)
     html = decision_html(VOCABULARY, inference)
     assert 'data-action="KICKTOWARDGOAL"' in html and "KickTowardGoal" in html and "0.75" in html
     unseen = {name: None for name in INPUTS}
-    assert HUNT_TEXT in decision_html(VOCABULARY, Engine(RULES).infer(unseen))
+    assert HUNT_TEXT in decision_html(VOCABULARY, Engine(RULES, VOCABULARY).infer(unseen))
 
 
 def test_output_sets_mark_the_exact_mean_of_maximum():
-    rules = parse_rulebase("if Ball is Near then Kick Left Low\nif Ball is SlightlyNear then Kick Right High")
-    inference = Engine(rules).infer(INPUTS)
+    rules = parse_rulebase("if Ball is Near then Kick Left Low\nif Ball is SlightlyNear then Kick Right High",
+                           VOCABULARY)
+    inference = Engine(rules, VOCABULARY).infer(INPUTS)
     html = outputs_html(VOCABULARY, inference)
     values = [float(v) for v in re.findall(r'class="mom" data-value="(-?[0-9.]+)"', html)]
     # Only the strongest rule (0.75) reaches the maximum: Left (-90,-45,-15) cut at 0.75 is [-56.25, -37.5].
@@ -81,7 +83,7 @@ def test_output_sets_mark_the_exact_mean_of_maximum():
 def test_policy_grid_agrees_with_the_scalar_engine_and_hides_the_ball_out_of_view():
     grid = policy_grid(VOCABULARY, RULES, 50.0, 10.0, True, 45.0, "power")
     assert grid.actions.shape == (ROWS, COLUMNS)
-    engine = Engine(RULES)
+    engine = Engine(RULES, VOCABULARY)
     for i, j in [(3, 25), (10, 29), (20, 30), (5, 2), (30, 58)]:
         d, a = grid.distances[i], grid.directions[j]
         seen = abs(a) <= 45.0

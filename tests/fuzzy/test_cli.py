@@ -8,6 +8,9 @@ from typer.testing import CliRunner
 from app.cli import rules
 from fuzzy.export import rulebase_from_json
 from fuzzy.parser import parse_rulebase
+from fuzzy.vocabulary import Vocabulary
+
+VOCABULARY = Vocabulary.default()
 
 RUNNER = CliRunner()
 TEXT = (
@@ -98,7 +101,7 @@ def test_export_formats(rule_file, tmp_path, fmt, marker):
 def test_exported_json_is_accepted_back(rule_file, tmp_path):
     out = tmp_path / "rules.json"
     run("export", rule_file, "-o", out)
-    assert rulebase_from_json(out.read_text())[0] == parse_rulebase(TEXT)
+    assert rulebase_from_json(out.read_text())[0] == parse_rulebase(TEXT, VOCABULARY)
     assert run("check", out).stdout == NORMALISED
 
 

@@ -5,10 +5,13 @@ import pytest
 from fuzzy.defuzzifier import mean_of_maximum, sampled_error_bound
 from fuzzy.engine import Engine
 from fuzzy.parser import parse_rulebase
+from fuzzy.vocabulary import Vocabulary
+
+VOCABULARY = Vocabulary.default()
 
 
 def infer(text, **inputs):
-    return Engine(parse_rulebase(text)).infer(inputs)
+    return Engine(parse_rulebase(text, VOCABULARY), VOCABULARY).infer(inputs)
 
 
 BALL_3 = dict(ball_distance=3.0, ball_direction=0.0)  # Near 0.5, VeryNear 0.5, Far 0, Straight 1

@@ -23,7 +23,7 @@ EXAMPLE = parse_rulebase(
     "if (Ball is Near or Ball is not Far) and Goal is Near then RunTowardBall Low\n"
     "if Ball is At then Kick SlightlyRight High\n"
     "if Ball is Left then Turn Left [power High]\n"
-    "if Goal is not VeryFar then DoNothing\n"
+    "if Goal is not VeryFar then DoNothing\n", VOCABULARY
 )
 
 
@@ -170,4 +170,4 @@ def test_fcl_shoulders_are_flat_beyond_their_end_points():
 
 def test_unknown_export_format():
     with pytest.raises(ValueError, match="unknown export format 'xml'; expected one of json, fcl, fll"):
-        export_rulebase(EXAMPLE, "xml")
+        export_rulebase(EXAMPLE, "xml", VOCABULARY)

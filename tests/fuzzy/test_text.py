@@ -14,38 +14,40 @@ VOCABULARY = Vocabulary.default()
 
 
 def test_chapter_examples_parse_to_the_model():
-    assert parse_rule("if Ball is Near and Goal is not Far then KickTowardGoal Low") == Rule(
+    assert parse_rule("if Ball is Near and Goal is not Far then KickTowardGoal Low", VOCABULARY) == Rule(
         (Premise("BALL", "NEAR"), Premise("GOAL", "FAR", negated=True)), (AND,),
         Consequent("KICKTOWARDGOAL", None, "LOW"))
-    assert parse_rule("if Ball is Left then Turn Left") == Rule(
+    assert parse_rule("if Ball is Left then Turn Left", VOCABULARY) == Rule(
         (Premise("BALL", "LEFT"),), (), Consequent("TURN", "LEFT", None))
-    assert parse_rule("if Ball is At then Kick SlightlyRight High").consequent == Consequent(
+    assert parse_rule("if Ball is At then Kick SlightlyRight High", VOCABULARY).consequent == Consequent(
         "KICK", "SLIGHTLYRIGHT", "HIGH")
-    assert parse_rule("if Ball is At then DoNothing").consequent == Consequent("DONOTHING")
+    assert parse_rule("if Ball is At then DoNothing", VOCABULARY).consequent == Consequent("DONOTHING")
 
 
 def test_case_comments_blank_lines():
     text = "\n# a comment\n  IF BALL IS NOT near Or goal IS Left180 THEN runtowardball LOW   # trailing\n\n"
-    assert parse_rulebase(text) == Rulebase((Rule(
+    assert parse_rulebase(text, VOCABULARY) == Rulebase((Rule(
         (Premise("BALL", "NEAR", True), Premise("GOAL", "LEFT180")), (OR,), Consequent("RUNTOWARDBALL", None, "LOW")),))
-    assert parse_rulebase("# nothing here\n\n") == Rulebase(())
+    assert parse_rulebase("# nothing here\n\n", VOCABULARY) == Rulebase(())
 
 
 def test_printing_shows_left_to_right_grouping():
-    rule = parse_rule("if Ball is Near or Ball is not Far and Goal is Near then RunTowardBall Low")
-    assert format_rule(rule) == "if (Ball is Near or Ball is not Far) and Goal is Near then RunTowardBall Low"
-    rule = parse_rule("if Ball is Left or Goal is Near and Ball is Far or Goal is At then Dash")
-    assert format_rule(rule) == "if ((Ball is Left or Goal is Near) and Ball is Far) or Goal is At then Dash"
-    rule = parse_rule("if Ball is Left and Goal is Near and Ball is Far then Dash")
-    assert format_rule(rule) == "if Ball is Left and Goal is Near and Ball is Far then Dash"
+    rule = parse_rule("if Ball is Near or Ball is not Far and Goal is Near then RunTowardBall Low", VOCABULARY)
+    assert (format_rule(rule, VOCABULARY)
+            == "if (Ball is Near or Ball is not Far) and Goal is Near then RunTowardBall Low")
+    rule = parse_rule("if Ball is Left or Goal is Near and Ball is Far or Goal is At then Dash", VOCABULARY)
+    assert (format_rule(rule, VOCABULARY)
+            == "if ((Ball is Left or Goal is Near) and Ball is Far) or Goal is At then Dash")
+    rule = parse_rule("if Ball is Left and Goal is Near and Ball is Far then Dash", VOCABULARY)
+    assert format_rule(rule, VOCABULARY) == "if Ball is Left and Goal is Near and Ball is Far then Dash"
 
 
 def test_parentheses_that_match_the_grouping_are_accepted():
-    plain = parse_rule("if Ball is Left or Goal is Near and Ball is Far then Dash")
+    plain = parse_rule("if Ball is Left or Goal is Near and Ball is Far then Dash", VOCABULARY)
     for text in ("if (Ball is Left or Goal is Near) and Ball is Far then Dash",
                  "if ((Ball is Left or Goal is Near) and Ball is Far) then Dash",
                  "if ((Ball is Left) or Goal is Near) and Ball is Far then Dash"):
-        assert parse_rule(text) == plain
+        assert parse_rule(text, VOCABULARY) == plain
 
 
 def test_unused_and_null_fields_round_trip():
@@ -58,8 +60,8 @@ def test_unused_and_null_fields_round_trip():
         (Consequent("DONOTHING", "LEFT", "LOW"), "DoNothing [direction Left, power Low]"),
     ]:
         rule = Rule((Premise("BALL", "AT"),), (), consequent)
-        assert format_rule(rule) == f"if Ball is At then {text}"
-        assert parse_rule(format_rule(rule)) == rule
+        assert format_rule(rule, VOCABULARY) == f"if Ball is At then {text}"
+        assert parse_rule(format_rule(rule, VOCABULARY), VOCABULARY) == rule
 
 
 MALFORMED = [
@@ -93,7 +95,7 @@ MALFORMED = [
 @pytest.mark.parametrize("text, line, column, message", MALFORMED, ids=[m[3][:40] for m in MALFORMED])
 def test_malformed_text_names_line_column_and_what_was_expected(text, line, column, message):
     with pytest.raises(RuleSyntaxError) as caught:
-        parse_rulebase(text)
+        parse_rulebase(text, VOCABULARY)
     error = caught.value
     assert (error.line, error.column) == (line, column)
     assert str(error).startswith(f"line {line}, column {column}: expected ")
@@ -103,7 +105,7 @@ def test_malformed_text_names_line_column_and_what_was_expected(text, line, colu
 def test_every_error_of_a_text_is_collected():
     text = "if Ball is Near then Turn\nif Ball is Nearr then Turn\n# ok\nif Goal is Far then\nif Ball is At then Dash"
     with pytest.raises(RuleSyntaxError) as caught:
-        parse_rulebase(text)
+        parse_rulebase(text, VOCABULARY)
     assert [(e.line, e.column) for e in caught.value.errors] == [(2, 12), (4, 20)]
     assert caught.value.expected.startswith("'not' or a term")
     assert caught.value.found == "'Nearr'"
@@ -133,7 +135,7 @@ rulebases = st.lists(rules, max_size=8).map(lambda rs: Rulebase(tuple(rs)))
 
 @given(rulebases)
 def test_print_then_parse_is_the_identity(rulebase):
-    text = format_rulebase(rulebase)
-    assert parse_rulebase(text) == rulebase
-    assert parse_rulebase(text.upper()) == rulebase
-    assert format_rulebase(parse_rulebase(text)) == text
+    text = format_rulebase(rulebase, VOCABULARY)
+    assert parse_rulebase(text, VOCABULARY) == rulebase
+    assert parse_rulebase(text.upper(), VOCABULARY) == rulebase
+    assert format_rulebase(parse_rulebase(text, VOCABULARY), VOCABULARY) == text

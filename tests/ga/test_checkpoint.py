@@ -10,9 +10,12 @@ from pathlib import Path
 import pytest
 from ga_synthetic import SyntheticEvaluator
 
+from fuzzy.vocabulary import Vocabulary
 from ga.algorithms import evolve, random_search, resume
 from ga.checkpoint import CheckpointError, load_checkpoint
 from ga.config import GAConfig
+
+VOCABULARY = Vocabulary.default()
 
 CONFIG = GAConfig(population_size=24, max_generations=10, max_length=20, selection="elitist",
                   target_fitness=0.0, seed=11)
@@ -24,7 +27,9 @@ sys.path.insert(0, sys.argv[2])
 from ga_synthetic import SyntheticEvaluator
 from ga.algorithms import evolve
 from ga.config import GAConfig
-evolve(GAConfig.model_validate_json(sys.argv[3]), SyntheticEvaluator(delay=0.15), checkpoint=sys.argv[1])
+from fuzzy.vocabulary import Vocabulary
+evolve(GAConfig.model_validate_json(sys.argv[3]), SyntheticEvaluator(delay=0.15), Vocabulary.default(),
+       checkpoint=sys.argv[1])
 """
 
 
@@ -52,7 +57,7 @@ def test_a_killed_run_resumes_and_finishes_exactly_like_the_uninterrupted_run(tm
     assert 2 <= killed_at < CONFIG.max_generations - 1  # really mid-run
 
     resumed = resume(checkpoint, SyntheticEvaluator())
-    uninterrupted = evolve(CONFIG, SyntheticEvaluator())
+    uninterrupted = evolve(CONFIG, SyntheticEvaluator(), VOCABULARY)
     assert comparable(resumed) == comparable(uninterrupted)
     assert resumed.history[killed_at].wall_time <= resumed.history[-1].wall_time  # wall time carries on
     assert generation_in(checkpoint) == CONFIG.max_generations - 1  # resume keeps checkpointing
@@ -62,17 +67,17 @@ def test_resume_may_use_another_number_of_workers(tmp_path):
     checkpoint = tmp_path / "run.json"
     config = CONFIG.model_copy(update={"max_generations": 4})
     stop = threading.Event()
-    evolve(config, SyntheticEvaluator(), checkpoint=checkpoint, stop=stop,
+    evolve(config, SyntheticEvaluator(), VOCABULARY, checkpoint=checkpoint, stop=stop,
            callbacks=[lambda stats, population: stats.generation == 1 and stop.set()])
     resumed = resume(checkpoint, SyntheticEvaluator(), workers=2)
     assert resumed.config.workers == 2
-    assert comparable(resumed)[:2] == comparable(evolve(config, SyntheticEvaluator()))[:2]
+    assert comparable(resumed)[:2] == comparable(evolve(config, SyntheticEvaluator(), VOCABULARY))[:2]
 
 
 def test_resuming_a_finished_random_search_returns_its_result(tmp_path):
     checkpoint = tmp_path / "random.json"
     config = CONFIG.model_copy(update={"max_generations": 3})
-    complete = random_search(config, SyntheticEvaluator(), checkpoint=checkpoint)
+    complete = random_search(config, SyntheticEvaluator(), VOCABULARY, checkpoint=checkpoint)
     state = load_checkpoint(checkpoint)
     assert state.algorithm == "random-search" and len(state.history) == 3
     assert comparable(resume(checkpoint, SyntheticEvaluator())) == comparable(complete)  # already finished
@@ -80,7 +85,8 @@ def test_resuming_a_finished_random_search_returns_its_result(tmp_path):
 
 def test_a_checkpoint_holds_the_full_state(tmp_path):
     checkpoint = tmp_path / "run.json"
-    result = evolve(CONFIG.model_copy(update={"max_generations": 2}), SyntheticEvaluator(), checkpoint=checkpoint)
+    result = evolve(CONFIG.model_copy(update={"max_generations": 2}), SyntheticEvaluator(), VOCABULARY,
+                    checkpoint=checkpoint)
     state = load_checkpoint(checkpoint)
     assert state.config == result.config and state.history == result.history
     assert [i.to_dict() for i in state.population] == [i.to_dict() for i in result.population]

@@ -3,18 +3,21 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from fuzzy.rule import Consequent, Premise, Rule, Rulebase
+from fuzzy.vocabulary import Vocabulary
 from ga.codec import ChromosomeCodec
 from ga.genes import GeneSpace
 from ga.initialisation import random_chromosome
 from ga.notation import parse_compact
 
+VOCABULARY = Vocabulary.default()
+
 FIG_6 = "(B,L,A) (B,A,O) (G,nF,O) (Dr,n,L)"
 FIG_7 = "(B,N,O) (B,nF,A) (G,N,A) (RB,n,L) (B,A,A) (G,vN,O) (KG,n,M) (B,L,A) (T,L,n)"
-codec = ChromosomeCodec()
+codec = ChromosomeCodec(VOCABULARY)
 
 
 def decode(notation: str) -> Rulebase:
-    return codec.decode(parse_compact(notation))
+    return codec.decode(parse_compact(notation, VOCABULARY))
 
 
 def test_fig_6_fragment_decodes_to_the_chapter_rule():
@@ -56,6 +59,6 @@ def test_encode_writes_the_shortest_chromosome_for_a_rulebase():
 
 @given(st.integers(0, 2**32 - 1))
 def test_decode_encode_decode_gives_back_the_rulebase(seed):
-    chromosome = random_chromosome(GeneSpace.from_vocabulary(), 64, 0.25, np.random.default_rng(seed))
+    chromosome = random_chromosome(GeneSpace.from_vocabulary(VOCABULARY), 64, 0.25, np.random.default_rng(seed))
     rulebase = codec.decode(chromosome)
     assert codec.decode(codec.encode(rulebase)) == rulebase

@@ -2,12 +2,15 @@
 
 import numpy as np
 
+from fuzzy.vocabulary import Vocabulary
 from ga import GAConfig, evolve
 from ga.codec import ChromosomeCodec
 from ga.individual import Individual
 from soccer.config import GameConfig
 from soccer.engine import play_game
 from soccer.evaluate import SimpleSoccerEvaluator
+
+VOCABULARY = Vocabulary.default()
 
 
 def test_first_seed_is_kept_through_later_evaluations():
@@ -21,7 +24,7 @@ def test_first_seed_is_kept_through_later_evaluations():
 def test_replaying_an_individuals_first_seed_gives_its_first_fitness():
     game = GameConfig(max_ticks=150, idle_ticks=50)
     result = evolve(GAConfig(population_size=8, max_generations=2, max_length=16, seed=5),
-                    SimpleSoccerEvaluator(game))
+                    SimpleSoccerEvaluator(game), VOCABULARY)
     codec = ChromosomeCodec(result.vocabulary)
     played = [i for i in result.population if i.evaluations == 1 and len(codec.decode(i.chromosome))]
     assert played, "expected freshly evaluated, valid individuals in the last generation"

@@ -7,12 +7,15 @@ import numpy as np
 from hypothesis import given
 from hypothesis import strategies as st
 
+from fuzzy.vocabulary import Vocabulary
 from ga.crossover import one_point, two_point
 from ga.genes import GENE_WIDTH, KIND, MIN_LENGTH, GeneSpace
 from ga.initialisation import random_chromosome, random_population
 from ga.mutation import mutate
 
-SPACE = GeneSpace.from_vocabulary()
+VOCABULARY = Vocabulary.default()
+
+SPACE = GeneSpace.from_vocabulary(VOCABULARY)
 seeds = st.integers(0, 2**32 - 1)
 max_lengths = st.integers(MIN_LENGTH, 100)
 

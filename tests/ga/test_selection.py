@@ -1,12 +1,15 @@
 import numpy as np
 import pytest
 
+from fuzzy.vocabulary import Vocabulary
 from ga.config import GAConfig
 from ga.genes import GeneSpace
 from ga.individual import Individual
 from ga.initialisation import random_population
 from ga.reproduction import next_generation
 from ga.selection import elite, roulette, tournament
+
+VOCABULARY = Vocabulary.default()
 
 FITNESS = np.array([0.9, 0.1, 0.5, 0.25, 1.0])
 DRAWS = 200_000
@@ -71,14 +74,14 @@ def test_elite_takes_the_best_first_and_keeps_population_order_on_ties():
 
 def evaluated_population(size, seed):
     rng = np.random.default_rng(seed)
-    chromosomes = random_population(GeneSpace.from_vocabulary(), size, 16, 0.25, rng)
+    chromosomes = random_population(GeneSpace.from_vocabulary(VOCABULARY), size, 16, 0.25, rng)
     return [Individual(c).evaluated(float(f), 0) for c, f in zip(chromosomes, rng.uniform(0.05, 1.0, size))]
 
 
 def test_elitism_copies_the_best_five_percent_unchanged_with_their_running_means():
     config = GAConfig(population_size=40, selection="elitist", crossover_probability=1.0, mutation_probability=1.0)
     population = evaluated_population(40, seed=3)
-    following = next_generation(population, config, GeneSpace.from_vocabulary(), np.random.default_rng(0))
+    following = next_generation(population, config, GeneSpace.from_vocabulary(VOCABULARY), np.random.default_rng(0))
     best_two = sorted(population, key=lambda i: i.fitness)[:2]
     assert len(following) == 40
     assert following[:2] == best_two  # the same Individual objects: evaluations and running mean kept
@@ -88,6 +91,6 @@ def test_elitism_copies_the_best_five_percent_unchanged_with_their_running_means
 def test_children_untouched_by_crossover_and_mutation_are_their_parents():
     config = GAConfig(population_size=41, crossover_probability=0.0, mutation_probability=0.0)
     population = evaluated_population(41, seed=4)
-    following = next_generation(population, config, GeneSpace.from_vocabulary(), np.random.default_rng(0))
+    following = next_generation(population, config, GeneSpace.from_vocabulary(VOCABULARY), np.random.default_rng(0))
     assert len(following) == 41
     assert all(any(child is parent for parent in population) for child in following)

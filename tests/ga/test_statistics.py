@@ -1,13 +1,16 @@
 import numpy as np
 import pytest
 
+from fuzzy.vocabulary import Vocabulary
 from ga.individual import Individual
 from ga.notation import parse_compact
 from ga.statistics import GenerationStats, generation_stats
 
+VOCABULARY = Vocabulary.default()
+
 
 def individual(notation, fitness, goals):
-    return Individual(parse_compact(notation)).evaluated(fitness, goals)
+    return Individual(parse_compact(notation, VOCABULARY)).evaluated(fitness, goals)
 
 
 # Hand-made population; per chromosome: (genes, premises, rules, valid rules)

@@ -8,7 +8,10 @@ from pathlib import Path
 import pytest
 
 from fuzzy.parser import parse_rulebase
+from fuzzy.vocabulary import Vocabulary
 from soccer.rcss.transcript import Line, read_transcript
+
+VOCABULARY = Vocabulary.default()
 
 TRANSCRIPTS = Path(__file__).parent / "transcripts"
 GOALS = TRANSCRIPTS / "trial_goals.txt"
@@ -48,4 +51,4 @@ def out_of_play_lines(transcripts_available) -> list[Line]:
 
 @pytest.fixture(scope="session")
 def chaser():
-    return parse_rulebase(CHASER)
+    return parse_rulebase(CHASER, VOCABULARY)

@@ -4,11 +4,14 @@ import numpy as np
 import pytest
 
 from fuzzy.random_rulebase import random_rulebase
+from fuzzy.vocabulary import Vocabulary
 from soccer.config import GameConfig
 from soccer.demo import demo_rulebase
 from soccer.engine import GameBatch, play_game
 from soccer.random_stream import mix64, next_uniform, seed_states
 from soccer.world import pitch_slot
+
+VOCABULARY = Vocabulary.default()
 
 SHORT = GameConfig(max_ticks=300)
 GAMES = 60
@@ -18,14 +21,14 @@ GAMES = 60
 def population():
     rng = np.random.default_rng(2024)
     demo = demo_rulebase()
-    rulebases = [demo if g % 5 == 0 else random_rulebase(rng, rules=10) for g in range(GAMES)]
+    rulebases = [demo if g % 5 == 0 else random_rulebase(rng, VOCABULARY, rules=10) for g in range(GAMES)]
     seeds = [int(s) for s in rng.integers(0, 2**63, GAMES)]
     return rulebases, seeds
 
 
 def play_recorded(rulebases, seeds, config=SHORT):
     """Results and, per game, every tick's (observed pose and ball, action, direction, power, goals)."""
-    batch = GameBatch(rulebases, seeds, config)
+    batch = GameBatch(rulebases, seeds, config, VOCABULARY)
     rows = [[] for _ in rulebases]
     while not batch.finished:
         before = batch.ticks.copy()
@@ -83,7 +86,7 @@ def test_games_sharing_a_slot_play_in_separate_spaces_with_the_same_result():
     demo = demo_rulebase()
     seeds = [41, 41, 41, 42]
     assert pitch_slot(41) != pitch_slot(42)
-    batch = GameBatch([demo] * 4, seeds, SHORT)
+    batch = GameBatch([demo] * 4, seeds, SHORT, VOCABULARY)
     assert len(batch.world.spaces) == 3 and batch.world.layer.tolist() == [0, 1, 2, 0]
     results = batch.run()
     alone = play_game(demo, 41, SHORT, trace=False)[0]
@@ -100,12 +103,12 @@ def test_game_pushed_into_the_end_line_wall_is_the_same_alone_and_as_the_116th_g
     # Found by scoring 195 random rulebases: the player pins the ball against the end line wall,
     # pymunk's contact geometry differed by one ulp between pitch offsets, and the game diverged.
     rng = np.random.default_rng(0)
-    rulebases = [random_rulebase(rng, rules=10) for _ in range(116)]
+    rulebases = [random_rulebase(rng, VOCABULARY, rules=10) for _ in range(116)]
     seeds = [5000 + g for g in range(116)]
-    in_batch = GameBatch(rulebases, seeds).run()[115]
+    in_batch = GameBatch(rulebases, seeds, GameConfig(), VOCABULARY).run()[115]
     assert in_batch.kicks > 0 and in_batch.ticks == 1000
-    assert GameBatch(rulebases[97:], seeds[97:]).run()[18] == in_batch
-    assert GameBatch([rulebases[115]], [seeds[115]]).run()[0] == in_batch
+    assert GameBatch(rulebases[97:], seeds[97:], GameConfig(), VOCABULARY).run()[18] == in_batch
+    assert GameBatch([rulebases[115]], [seeds[115]], GameConfig(), VOCABULARY).run()[0] == in_batch
 
 
 def test_slot_hash_is_splitmix64_as_the_game_streams_use_it():

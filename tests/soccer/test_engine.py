@@ -5,10 +5,13 @@ import pytest
 
 from fuzzy.random_rulebase import random_rulebase
 from fuzzy.rule import Consequent, Premise, Rule, Rulebase
+from fuzzy.vocabulary import Vocabulary
 from soccer.config import GameConfig
 from soccer.demo import demo_rulebase
 from soccer.engine import GameBatch, play_game, play_games
 from soccer.physics import COLLISION_GAP
+
+VOCABULARY = Vocabulary.default()
 
 C = GameConfig().world.constants()
 STILL = Rulebase((Rule((Premise("GOAL", "VERYFAR"), Premise("GOAL", "VERYFAR", True)), ("OR",),
@@ -18,7 +21,7 @@ EMPTY = Rulebase(())
 
 def scripted(ball, velocity, player=(-40.0, 0.0), rulebase=STILL, config=GameConfig()):
     """A batch of one with the ball placed by hand (metres; velocity in metres per tick)."""
-    batch = GameBatch([rulebase], [1], config)
+    batch = GameBatch([rulebase], [1], config, VOCABULARY)
     ox, oy = batch.world.offsets[0]
     p, _, b, _ = batch.world.objects(0)
     p.position = (ox + player[0], oy + player[1])
@@ -122,7 +125,7 @@ def test_demo_rulebase_scores_from_most_random_starts():
 def test_game_alone_equals_game_inside_a_batch_of_200():
     rng = np.random.default_rng(7)
     demo = demo_rulebase()
-    rulebases = [demo if g % 4 == 0 else random_rulebase(rng, rules=8) for g in range(200)]
+    rulebases = [demo if g % 4 == 0 else random_rulebase(rng, VOCABULARY, rules=8) for g in range(200)]
     seeds = [1000 + 17 * g for g in range(200)]
     batched = play_games(rulebases, seeds)
     assert sum(r.goals for r in batched) > 0

@@ -3,11 +3,14 @@
 import pickle
 
 from fuzzy.parser import parse_rulebase
+from fuzzy.vocabulary import Vocabulary
 from soccer.config import GameConfig
 from soccer.demo import demo_rulebase
 from soccer.engine import play_game, play_games
 from soccer.env import SoccerEnv
 from soccer.evaluate import SimpleSoccerEvaluator, game_seeds
+
+VOCABULARY = Vocabulary.default()
 
 
 def run(env, seed, ticks):
@@ -44,7 +47,7 @@ def test_env_set_rulebase_keeps_the_game_going():
     env.reset(3)
     for _ in range(5):
         env.step()
-    state = env.set_rulebase(parse_rulebase("if Goal is not At then Turn Right"))
+    state = env.set_rulebase(parse_rulebase("if Goal is not At then Turn Right", VOCABULARY))
     assert state.tick == 5
     after = env.step()
     assert after.action == "TURN" and after.parameters == {"direction": 45.0}

@@ -1,60 +1,60 @@
-"""Each skill (spec 4.2) and the hunt (4.3) in a scripted situation."""
+"""Each skill and the hunt in a scripted situation."""
 
 import pytest
 
 from soccer.config import WorldConfig
-from soccer.skills import (A_DASH, A_DONOTHING, A_DRIBBLE, A_DRIBBLETOWARDGOAL, A_GOTOBALL, A_KICK,
-                           A_KICKTOWARDGOAL, A_RUNTOWARDBALL, A_RUNTOWARDGOAL, A_TURN, DASH, HUNT, KICK, LEFT, NONE,
-                           RIGHT, TURN, skill_command)
+from soccer.skills import (DASH, HUNT, KICK, LEFT, NONE, RIGHT, SKILL_DASH, SKILL_DONOTHING, SKILL_DRIBBLE,
+                           SKILL_DRIBBLETOWARDGOAL, SKILL_GOTOBALL, SKILL_KICK, SKILL_KICKTOWARDGOAL,
+                           SKILL_RUNTOWARDBALL, SKILL_RUNTOWARDGOAL, SKILL_TURN, TURN, skill_command)
 
 C = WorldConfig().constants()
 
 
-def command(action, direction=0.0, power=55.0, ball_visible=True, ball_distance=10.0, ball_direction=0.0,
+def command(skill, direction=0.0, power=55.0, ball_visible=True, ball_distance=10.0, ball_direction=0.0,
             goal_direction=0.0, kickable=False, last_side=LEFT, speed=0.0, assisted=True):
-    return skill_command(action, direction, power, ball_visible, ball_distance, ball_direction, goal_direction,
+    return skill_command(skill, direction, power, ball_visible, ball_distance, ball_direction, goal_direction,
                          kickable, last_side, speed, assisted, C)
 
 
 def test_turn_and_dash_pass_their_value():
-    assert command(A_TURN, direction=-30.0) == (TURN, -30.0, 0.0)
-    assert command(A_DASH, power=70.0) == (DASH, 70.0, 0.0)
+    assert command(SKILL_TURN, direction=-30.0) == (TURN, -30.0, 0.0)
+    assert command(SKILL_DASH, power=70.0) == (DASH, 70.0, 0.0)
 
 
 def test_kick_only_when_kickable():
-    assert command(A_KICK, direction=20.0, power=80.0, kickable=True) == (KICK, 80.0, 20.0)
-    assert command(A_KICK, direction=20.0, power=80.0) == (NONE, 0.0, 0.0)
+    assert command(SKILL_KICK, direction=20.0, power=80.0, kickable=True) == (KICK, 80.0, 20.0)
+    assert command(SKILL_KICK, direction=20.0, power=80.0) == (NONE, 0.0, 0.0)
 
 
 def test_run_toward_goal_turns_then_dashes_and_steers_by_known_goal():
-    kind, moment, _ = command(A_RUNTOWARDGOAL, goal_direction=120.0, speed=0.1)  # goal behind: out of view
+    kind, moment, _ = command(SKILL_RUNTOWARDGOAL, goal_direction=120.0, speed=0.1)  # goal behind: out of view
     assert kind == TURN and moment == pytest.approx(120.0 * 1.5)  # compensates the inertia: 1 + 5 x 0.1
-    assert command(A_RUNTOWARDGOAL, goal_direction=9.0, power=40.0) == (DASH, 40.0, 0.0)
+    assert command(SKILL_RUNTOWARDGOAL, goal_direction=9.0, power=40.0) == (DASH, 40.0, 0.0)
 
 
 def test_run_toward_ball_and_hunt_when_unseen():
-    assert command(A_RUNTOWARDBALL, ball_direction=-25.0)[:2] == (TURN, -25.0)
-    assert command(A_RUNTOWARDBALL, ball_direction=5.0, power=90.0) == (DASH, 90.0, 0.0)
-    assert command(A_RUNTOWARDBALL, ball_visible=False, last_side=RIGHT)[:2] == (TURN, 45.0)
+    assert command(SKILL_RUNTOWARDBALL, ball_direction=-25.0)[:2] == (TURN, -25.0)
+    assert command(SKILL_RUNTOWARDBALL, ball_direction=5.0, power=90.0) == (DASH, 90.0, 0.0)
+    assert command(SKILL_RUNTOWARDBALL, ball_visible=False, last_side=RIGHT)[:2] == (TURN, 45.0)
 
 
 def test_go_to_ball_slows_down_near_ball_and_stops_when_kickable():
-    assert command(A_GOTOBALL, power=100.0, ball_distance=20.0) == (DASH, 100.0, 0.0)
+    assert command(SKILL_GOTOBALL, power=100.0, ball_distance=20.0) == (DASH, 100.0, 0.0)
     stop = C.player_size + C.ball_size + C.kickable_margin / 2  # 0.735 m
-    kind, power, _ = command(A_GOTOBALL, power=100.0, ball_distance=1.5, speed=0.2)
+    kind, power, _ = command(SKILL_GOTOBALL, power=100.0, ball_distance=1.5, speed=0.2)
     assert kind == DASH and power == pytest.approx((1.5 - stop - 0.2) / 0.006)
-    assert command(A_GOTOBALL, ball_distance=0.9, kickable=True) == (NONE, 0.0, 0.0)
+    assert command(SKILL_GOTOBALL, ball_distance=0.9, kickable=True) == (NONE, 0.0, 0.0)
 
 
 def test_kick_toward_goal_and_dribbles():
-    assert command(A_KICKTOWARDGOAL, power=100.0, goal_direction=-12.0, kickable=True) == (KICK, 100.0, -12.0)
-    assert command(A_DRIBBLETOWARDGOAL, power=50.0, goal_direction=7.0, kickable=True) == (KICK, 15.0, 7.0)
-    assert command(A_DRIBBLE, direction=-40.0, power=50.0, kickable=True) == (KICK, 15.0, -40.0)
-    for action in (A_KICKTOWARDGOAL, A_DRIBBLETOWARDGOAL, A_DRIBBLE):  # not kickable: GOTOBALL
+    assert command(SKILL_KICKTOWARDGOAL, power=100.0, goal_direction=-12.0, kickable=True) == (KICK, 100.0, -12.0)
+    assert command(SKILL_DRIBBLETOWARDGOAL, power=50.0, goal_direction=7.0, kickable=True) == (KICK, 15.0, 7.0)
+    assert command(SKILL_DRIBBLE, direction=-40.0, power=50.0, kickable=True) == (KICK, 15.0, -40.0)
+    for action in (SKILL_KICKTOWARDGOAL, SKILL_DRIBBLETOWARDGOAL, SKILL_DRIBBLE):  # not kickable: GOTOBALL
         assert command(action, power=60.0, ball_distance=20.0) == (DASH, 60.0, 0.0)
 
 
-@pytest.mark.parametrize("action", [A_KICK, A_KICKTOWARDGOAL, A_DRIBBLETOWARDGOAL, A_DRIBBLE])
+@pytest.mark.parametrize("action", [SKILL_KICK, SKILL_KICKTOWARDGOAL, SKILL_DRIBBLETOWARDGOAL, SKILL_DRIBBLE])
 def test_strict_kicking_skills_do_nothing_with_the_ball_out_of_reach(action):
     assert command(action, power=60.0, ball_distance=20.0, assisted=False) == (NONE, 0.0, 0.0)
     assert command(action, power=60.0, ball_visible=False, assisted=False) == (NONE, 0.0, 0.0)
@@ -65,7 +65,7 @@ def test_strict_kicking_skills_do_nothing_with_the_ball_out_of_reach(action):
 
 
 def test_do_nothing():
-    assert command(A_DONOTHING, kickable=True) == (NONE, 0.0, 0.0)
+    assert command(SKILL_DONOTHING, kickable=True) == (NONE, 0.0, 0.0)
 
 
 def test_hunt_faces_visible_ball_else_turns_toward_last_side():

@@ -56,7 +56,7 @@ class EditorPanel:
     def show_rulebase(self, rulebase: Rulebase) -> None:
         """Called when a rulebase is put on the pitch (from here, the library or an evolution)."""
         self.text.value = format_rulebase(rulebase, self.vocabulary)
-        self.compact.value = format_compact(self.codec.encode(rulebase))
+        self.compact.value = format_compact(self.codec.encode(rulebase), self.vocabulary)
         self.name.content = (
             f'<div style="{style.FONT}; font-size:{style.FONT_SIZE}px">On the pitch: '
             f"<b>{escape(self.session.game.name)}</b> ({len(rulebase)} rules)</div>"
@@ -114,12 +114,12 @@ class EditorPanel:
         except RuleSyntaxError as exc:
             self._say("Fix the rules first:", error=True, lines=[str(e) for e in exc.errors])
             return
-        self.compact.value = format_compact(self.codec.encode(rulebase))
+        self.compact.value = format_compact(self.codec.encode(rulebase), self.vocabulary)
         self._say(f"Encoded {len(rulebase)} rules as genes.")
 
     def genes_to_rules(self) -> None:
         try:
-            rulebase = self.codec.decode(parse_compact(self.compact.value))
+            rulebase = self.codec.decode(parse_compact(self.compact.value, self.vocabulary))
         except (NotationError, ValueError) as exc:
             self._say(f"Cannot read the genes: {exc}", error=True)
             return
