@@ -21,6 +21,7 @@ from typing import Any, Mapping
 import numpy as np
 import rerun as rr
 
+from app.pitch_markings import CENTRE_CIRCLE_RADIUS
 from soccer.config import WorldConfig
 
 APPLICATION_ID = "soccer-lab"
@@ -42,7 +43,6 @@ NOT_A_SERIES = ("generation",)
 # Drawing (display only; the world's geometry comes from WorldConfig).
 VIEW_CONE_LENGTH = 20.0  # metres drawn along each edge of the view cone
 FACING_LENGTH = 1.5
-CENTRE_CIRCLE_RADIUS = 9.15
 CIRCLE_SEGMENTS = 48
 PITCH_COLOUR = (230, 230, 230)
 GOAL_COLOUR = (255, 215, 0)

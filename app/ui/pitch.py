@@ -13,6 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 import viser
 
+from app.pitch_markings import CENTRE_CIRCLE_RADIUS, GOAL_AREA, PENALTY_AREA
 from app.ui import style
 from soccer.config import WorldConfig
 
@@ -72,9 +73,9 @@ def marking_segments(geometry: PitchGeometry) -> np.ndarray:
     hl, hw = geometry.half_length, geometry.half_width
     pairs = _segments([(-hl, -hw), (hl, -hw), (hl, hw), (-hl, hw)], closed=True)
     pairs += [((0.0, -hw), (0.0, hw))]
-    pairs += _segments(_circle(0.0, 0.0, style.CENTRE_CIRCLE_RADIUS))
+    pairs += _segments(_circle(0.0, 0.0, CENTRE_CIRCLE_RADIUS))
     for side in (-1.0, 1.0):
-        for depth, width in (style.PENALTY_AREA, style.GOAL_AREA):
+        for depth, width in (PENALTY_AREA, GOAL_AREA):
             line = side * hl
             inner = side * (hl - depth)
             pairs += _segments([(line, -width / 2), (inner, -width / 2), (inner, width / 2), (line, width / 2)])

@@ -6,6 +6,7 @@ tick. Evolution runs elsewhere (the RunManager's threads); the session only list
 
 from __future__ import annotations
 
+import functools
 import logging
 import threading
 import time
@@ -38,6 +39,7 @@ class Session:
         self._tick_budget = 0.0
         self._game_over_since: float | None = None
         self._closed = threading.Event()
+        self._ticks_per_second = 1.0 / context.game.world.tick_seconds  # at 1x speed
         self.game = Game(context, context.demo_rulebase(), context.demo_name, seed=style.DEFAULT_SEED)
         self._build()
         self._thread = threading.Thread(target=self._loop, name=f"ui-session-{client.client_id}", daemon=True)
@@ -45,12 +47,13 @@ class Session:
 
     # ---- layout ---------------------------------------------------------------------------
     def _build(self) -> None:
-        gui = self.client.gui
+        gui, context = self.client.gui, self.context
         gui.configure_theme(dark_mode=False, show_logo=False, show_share_button=False, brand_color=(25, 118, 210))
         main = gui.main_panel
         main.dock_left()
         main.set_width(style.LEFT_PANEL_WIDTH)
-        self.pitch = PitchView(self.client.scene, PitchGeometry.from_world(self.context.game.world))
+        self.pitch = PitchView(self.client.scene, PitchGeometry.from_world(context.game.world))
+        play = functools.partial(self.load_rulebase, restart=True)  # a new player starts a new game
         tabs = gui.add_tab_group()
         with tabs.add_tab("Play", viser.Icon.PLAYER_PLAY):
             self.controls = PlayControls(
@@ -58,18 +61,28 @@ class Session:
                 on_reset_view=lambda: self.pitch.fit_camera(self.client.camera),
             )
         with tabs.add_tab("Rules", viser.Icon.PENCIL):
-            self.editor = EditorPanel(gui, self)
+            self.editor = EditorPanel(
+                gui, context.vocabulary, context.store, (self.game.rulebase, self.game.name),
+                on_apply=self.load_rulebase, on_saved=lambda: self.library.refresh(),
+            )
         with tabs.add_tab("Evolve", viser.Icon.DNA):
-            self.evolve = EvolvePanel(gui, self)
+            self.evolve = EvolvePanel(
+                gui, context.runs, context.store, on_load=play,
+                on_generation=lambda *finished: self.population.generation_finished(*finished),
+                on_runs_changed=lambda: self.library.refresh(),
+            )
         with tabs.add_tab("Library", viser.Icon.BOOKS):
-            self.library = LibraryPanel(gui, self)
+            self.library = LibraryPanel(gui, context.store, context.runs, context.vocabulary, context.api_url,
+                                        on_load=play)
         right = gui.add_panel()
         with right.add_tab("Inference", viser.Icon.BRAIN):
-            self.inference = InferencePanel(gui, self.context.vocabulary, on_change=self.refresh)
+            self.inference = InferencePanel(gui, context.vocabulary, on_change=self.refresh)
         with right.add_tab("Policy map", viser.Icon.MAP):
-            self.policy = PolicyPanel(gui, self)
+            self.policy = PolicyPanel(gui, context.vocabulary, self.game.rulebase, self.game.view_half_angle,
+                                      on_change=self.refresh)
         with right.add_tab("Population", viser.Icon.LAYOUT_GRID):
-            self.population = PopulationPanel(gui, self)
+            self.population = PopulationPanel(gui, context.game, context.vocabulary,
+                                              start_seed=lambda: self.game.seed)
         right.dock_right()
         right.set_width(style.RIGHT_PANEL_WIDTH)
         self._aspect = 0.0
@@ -81,7 +94,6 @@ class Session:
                 self._aspect = camera.aspect
                 self.pitch.fit_camera(camera)
 
-        self.editor.show_rulebase(self.game.rulebase)
         self._render()
 
     # ---- controls -------------------------------------------------------------------------
@@ -109,8 +121,8 @@ class Session:
             self.game.set_rulebase(rulebase, name)
             if restart:
                 self.game.restart(self.game.seed)
-            self.editor.show_rulebase(rulebase)
-            self.policy.invalidate()
+            self.editor.show_rulebase(rulebase, name)
+            self.policy.show_rulebase(rulebase)
             self._render()
 
     def refresh(self) -> None:
@@ -154,7 +166,7 @@ class Session:
 
     def _due_ticks(self) -> int:
         """Ticks to play this frame so the game runs at `speed` times real time."""
-        self._tick_budget += float(self.controls.speed.value) * style.TICKS_PER_SECOND / style.FRAME_RATE
+        self._tick_budget += float(self.controls.speed.value) * self._ticks_per_second / style.FRAME_RATE
         ticks = int(self._tick_budget)
         self._tick_budget -= ticks
         return ticks

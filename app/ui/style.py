@@ -6,11 +6,9 @@ Sizes are chosen for a projector: large type, thick lines, strong contrast.
 from __future__ import annotations
 
 FRAME_RATE = 30.0  # frames per second the session loop aims for
-TICKS_PER_SECOND = 10.0  # one simulator tick = 100 ms, so 1x speed is 10 ticks a second
-DEFAULT_SPEED = 2.0  # times real time: a 1000-tick game takes 50 s, watchable and lively
+DEFAULT_SPEED = 2.0  # times real time (WorldConfig.tick_seconds per tick at 1x): lively yet watchable
 SPEED_RANGE = (0.25, 20.0)
 DEFAULT_SEED = 1
-PANEL_REFRESH_EVERY = 1  # redraw the inference panels every this many frames
 
 # Player and ball are drawn larger than life so they read on a projector; the legend says so.
 PLAYER_DRAW_RADIUS = 1.6
@@ -18,11 +16,6 @@ BALL_DRAW_RADIUS = 0.9
 VIEW_CONE_LENGTH = 30.0  # the view is unbounded in distance; the cone shows its angle
 LINE_THICKNESS = 0.35
 PITCH_MARGIN = 5.0  # grass beyond the lines, metres
-
-# Standard pitch markings (metres); the simulator's own dimensions come from soccer's parameters.
-CENTRE_CIRCLE_RADIUS = 9.15
-PENALTY_AREA = (16.5, 40.32)  # depth, width
-GOAL_AREA = (5.5, 18.32)
 
 GRASS = (46, 125, 50)
 GRASS_STRIPE = (56, 142, 60)
@@ -34,7 +27,6 @@ BALL_TRAIL = (255, 224, 130)
 VIEW_CONE = (255, 255, 255)
 VIEW_CONE_OPACITY = 0.18
 GOAL_NET = (230, 230, 230)
-KICKABLE_RING = (144, 202, 249)
 
 # Panel palette (HTML/SVG): hex strings.
 INK = "#1f2933"
@@ -44,7 +36,6 @@ ACCENT = "#1976d2"
 FIRED = "#2e7d32"
 SELECTED = "#e65100"
 ERROR = "#c62828"
-TERM_FILL = "#bbdefb"
 CLIP_FILL = "#ff9800"
 FONT = "font-family: Inter, 'Segoe UI', Helvetica, Arial, sans-serif"
 FONT_SIZE = 15  # px, panel body text

@@ -3,30 +3,43 @@ chromosome in the chapter's compact notation, both ways."""
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import Callable
 
 import viser
 
-from app.store import StoreError
+from app.store import Store, StoreError
 from app.ui import style
 from app.ui.panels.svg import escape
 from fuzzy.parser import RuleSyntaxError, parse_rulebase
 from fuzzy.printer import format_rulebase
 from fuzzy.rule import Rulebase
+from fuzzy.vocabulary import Vocabulary
 from ga.codec import ChromosomeCodec
 from ga.notation import NotationError, format_compact, parse_compact
-
-if TYPE_CHECKING:
-    from app.ui.session import Session
 
 EDITED_NAME = "edited"
 UNDO_DEPTH = 50
 
 
 class EditorPanel:
-    def __init__(self, gui: viser.GuiApi, session: "Session"):
-        self.session = session
-        self.vocabulary = session.context.vocabulary
+    """Shows `on_pitch` (rulebase, name) first. `on_apply(rulebase, name)` puts rules on the pitch;
+    `on_saved()` follows a save to the library. The session calls `show_rulebase` whenever a rulebase
+    goes on the pitch, from here or elsewhere."""
+
+    def __init__(
+        self,
+        gui: viser.GuiApi,
+        vocabulary: Vocabulary,
+        store: Store,
+        on_pitch: tuple[Rulebase, str],
+        *,
+        on_apply: Callable[[Rulebase, str], None],
+        on_saved: Callable[[], None],
+    ):
+        self.vocabulary = vocabulary
+        self.store = store
+        self.on_apply = on_apply
+        self.on_saved = on_saved
         self.history: list[tuple[Rulebase, str]] = []
         self.codec = ChromosomeCodec(self.vocabulary)
         self.name = gui.add_html("")
@@ -52,14 +65,17 @@ class EditorPanel:
         def _(event: viser.GuiEvent) -> None:
             self.rules_to_genes() if event.target.value == "Rules → genes" else self.genes_to_rules()
 
+        self.show_rulebase(*on_pitch)
+
     # ---- showing ----------------------------------------------------------------------------
-    def show_rulebase(self, rulebase: Rulebase) -> None:
+    def show_rulebase(self, rulebase: Rulebase, name: str) -> None:
         """Called when a rulebase is put on the pitch (from here, the library or an evolution)."""
+        self.on_pitch = (rulebase, name)
         self.text.value = format_rulebase(rulebase, self.vocabulary)
         self.compact.value = format_compact(self.codec.encode(rulebase), self.vocabulary)
         self.name.content = (
             f'<div style="{style.FONT}; font-size:{style.FONT_SIZE}px">On the pitch: '
-            f"<b>{escape(self.session.game.name)}</b> ({len(rulebase)} rules)</div>"
+            f"<b>{escape(name)}</b> ({len(rulebase)} rules)</div>"
         )
 
     def _say(self, text: str, *, error: bool = False, lines: list[str] | None = None) -> None:
@@ -81,9 +97,8 @@ class EditorPanel:
         if not len(rulebase):
             self._say("No rules: write at least one rule (the player would only hunt).", error=True)
             return
-        game = self.session.game
-        self.history = (self.history + [(game.rulebase, game.name)])[-UNDO_DEPTH:]
-        self.session.load_rulebase(rulebase, EDITED_NAME)
+        self.history = (self.history + [self.on_pitch])[-UNDO_DEPTH:]
+        self.on_apply(rulebase, EDITED_NAME)
         self._say(f"Applied {len(rulebase)} rules; the player now plays them.")
 
     def undo(self) -> None:
@@ -91,7 +106,7 @@ class EditorPanel:
             self._say("Nothing to undo.", error=True)
             return
         rulebase, name = self.history.pop()
-        self.session.load_rulebase(rulebase, name)
+        self.on_apply(rulebase, name)
         self._say(f"Back to {name}.")
 
     def save(self) -> None:
@@ -99,14 +114,14 @@ class EditorPanel:
         if not name:
             self._say("Give the rulebase a name to save it.", error=True)
             return
-        text = format_rulebase(self.session.game.rulebase, self.vocabulary)
+        text = format_rulebase(self.on_pitch[0], self.vocabulary)
         try:
-            record = self.session.context.store.create_rulebase(name, text)
+            record = self.store.create_rulebase(name, text)
         except StoreError as exc:
             self._say(f"Not saved: {exc}", error=True)
             return
         self._say(f"Saved the rules on the pitch as “{record.name}” (#{record.id}).")
-        self.session.library.refresh()
+        self.on_saved()
 
     def rules_to_genes(self) -> None:
         try:

@@ -4,20 +4,18 @@ and mean fitness, and the best player so far loadable onto the pitch while evolu
 from __future__ import annotations
 
 import typing
-from typing import TYPE_CHECKING, Any
+from typing import Any, Callable, Sequence
 
 import numpy as np
 import viser
 import viser.uplot
 
-from app.runs import RunEvent, RunStateError
-from app.store import NotFound, RunStatus
+from app.runs import RunEvent, RunManager, RunStateError, SampledPlayer
+from app.store import NotFound, RunStatus, Store
 from app.ui import style
 from app.ui.panels.svg import escape
+from fuzzy.rule import Rulebase
 from ga.config import GAConfig
-
-if TYPE_CHECKING:
-    from app.ui.session import Session
 
 RUN_NAME = "from the UI"
 LABELS = {  # what a teacher reads next to each field; fields missing here show their own name
@@ -45,9 +43,25 @@ def ga_fields() -> dict[str, Any]:
 
 
 class EvolvePanel:
-    def __init__(self, gui: viser.GuiApi, session: "Session"):
-        self.session = session
-        self.runs = session.context.runs
+    """Starts and follows this tab's evolution. Callbacks: `on_load(rulebase, name)` puts the best player
+    so far on the pitch; `on_generation(run_id, generation, players)` hands each finished generation's
+    best players on (from the run's thread); `on_runs_changed()` follows a run starting or ending."""
+
+    def __init__(
+        self,
+        gui: viser.GuiApi,
+        runs: RunManager,
+        store: Store,
+        *,
+        on_load: Callable[[Rulebase, str], None],
+        on_generation: Callable[[int, int, Sequence[SampledPlayer]], None],
+        on_runs_changed: Callable[[], None],
+    ):
+        self.runs = runs
+        self.store = store
+        self.on_load = on_load
+        self.on_generation = on_generation
+        self.on_runs_changed = on_runs_changed
         self.run_id: int | None = None
         self.generations: list[int] = []
         self.best: list[float] = []
@@ -118,7 +132,7 @@ class EvolvePanel:
         self.plot.scales = self._plot_scales()
         self._redraw_plot()
         self.status.content = self._status_html(f"Run #{record.id} started: evaluating generation 0 …")
-        self.session.library.refresh()
+        self.on_runs_changed()
 
     def stop(self) -> None:
         if self.run_id is None or not self.runs.is_active(self.run_id):
@@ -135,12 +149,12 @@ class EvolvePanel:
             return
         try:
             rulebase = self.runs.best_rulebase(self.run_id)
-            best = self.session.context.store.best_individual(self.run_id)
+            best = self.store.best_individual(self.run_id)
         except (NotFound, ValueError) as exc:
             self.status.content = self._status_html(f"No best player yet: {exc}", error=True)
             return
         name = f"run #{self.run_id} best (gen {best.generation}, fitness {best.fitness:.3f})"
-        self.session.load_rulebase(rulebase, name, restart=True)
+        self.on_load(rulebase, name)
 
     def close(self) -> None:
         self._remove_listener()
@@ -156,7 +170,7 @@ class EvolvePanel:
             self.best.append(float(stats["best"]))
             self.mean.append(float(stats["mean"]))
             self._redraw_plot()
-            self.session.population.generation_finished(event.run_id, int(stats["generation"]), event.players)
+            self.on_generation(event.run_id, int(stats["generation"]), event.players)
             self.progress.value = min(100.0, 100.0 * (stats["generation"] + 1) / total)
             self.load_best.disabled = False
             self.status.content = self._status_html(
@@ -171,7 +185,7 @@ class EvolvePanel:
             self.status.content = self._status_html(
                 f"Run #{event.run_id} {event.status}{best}.", error=event.status is RunStatus.FAILED
             )
-            self.session.library.refresh()
+            self.on_runs_changed()
 
     def _plot_data(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         if not self.generations:  # uPlot needs a point to set its scales up; NaN draws nothing

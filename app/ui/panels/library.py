@@ -3,20 +3,19 @@ experiments (their summary, a link to the report, each figure)."""
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import Callable
 
 import viser
 
 from app.experiment.library import ExperimentFolder, FigureFile
-from app.runs import RunStateError
-from app.store import NotFound, StoreError
+from app.runs import RunManager, RunStateError
+from app.store import NotFound, Store, StoreError
 from app.ui import style
 from app.ui.panels.experiments import experiment_html, experiment_label, figure_html
 from app.ui.panels.svg import escape
 from fuzzy.parser import RuleSyntaxError, parse_rulebase
-
-if TYPE_CHECKING:
-    from app.ui.session import Session
+from fuzzy.rule import Rulebase
+from fuzzy.vocabulary import Vocabulary
 
 NONE = "(none yet)"
 
@@ -32,9 +31,24 @@ def _id_of(label: str) -> int | None:
 
 
 class LibraryPanel:
-    def __init__(self, gui: viser.GuiApi, session: "Session"):
-        self.session = session
-        self.store = session.context.store
+    """`on_load(rulebase, name)` puts a saved rulebase or a run's best player on the pitch. `api_url`:
+    where the JSON API answers, for links to the files it serves (None: no links)."""
+
+    def __init__(
+        self,
+        gui: viser.GuiApi,
+        store: Store,
+        runs: RunManager,
+        vocabulary: Vocabulary,
+        api_url: str | None,
+        *,
+        on_load: Callable[[Rulebase, str], None],
+    ):
+        self.store = store
+        self.run_manager = runs
+        self.vocabulary = vocabulary
+        self.api_url = api_url
+        self.on_load = on_load
         gui.add_markdown("**Saved rulebases**")
         self.rulebases = gui.add_dropdown("Rulebase", (NONE,))
         rulebase_actions = gui.add_button_group("Rulebase actions", ("Open", "Rename", "Delete"))
@@ -120,11 +134,11 @@ class LibraryPanel:
             return
         try:
             record = self.store.get_rulebase(record_id)
-            rulebase = parse_rulebase(record.text, self.session.context.vocabulary)
+            rulebase = parse_rulebase(record.text, self.vocabulary)
         except (NotFound, RuleSyntaxError) as exc:
             self._say(f"Cannot open: {exc}", error=True)
             return
-        self.session.load_rulebase(rulebase, record.name, restart=True)
+        self.on_load(rulebase, record.name)
         self._say(f"“{record.name}” is on the pitch.")
 
     def rename_rulebase(self) -> None:
@@ -157,13 +171,13 @@ class LibraryPanel:
         if record_id is None:
             return
         try:
-            rulebase = self.session.context.runs.best_rulebase(record_id)
+            rulebase = self.run_manager.best_rulebase(record_id)
             best = self.store.best_individual(record_id)
         except (NotFound, RuleSyntaxError) as exc:
             self._say(f"No best player yet: {exc}", error=True)
             return
         name = f"run #{record_id} best (gen {best.generation}, fitness {best.fitness:.3f})"
-        self.session.load_rulebase(rulebase, name, restart=True)
+        self.on_load(rulebase, name)
         self._say(f"Watching {name}.")
 
     def rename_run(self) -> None:
@@ -183,7 +197,7 @@ class LibraryPanel:
         if record_id is None:
             return
         try:
-            self.session.context.runs.delete(record_id)
+            self.run_manager.delete(record_id)
         except (NotFound, RunStateError) as exc:
             self._say(str(exc), error=True)
             return
@@ -206,7 +220,7 @@ class LibraryPanel:
             else:
                 folder = ExperimentFolder(record.folder, record.summary)
                 figures = folder.figures()
-                self.experiment_view.content = experiment_html(record, folder, self.session.context.api_url)
+                self.experiment_view.content = experiment_html(record, folder, self.api_url)
         self._figure_files = {figure.caption: figure for figure in figures}
         options = tuple(self._figure_files) or (NONE,)
         if tuple(self.figures.options) != options:

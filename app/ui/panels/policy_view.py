@@ -3,25 +3,29 @@
 from __future__ import annotations
 
 import time
-from typing import TYPE_CHECKING, Mapping
+from typing import Callable, Mapping
 
 import viser
 
 from app.ui import style
 from app.ui.panels.policy import (DIRECTION_INPUT, DISTANCE_INPUT, GOAL_DIRECTION_INPUT, GOAL_DISTANCE_INPUT,
                                   policy_grid, policy_map_html)
-
-if TYPE_CHECKING:
-    from app.ui.session import Session
+from fuzzy.rule import Rulebase
+from fuzzy.vocabulary import Vocabulary
 
 INITIAL_GOAL_DISTANCE = 30.0
 INITIAL_GOAL_DIRECTION = 0.0
 
 
 class PolicyPanel:
-    def __init__(self, gui: viser.GuiApi, session: "Session"):
-        self.session = session
-        vocabulary = session.context.vocabulary
+    """The map of `show_rulebase`'s rules, marked at the inputs `show_current` gets each frame.
+    `on_change()` asks for a redraw when the user changes a control (also while the game is paused)."""
+
+    def __init__(self, gui: viser.GuiApi, vocabulary: Vocabulary, rulebase: Rulebase, view_half_angle: float,
+                 *, on_change: Callable[[], None]):
+        self.vocabulary = vocabulary
+        self.rulebase = rulebase
+        self.view_half_angle = view_half_angle
         distance = vocabulary.variables[vocabulary.inputs[GOAL_DISTANCE_INPUT]]
         direction = vocabulary.variables[vocabulary.inputs[GOAL_DIRECTION_INPUT]]
         self.follow = gui.add_checkbox("Goal inputs follow the player", True)
@@ -39,17 +43,24 @@ class PolicyPanel:
         self._grid = None
         self._last_render = 0.0
         self._last_html = ""
+        self._controls_changed = False
         for handle in (self.follow, self.goal_visible, self.goal_distance, self.goal_direction, self.output):
-            handle.on_update(lambda _: self.show_current(self.session.game.inputs(), force=True))
+            handle.on_update(lambda _: self._control_changed(on_change))
 
-    def invalidate(self) -> None:
+    def _control_changed(self, on_change: Callable[[], None]) -> None:
+        self._controls_changed = True
+        on_change()
+
+    def show_rulebase(self, rulebase: Rulebase) -> None:
+        self.rulebase = rulebase
         self._grid_key = None
 
-    def show_current(self, inputs: Mapping[str, float | None], *, force: bool = False) -> None:
+    def show_current(self, inputs: Mapping[str, float | None]) -> None:
         now = time.perf_counter()
-        if not force and now - self._last_render < style.POLICY_REFRESH_SECONDS:
+        if not self._controls_changed and now - self._last_render < style.POLICY_REFRESH_SECONDS:
             return
         self._last_render = now
+        self._controls_changed = False
         if self.follow.value:
             goal_distance, goal_direction = inputs.get(GOAL_DISTANCE_INPUT), inputs.get(GOAL_DIRECTION_INPUT)
             goal_visible = goal_distance is not None
@@ -61,17 +72,16 @@ class PolicyPanel:
         else:
             goal_distance, goal_direction = self.goal_distance.value, self.goal_direction.value
             goal_visible = self.goal_visible.value
-        game = self.session.game
-        key = (id(game.rulebase), goal_distance, goal_direction, goal_visible, self.output.value)
+        key = (id(self.rulebase), goal_distance, goal_direction, goal_visible, self.output.value)
         if key != self._grid_key:
             self._grid_key = key
             self._grid = policy_grid(
-                self.session.context.vocabulary, game.rulebase, float(goal_distance), float(goal_direction),
-                bool(goal_visible), game.view_half_angle, self.output.value,
+                self.vocabulary, self.rulebase, float(goal_distance), float(goal_direction),
+                bool(goal_visible), self.view_half_angle, self.output.value,
             )
         ball = inputs.get(DISTANCE_INPUT), inputs.get(DIRECTION_INPUT)
         current = (float(ball[0]), float(ball[1])) if ball[0] is not None else None
-        html = policy_map_html(self.session.context.vocabulary, self._grid, self.output.value, current)
+        html = policy_map_html(self.vocabulary, self._grid, self.output.value, current)
         caption = (
             f'<div style="{style.FONT}; font-size:{style.SMALL_FONT_SIZE + 1}px; color:{style.MUTED}">'
             f"Goal {'in view at ' + format(goal_distance, 'g') + ' m, ' + format(goal_direction, 'g') + '°' if goal_visible else 'out of view'}"

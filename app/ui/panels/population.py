@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import threading
 import time
-from typing import TYPE_CHECKING, Sequence
+from typing import TYPE_CHECKING, Callable, Sequence
 
 import numpy as np
 import viser
@@ -15,11 +15,12 @@ import viser
 from app.ui import style
 from app.ui.panels.svg import escape, svg_open
 from app.ui.pitch import PitchGeometry
+from fuzzy.vocabulary import Vocabulary
+from soccer.config import GameConfig
 from soccer.engine import GameBatch
 
 if TYPE_CHECKING:
     from app.runs import SampledPlayer
-    from app.ui.session import Session
 
 OBSERVED_PLAYER, OBSERVED_FACING, OBSERVED_BALL = slice(0, 2), 2, slice(3, 5)  # GameBatch.observed columns
 EMPTY_TEXT = ("Start an evolution in the Evolve tab: the best players of each generation will play here, "
@@ -78,9 +79,15 @@ def _mini_pitch(geometry: PitchGeometry, observed: np.ndarray, goals: int, done:
 
 
 class PopulationPanel:
-    def __init__(self, gui: viser.GuiApi, session: "Session"):
-        self.session = session
-        self.geometry = PitchGeometry.from_world(session.context.game.world)
+    """`start_seed()`: the seed every small pitch starts from (the main pitch's, so the class sees a
+    start it knows)."""
+
+    def __init__(self, gui: viser.GuiApi, game: GameConfig, vocabulary: Vocabulary, *,
+                 start_seed: Callable[[], int]):
+        self.game = game
+        self.vocabulary = vocabulary
+        self.start_seed = start_seed
+        self.geometry = PitchGeometry.from_world(game.world)
         self.caption = gui.add_html("")
         self.grid = gui.add_html(
             f'<div style="{style.FONT}; color:{style.MUTED}; font-size:{style.FONT_SIZE}px">{escape(EMPTY_TEXT)}</div>'
@@ -117,9 +124,8 @@ class PopulationPanel:
 
     def _rebuild(self, run_id: int, generation: int, players: Sequence["SampledPlayer"]) -> None:
         shown = list(players)[: style.POPULATION_GRID[0] * style.POPULATION_GRID[1]]
-        seed = self.session.game.seed  # one start for all, so the players are compared fairly
-        self.batch = GameBatch([p.rulebase for p in shown], [seed] * len(shown), self.session.context.game,
-                               self.session.context.vocabulary)
+        seed = self.start_seed()  # one start for all, so the players are compared fairly
+        self.batch = GameBatch([p.rulebase for p in shown], [seed] * len(shown), self.game, self.vocabulary)
         self.labels = [f"#{rank} · {player.fitness:.2f}" for rank, player in enumerate(shown, start=1)]
         self.caption.content = (
             f'<div class="population-caption" data-run="{run_id}" data-generation="{generation}" '

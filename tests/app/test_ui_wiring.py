@@ -1,0 +1,102 @@
+"""The panels stand on their own: each gets the data it shows and narrow callbacks, never the session.
+Built on a real viser server (no browser); their buttons' work is called directly."""
+
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+import pytest
+
+from fuzzy.parser import parse_rulebase
+from fuzzy.printer import format_rulebase
+from fuzzy.vocabulary import Vocabulary
+from tests.app.test_ui_browser import free_port
+
+PANELS = Path(__file__).resolve().parents[2] / "app" / "ui" / "panels"
+VOCABULARY = Vocabulary.default()
+DEMO = parse_rulebase("if Ball is At then KickTowardGoal High\nif Ball is not At then GoToBall VeryHigh")
+
+
+@pytest.fixture(scope="module")
+def gui():
+    import viser
+
+    server = viser.ViserServer(host="127.0.0.1", port=free_port(), verbose=False)
+    yield server.gui
+    server.stop()
+
+
+@pytest.fixture
+def store(tmp_path):
+    from app.store import Store
+
+    store = Store(tmp_path / "db.sqlite3")
+    yield store
+    store.close()
+
+
+def test_no_panel_imports_the_session():
+    for path in PANELS.glob("*.py"):
+        imported = {node.module for node in ast.walk(ast.parse(path.read_text())) if isinstance(node, ast.ImportFrom)}
+        assert "app.ui.session" not in imported, f"{path.name} reaches into the session"
+
+
+def test_editor_applies_undoes_and_saves_through_its_callbacks(gui, store):
+    from app.ui.panels.editor import EDITED_NAME, EditorPanel
+
+    applied, saved = [], []
+    editor = EditorPanel(gui, VOCABULARY, store, (DEMO, "demo"), on_apply=lambda r, n: applied.append((r, n)),
+                         on_saved=lambda: saved.append(True))
+    editor.text.value = "if Ball is Near then Turn Left"
+    editor.apply()
+    (rulebase, name), = applied
+    assert name == EDITED_NAME and format_rulebase(rulebase) == "if Ball is Near then Turn Left"
+    editor.show_rulebase(rulebase, name)  # what the session does once it is on the pitch
+    editor.undo()
+    assert applied[-1] == (DEMO, "demo")
+    editor.save_name.value = "turner"
+    editor.save()
+    assert saved == [True]
+    assert [r.name for r in store.list_rulebases()] == ["turner"]
+    assert store.list_rulebases()[0].text.strip() == "if Ball is Near then Turn Left"
+
+
+def test_editor_with_an_error_calls_nothing(gui, store):
+    from app.ui.panels.editor import EditorPanel
+
+    applied = []
+    editor = EditorPanel(gui, VOCABULARY, store, (DEMO, "demo"), on_apply=lambda r, n: applied.append(n),
+                         on_saved=lambda: None)
+    editor.text.value = "if Ball is Nearish then Turn Left"
+    editor.apply()
+    assert applied == [] and 'data-error="true"' in editor.message.content
+
+
+def test_library_opens_a_saved_rulebase_through_on_load(gui, store, tmp_path):
+    from app.runs import RunManager
+    from app.ui.panels.library import LibraryPanel
+
+    record = store.create_rulebase("striker", format_rulebase(DEMO))
+    loaded = []
+    library = LibraryPanel(gui, store, RunManager(store, tmp_path), VOCABULARY, None,
+                           on_load=lambda r, n: loaded.append((format_rulebase(r), n)))
+    assert library.rulebases.value == f"#{record.id} striker"
+    library.open_rulebase()
+    assert loaded == [(format_rulebase(DEMO), "striker")]
+
+
+def test_policy_map_redraws_for_a_control_change_and_a_new_rulebase(gui):
+    from app.ui.panels.policy_view import PolicyPanel
+
+    redraws = []
+    policy = PolicyPanel(gui, VOCABULARY, DEMO, 45.0, on_change=lambda: redraws.append(True))
+    inputs = {"ball_distance": 5.0, "ball_direction": 0.0, "goal_distance": 30.0, "goal_direction": 0.0}
+    policy.show_current(inputs)
+    first = policy.map.content
+    assert "GoToBall" in first
+    policy.show_rulebase(parse_rulebase("if Ball is not At then Turn Left"))
+    policy.output.value = "direction"  # the user picks another output: the panel asks for a redraw
+    assert redraws == [True]
+    policy.show_current(inputs)  # the redraw it asked for, however soon it comes
+    assert "Turn" in policy.map.content and "GoToBall" not in policy.map.content
