@@ -74,11 +74,6 @@ def test_every_finished_generation_is_published_with_its_best_players(tmp_path):
     store.close()
 
 
-def fake_session(seed: int = 5) -> SimpleNamespace:
-    context = SimpleNamespace(game=GameConfig(max_ticks=200), vocabulary=Vocabulary.default())
-    return SimpleNamespace(context=context, game=SimpleNamespace(seed=seed))
-
-
 class FakeGui:
     """Only what the panel asks of viser: HTML elements whose content it sets."""
 
@@ -86,10 +81,17 @@ class FakeGui:
         return SimpleNamespace(content=content)
 
 
+GAME = GameConfig(max_ticks=200)
+SEED = 5  # the main pitch's seed, where every small pitch starts
+
+
+def population_panel() -> PopulationPanel:
+    return PopulationPanel(FakeGui(), GAME, VOCABULARY, start_seed=lambda: SEED)
+
+
 def test_panel_plays_the_published_players_in_one_batch_from_one_start(monkeypatch):
     monkeypatch.setattr(style, "POPULATION_REFRESH_SECONDS", 0.0)
-    session = fake_session()
-    panel = PopulationPanel(FakeGui(), session)
+    panel = population_panel()
     panel.advance(3)
     assert panel.batch is None and "Start an evolution" in panel.grid.content
     rulebases = [CODEC.decode(parse_compact(text, VOCABULARY)) for text in (SCORER, CHASER, SCORER)]
@@ -100,7 +102,7 @@ def test_panel_plays_the_published_players_in_one_batch_from_one_start(monkeypat
     assert 'data-run="9" data-generation="4"' in panel.caption.content
     assert panel.grid.content.count('class="mini-pitch"') == 3
     # The very games the engine plays for these rulebases from the session's start.
-    reference = GameBatch(rulebases, [session.game.seed] * 3, session.context.game, VOCABULARY)
+    reference = GameBatch(rulebases, [SEED] * 3, GAME, VOCABULARY)
     for _ in range(30):
         reference.step()
     np.testing.assert_array_equal(panel.batch.observed, reference.observed)
@@ -108,7 +110,7 @@ def test_panel_plays_the_published_players_in_one_batch_from_one_start(monkeypat
 
 
 def test_panel_shows_at_most_the_grid_and_ignores_an_empty_generation():
-    panel = PopulationPanel(FakeGui(), fake_session())
+    panel = population_panel()
     rulebase = CODEC.decode(parse_compact(CHASER, VOCABULARY))
     many = tuple(SampledPlayer(rulebase, 0.5) for _ in range(SAMPLED_PLAYERS + 4))
     panel.generation_finished(1, 0, many)

@@ -1,0 +1,294 @@
+"""The UI as a teacher meets it, in headless Chromium: first paint, every tick drawn, bytes per tab.
+
+Starts the UI in this process (an empty data folder), opens TABS tabs of Debian's Chromium (software
+WebGL, the flags of tests/app/test_ui_browser.py) and reports, per number of tabs:
+
+- first paint: seconds from opening the page (and from reloading it) to the first frame drawn with the
+  whole pitch on screen: grass, lines, goal, player and ball inside the canvas, the canvas fully opaque;
+- ticks drawn: of the ticks the server played in the measuring window, the share whose player and
+  ball position the page drew in at least one frame; pitch updates per second (frames that drew a new
+  position) against game ticks per second; frames drawn per second; tick label updates per second;
+- websocket messages and KiB per second each tab received;
+- viser's warnings when the tabs close (there should be none).
+
+The page is watched from inside (the scene's onBeforeRender and the tick label); the server's ticks
+by polling each tab's session. Speed is the game's (1 = real time, the target: every tick drawn).
+
+    python benchmarks/ui_browser.py [--tabs 1 4] [--speed 1] [--seconds 15]
+"""
+
+from __future__ import annotations
+
+import argparse
+import socket
+import statistics
+import tempfile
+import threading
+import time
+import warnings
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+CHROMIUM = "/usr/bin/chromium"
+CHROMIUM_ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
+                 "--disable-component-update", "--disable-sync", "--no-first-run"]
+VIEWPORT = {"width": 1600, "height": 900}
+PAINT_TIMEOUT_S = 120.0
+WARM_UP_S = 2.0
+POLL_S = 0.005  # the server's ticks last 33 ms or more at the speeds measured: none is missed
+SAME_POSITION = 1e-3  # metres: a drawn position is a tick's when every coordinate agrees this well
+
+# Runs in every page before its own scripts: records each frame the scene is drawn in that shows a new
+# player or ball position, the first frame with the whole pitch on screen, and each new tick label.
+WATCH_PAGE = """
+(() => {
+  const watch = window.__watch = {frames: 0, draws: [], ticks: [], complete: null};
+  const PITCH = ["/pitch/grass", "/pitch/lines", "/pitch/net", "/pitch/player", "/pitch/ball"];
+  let hooked = false;
+  function inView(m, names) {
+    const camera = m.camera;
+    const Vector = m.scene.position.constructor;
+    camera.updateMatrixWorld();
+    for (const name of names) {
+      const node = m.nodeRefFromName[name];
+      if (!node) return false;
+      for (let o = node; o; o = o.parent) if (!o.visible) return false;
+      const p = node.getWorldPosition(new Vector()).project(camera);
+      if (!(Math.abs(p.x) <= 1 && Math.abs(p.y) <= 1)) return false;
+    }
+    return true;
+  }
+  function pitchFitted(m) {
+    // The pitch's end lines project near the canvas edges once the camera is fitted to it.
+    const lines = m.nodeRefFromName["/pitch/lines"];
+    if (!lines) return false;
+    const Vector = m.scene.position.constructor;
+    const left = lines.localToWorld(new Vector(-50, 0, 0)).project(m.camera);
+    const right = lines.localToWorld(new Vector(50, 0, 0)).project(m.camera);
+    return Math.abs(left.x) <= 1 && Math.abs(right.x) <= 1 && right.x - left.x > 1.0;
+  }
+  function hook() {
+    const m = window.__viserMutable;
+    if (m && m.scene && m.camera && !hooked) {
+      hooked = true;
+      let last = null;
+      m.scene.onBeforeRender = () => {
+        const now = performance.now();
+        watch.frames += 1;
+        const nodes = m.nodeRefFromName, player = nodes["/pitch/player"], ball = nodes["/pitch/ball"];
+        if (watch.complete === null && m.canvas && getComputedStyle(m.canvas).opacity === "1"
+            && PITCH.every((name) => nodes[name]) && inView(m, ["/pitch/player", "/pitch/ball"]) && pitchFitted(m)) {
+          watch.complete = now;
+        }
+        if (player && ball) {
+          const key = [player.position.x, player.position.y, ball.position.x, ball.position.y];
+          if (last === null || key.some((v, i) => v !== last[i])) {
+            watch.draws.push([now, ...key]);
+            last = key;
+          }
+        }
+      };
+    }
+    const status = document.querySelector(".game-status");
+    if (status) {
+      const tick = Number(status.dataset.tick), ticks = watch.ticks;
+      if (!ticks.length || ticks[ticks.length - 1][1] !== tick) ticks.push([performance.now(), tick]);
+    }
+    requestAnimationFrame(hook);
+  }
+  requestAnimationFrame(hook);
+})();
+"""
+
+
+def free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+@dataclass
+class Tab:
+    page: object
+    session: object = None
+    frames: list[tuple[float, int]] = field(default_factory=list)  # (perf_counter, bytes) per websocket message
+    ticks: list[tuple[float, int, float, float, float, float]] = field(default_factory=list)  # server's
+    first_paint: dict[str, float] = field(default_factory=dict)
+
+    def listen(self) -> None:
+        def on_socket(socket) -> None:
+            socket.on("framereceived", lambda payload: self.frames.append((time.perf_counter(), len(payload))))
+
+        self.page.on("websocket", on_socket)
+
+
+class TickPoller(threading.Thread):
+    """Records every tick each tab's session plays: (time, tick, player x, y, ball x, y)."""
+
+    def __init__(self, tabs: list[Tab]):
+        super().__init__(daemon=True)
+        self.tabs = tabs
+        self.running = threading.Event()
+        self.done = threading.Event()
+
+    def run(self) -> None:
+        last: dict[int, object] = {}
+        while not self.done.is_set():
+            if self.running.is_set():
+                for index, tab in enumerate(self.tabs):
+                    state = tab.session.game.state
+                    if state is not last.get(index):
+                        last[index] = state
+                        tab.ticks.append((time.perf_counter(), state.tick, *state.player, *state.ball))
+            time.sleep(POLL_S)
+
+
+def open_tab(ui, browser_context, tab: Tab | None = None) -> Tab:
+    """Open (or reload) a tab and wait for its first complete pitch; returns the tab with its session."""
+    before = set(ui.sessions)
+    opened = time.time()
+    if tab is None:
+        tab = Tab(browser_context.new_page())
+        tab.listen()
+        tab.page.goto(ui.url)
+        what = "open"
+    else:
+        tab.page.reload()
+        what = "reload"
+    tab.page.wait_for_function("() => window.__watch && window.__watch.complete !== null",
+                               timeout=PAINT_TIMEOUT_S * 1000, polling=100)
+    tab.first_paint[what] = tab.page.evaluate("() => performance.timeOrigin + window.__watch.complete") / 1000 - opened
+    deadline = time.monotonic() + PAINT_TIMEOUT_S
+    while not (new := set(ui.sessions) - before) and time.monotonic() < deadline:
+        time.sleep(0.05)
+    tab.session = ui.sessions[max(new)]
+    return tab
+
+
+def measure(tabs: list[Tab], seconds: float, speed: float) -> list[dict[str, float]]:
+    for tab in tabs:
+        tab.session.controls.speed.value = speed
+        tab.session.set_playing(True)
+        tab.ticks.clear()
+    poller = TickPoller(tabs)
+    poller.start()
+    tabs[0].page.wait_for_timeout(WARM_UP_S * 1000)
+    starts = [tab.page.evaluate("() => performance.now()") for tab in tabs]
+    start = time.perf_counter()
+    poller.running.set()
+    tabs[0].page.wait_for_timeout(seconds * 1000)
+    poller.running.clear()
+    end = time.perf_counter()
+    poller.done.set()
+    poller.join()
+    rows = []
+    for tab, page_start in zip(tabs, starts):
+        watch = tab.page.evaluate("() => ({draws: window.__watch.draws, ticks: window.__watch.ticks, "
+                                  "frames: window.__watch.frames, now: performance.now()})")
+        page_end = page_start + (end - start) * 1000
+        draws = np.array([d[1:] for d in watch["draws"] if page_start <= d[0] <= page_end + 1000] or
+                         np.zeros((0, 4)))
+        played = [t for t in tab.ticks if t[1] > 0]
+        drawn = sum(1 for t in played if _was_drawn(t, draws))
+        received = [n for when, n in tab.frames if start <= when <= end]
+        labels = [t for t in watch["ticks"] if page_start <= t[0] <= page_end]
+        rows.append({
+            "game ticks/s": len(played) / (end - start),
+            "pitch updates/s": sum(1 for d in watch["draws"] if page_start <= d[0] <= page_end) / (end - start),
+            "ticks drawn %": 100.0 * drawn / max(1, len(played)),
+            "tick label updates/s": len(labels) / (end - start),
+            "messages/s": len(received) / (end - start),
+            "KiB/s": sum(received) / 1024 / (end - start),
+        })
+    return rows
+
+
+def _was_drawn(tick: tuple, draws: np.ndarray) -> bool:
+    _, _, px, py, bx, by = tick
+    scene = np.array([px, -py, bx, -by])  # the pitch stores (x, -y)
+    return bool(len(draws)) and bool((np.abs(draws - scene) <= SAME_POSITION).all(axis=1).any())
+
+
+def frames_drawn(tabs: list[Tab], seconds: float) -> list[float]:
+    before = [tab.page.evaluate("() => window.__watch.frames") for tab in tabs]
+    tabs[0].page.wait_for_timeout(seconds * 1000)
+    return [(tab.page.evaluate("() => window.__watch.frames") - b) / seconds for tab, b in zip(tabs, before)]
+
+
+def run(tab_count: int, speed: float, seconds: float, playwright) -> dict[str, object]:
+    from app.runs import RunManager
+    from app.store import Store
+    from app.ui import start_ui
+    from app.ui.game import Game
+
+    with tempfile.TemporaryDirectory() as folder:
+        store = Store(Path(folder) / "db.sqlite3")
+        runs = RunManager(store, folder)
+        ui = start_ui(store, runs, port=free_port())
+        Game(ui.context, ui.context.demo_rulebase(), "warm-up", seed=1).step()  # numba's cache, loaded once
+        browser = playwright.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS)
+        context = browser.new_context(viewport=VIEWPORT)
+        context.add_init_script(WATCH_PAGE)
+        try:
+            tabs = [open_tab(ui, context) for _ in range(tab_count)]
+            rows = measure(tabs, seconds, speed)
+            fps = frames_drawn(tabs, min(5.0, seconds))
+            for tab in tabs:
+                open_tab(ui, context, tab)
+            with warnings.catch_warnings(record=True) as caught:
+                warnings.simplefilter("always")
+                for tab in tabs:
+                    tab.page.close()
+                deadline = time.monotonic() + 10
+                while ui.sessions and time.monotonic() < deadline:
+                    time.sleep(0.1)
+                time.sleep(1.0)  # a late frame of a closed tab would warn now
+            closed_warnings = sum("closed connection" in str(w.message) for w in caught)
+        finally:
+            browser.close()
+            ui.stop()
+            runs.shutdown(wait=10)
+            store.close()
+    return {
+        "tabs": tab_count,
+        "first paint open s": [t.first_paint["open"] for t in tabs],
+        "first paint reload s": [t.first_paint["reload"] for t in tabs],
+        "rows": rows,
+        "frames drawn/s": fps,
+        "close warnings": closed_warnings,
+    }
+
+
+def report(result: dict[str, object], speed: float) -> None:
+    def spread(values: list[float], unit: str = "") -> str:
+        if len(values) == 1:
+            return f"{values[0]:.1f}{unit}"
+        return f"{statistics.median(values):.1f}{unit} (min {min(values):.1f}, max {max(values):.1f})"
+
+    rows = result["rows"]
+    print(f"\n{result['tabs']} tab(s), speed {speed:g}x")
+    print(f"  first paint, open      {spread(result['first paint open s'], ' s')}   (target ≤ 3 s)")
+    print(f"  first paint, reload    {spread(result['first paint reload s'], ' s')}")
+    for name in ("game ticks/s", "pitch updates/s", "ticks drawn %", "tick label updates/s", "messages/s", "KiB/s"):
+        print(f"  {name:<22} {spread([row[name] for row in rows])}")
+    print(f"  {'frames drawn/s':<22} {spread(result['frames drawn/s'])}")
+    print(f"  viser warnings on close: {result['close warnings']}")
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--tabs", type=int, nargs="+", default=[1, 4])
+    parser.add_argument("--speed", type=float, default=1.0)
+    parser.add_argument("--seconds", type=float, default=15.0)
+    args = parser.parse_args()
+    from playwright.sync_api import sync_playwright
+
+    with sync_playwright() as playwright:
+        for tab_count in args.tabs:
+            report(run(tab_count, args.speed, args.seconds, playwright), args.speed)
+
+
+if __name__ == "__main__":
+    main()
