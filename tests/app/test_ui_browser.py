@@ -19,7 +19,7 @@ CHROMIUM_ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-backg
                  "--disable-component-update", "--disable-sync", "--no-first-run"]
 SCREENSHOTS = Path(__file__).resolve().parents[2] / "artifacts" / "screenshots"
 VIEWPORT = {"width": 1600, "height": 900}
-TIMEOUT_MS = 20_000
+TIMEOUT_MS = 60_000  # patience on a shared, busy machine (speed is measured in benchmarks/ui_browser.py)
 
 pytestmark = [
     pytest.mark.browser,
