@@ -15,7 +15,7 @@ from tests.app.test_ui_browser import free_port
 
 PANELS = Path(__file__).resolve().parents[2] / "app" / "ui" / "panels"
 VOCABULARY = Vocabulary.default()
-DEMO = parse_rulebase("if Ball is At then KickTowardGoal High\nif Ball is not At then GoToBall VeryHigh")
+DEMO = parse_rulebase("if Ball is At then KickTowardGoal High\nif Ball is not At then GoToBall VeryHigh", VOCABULARY)
 
 
 @pytest.fixture(scope="module")
@@ -51,7 +51,7 @@ def test_editor_applies_undoes_and_saves_through_its_callbacks(gui, store):
     editor.text.value = "if Ball is Near then Turn Left"
     editor.apply()
     (rulebase, name), = applied
-    assert name == EDITED_NAME and format_rulebase(rulebase) == "if Ball is Near then Turn Left"
+    assert name == EDITED_NAME and format_rulebase(rulebase, VOCABULARY) == "if Ball is Near then Turn Left"
     editor.show_rulebase(rulebase, name)  # what the session does once it is on the pitch
     editor.undo()
     assert applied[-1] == (DEMO, "demo")
@@ -77,13 +77,13 @@ def test_library_opens_a_saved_rulebase_through_on_load(gui, store, tmp_path):
     from app.runs import RunManager
     from app.ui.panels.library import LibraryPanel
 
-    record = store.create_rulebase("striker", format_rulebase(DEMO))
+    record = store.create_rulebase("striker", format_rulebase(DEMO, VOCABULARY))
     loaded = []
     library = LibraryPanel(gui, store, RunManager(store, tmp_path), VOCABULARY, None,
-                           on_load=lambda r, n: loaded.append((format_rulebase(r), n)))
+                           on_load=lambda r, n: loaded.append((format_rulebase(r, VOCABULARY), n)))
     assert library.rulebases.value == f"#{record.id} striker"
     library.open_rulebase()
-    assert loaded == [(format_rulebase(DEMO), "striker")]
+    assert loaded == [(format_rulebase(DEMO, VOCABULARY), "striker")]
 
 
 def test_policy_map_redraws_for_a_control_change_and_a_new_rulebase(gui):
@@ -95,7 +95,7 @@ def test_policy_map_redraws_for_a_control_change_and_a_new_rulebase(gui):
     policy.show_current(inputs)
     first = policy.map.content
     assert "GoToBall" in first
-    policy.show_rulebase(parse_rulebase("if Ball is not At then Turn Left"))
+    policy.show_rulebase(parse_rulebase("if Ball is not At then Turn Left", VOCABULARY))
     policy.output.value = "direction"  # the user picks another output: the panel asks for a redraw
     assert redraws == [True]
     policy.show_current(inputs)  # the redraw it asked for, however soon it comes
