@@ -1,11 +1,27 @@
-"""Where evaluations are played: SimpleSoccer, or trials on real rcssservers (spec 5). The rules for
-choosing one, shared by the command line and the app's runs."""
+"""Where evaluations are played: SimpleSoccer games, or trials on real rcssservers. The rules for choosing
+one, and the environment objects a run plays with (app/run.py), shared by the command line and the app.
+
+An environment gives a run its evaluator (a context manager: it may hold connections, or servers it
+started, for the run's length), says which exceptions mean "the environment failed" (the run stops with
+that message and stays resumable), how many GA worker processes it allows, and replays a player's game
+for the recording when it can.
+"""
 
 from __future__ import annotations
 
-from typing import Literal, Sequence
+from contextlib import contextmanager
+from dataclasses import asdict, dataclass
+from typing import TYPE_CHECKING, Any, ClassVar, Iterator, Literal, NamedTuple, Sequence
 
+from soccer.config import GameConfig
 from soccer.rcss.client import DEFAULT_SERVER, parse_server
+
+if TYPE_CHECKING:
+    from fuzzy.rule import Rulebase
+    from fuzzy.vocabulary import Vocabulary
+    from ga.evaluation import Evaluator
+    from soccer.engine import GameResult, GameTrace
+    from soccer.rcss.trial import TrialConfig
 
 SIMPLE, RCSS = "simple", "rcss"
 ENVIRONMENTS = (SIMPLE, RCSS)
@@ -13,6 +29,14 @@ EnvName = Literal["simple", "rcss"]
 # On rcss the GA evaluates in one process: trials run in parallel over the servers (threads), and a
 # worker process per server would open a second player and trainer on each.
 RCSS_WORKERS = 1
+
+
+class Replay(NamedTuple):
+    """A player's game tick by tick, as the GA scored it."""
+
+    seed: int  # the game's own seed
+    result: "GameResult"
+    trace: "GameTrace"
 
 
 def checked_env(env: str) -> str:
@@ -40,3 +64,65 @@ def checked_workers(env: str, workers: int) -> int:
         raise ValueError(f"with env {RCSS} the GA runs {RCSS_WORKERS} worker; trials run in parallel over "
                          "the servers instead: add a server for each")
     return workers
+
+
+@dataclass(frozen=True)
+class SimpleSoccerGames:
+    """Evaluations are SimpleSoccer games, played in this process or in the GA's worker processes."""
+
+    game: GameConfig = GameConfig()
+    env: ClassVar[str] = SIMPLE
+    failures: ClassVar[tuple[type[Exception], ...]] = ()  # nothing outside this process can fail
+
+    def settings(self) -> dict[str, Any]:
+        return {"game": self.game.model_dump()}
+
+    @contextmanager
+    def evaluator(self) -> Iterator["Evaluator"]:
+        from soccer.evaluate import SimpleSoccerEvaluator
+
+        yield SimpleSoccerEvaluator(self.game)
+
+    def replay(self, rulebase: "Rulebase", seed: int, vocabulary: "Vocabulary") -> Replay | None:
+        """The first game of the evaluation played from `seed` (its first of k games): a game depends only on
+        rulebase and seed, so this is the very game the GA scored."""
+        from soccer.engine import play_game
+        from soccer.evaluate import game_seeds
+
+        first_game = game_seeds(seed, self.game.games_per_evaluation)[0]
+        return Replay(first_game, *play_game(rulebase, first_game, self.game, trace=True, vocabulary=vocabulary))
+
+
+@dataclass(frozen=True)
+class RcssTrials:
+    """Evaluations are trials on real rcssservers, one at a time per server, in parallel over the servers
+    (threads in this process: the GA itself runs with one worker)."""
+
+    servers: tuple[str, ...]
+    trial: "TrialConfig"
+    env: ClassVar[str] = RCSS
+
+    @property
+    def failures(self) -> tuple[type[Exception], ...]:
+        from soccer.rcss.errors import RcssError
+
+        return (RcssError,)
+
+    def settings(self) -> dict[str, Any]:
+        return {"servers": list(self.servers), "trial": asdict(self.trial)}
+
+    @contextmanager
+    def evaluator(self) -> Iterator["Evaluator"]:
+        """Connected to every server up front: a missing server fails here, within seconds, before the run."""
+        from soccer.rcss.evaluate import RcssEvaluator
+
+        with RcssEvaluator(self.servers, self.trial) as evaluate:
+            evaluate.connect()
+            yield evaluate
+
+    def replay(self, rulebase: "Rulebase", seed: int, vocabulary: "Vocabulary") -> Replay | None:
+        """No replay: it would hold a server for one more trial (play the best with `soccer-lab play --env rcss`)."""
+        return None
+
+
+Environment = SimpleSoccerGames | RcssTrials

@@ -1,11 +1,11 @@
 """Evolution runs in the background, for the API and the UI.
 
-Each run is a thread driving `ga.algorithms.evolve` (or `resume`) with the SimpleSoccer evaluator or,
-for env "rcss", with trials on real rcssservers (one at a time per server, in parallel over the servers).
-After every generation the GA checkpoints into the run's folder; then its statistics and best
-individual go to the store (one transaction), the folder's statistics.csv and best.rules are
-updated, the run's rerun recording grows, and listeners hear about it. A run stopped, crashed or
-cut off by the app ending keeps every finished generation and resumes from its checkpoint.
+Each run is a thread playing one `app.run.Run` (the GA or random search, on SimpleSoccer or on real
+rcssservers: the same orchestrator as the command line) in its folder `<data_dir>/runs/<id>`. After
+every generation the run's folder is brought up to date (checkpoint, statistics.csv, best rules, the
+rerun recording); then its statistics and best individual go to the store (one transaction) and
+listeners hear about it. A run stopped, crashed or cut off by the app ending keeps every finished
+generation and resumes from its checkpoint.
 """
 
 from __future__ import annotations
@@ -13,32 +13,24 @@ from __future__ import annotations
 import logging
 import shutil
 import threading
-from contextlib import contextmanager
-from dataclasses import asdict, dataclass, field
+from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Callable, Iterator, Sequence
+from typing import Any, Callable, Sequence
 
-from pydantic import ValidationError
-
-from app.environments import RCSS, SIMPLE, checked_env, checked_servers, checked_workers
+from app.environments import SIMPLE
 from app.paths import RUNS_FOLDER
-from app.recording import RunRecorder
-from app.run_outputs import RunFolder, RunOutputs
+from app.run import Run, RunSettings
 from app.store import NotFound, RunRecord, RunStatus, Store
 from fuzzy.parser import parse_rulebase
 from fuzzy.printer import format_rulebase
 from fuzzy.rule import Rulebase
-from fuzzy.vocabulary import Vocabulary
-from ga.algorithms import evolve, resume
-from ga.checkpoint import load_checkpoint
 from ga.codec import ChromosomeCodec
 from ga.config import GAConfig
-from ga.evaluation import Evaluator
 from ga.individual import Individual
 from ga.notation import format_compact
 from ga.result import STOPPED
-from soccer.config import GameConfig
-from soccer.evaluate import SimpleSoccerEvaluator
+from ga.state import GA
+from soccer.config import SOCCER_VOCABULARY, GameConfig
 from soccer.rcss.client import parse_server
 from soccer.rcss.errors import RcssError
 from soccer.rcss.trial import TrialConfig
@@ -89,70 +81,6 @@ def sample_players(population: Sequence[Individual], codec: ChromosomeCodec,
 
 
 Listener = Callable[[RunEvent], None]
-
-
-@dataclass(frozen=True)
-class RunSettings:
-    """Everything a run needs to be played (or resumed): the GA's parameters and where evaluations play:
-    SimpleSoccer games (`game`) or, for env "rcss", trials (`trial`) on `servers`."""
-
-    ga: GAConfig
-    game: GameConfig
-    env: str = SIMPLE
-    servers: tuple[str, ...] = ()
-    trial: TrialConfig = TrialConfig()
-
-    @classmethod
-    def build(
-        cls,
-        ga: GAConfig | dict[str, Any] | None = None,
-        game: GameConfig | dict[str, Any] | None = None,
-        env: str = SIMPLE,
-        servers: Sequence[str] | None = None,
-        trial: TrialConfig | dict[str, Any] | None = None,
-    ) -> "RunSettings":
-        """Validated settings (an rcss run without servers plays on the default one); ValueError naming
-        each bad parameter."""
-        ga = ga if isinstance(ga, GAConfig) else GAConfig.from_values(ga or {})
-        try:
-            game = game if isinstance(game, GameConfig) else GameConfig(**(game or {}))
-        except ValidationError as exc:
-            problems = "; ".join(f"{'.'.join(map(str, e['loc']))}: {e['msg']}" for e in exc.errors())
-            raise ValueError(f"invalid game parameters: {problems}") from None
-        try:
-            trial = trial if isinstance(trial, TrialConfig) else TrialConfig(**(trial or {}))
-        except (TypeError, ValueError) as exc:
-            raise ValueError(f"invalid trial parameters: {exc}") from None
-        for where, check in (("env", lambda: checked_env(env)), ("servers", lambda: checked_servers(env, servers)),
-                             ("ga.workers", lambda: checked_workers(env, ga.workers))):
-            try:
-                check()
-            except ValueError as exc:
-                raise ValueError(f"{where}: {exc}") from None
-        return cls(ga, game, env, tuple(checked_servers(env, servers)), trial)
-
-    @classmethod
-    def from_dict(cls, data: dict[str, Any]) -> "RunSettings":
-        """Settings as stored; runs from before env existed played SimpleSoccer."""
-        return cls.build(data.get("ga"), data.get("game"), data.get("env", SIMPLE), data.get("servers"),
-                         data.get("trial"))
-
-    def to_dict(self) -> dict[str, Any]:
-        settings = {"ga": self.ga.model_dump(), "game": self.game.model_dump(), "env": self.env}
-        if self.env == RCSS:
-            settings.update(servers=list(self.servers), trial=asdict(self.trial))
-        return settings
-
-    @contextmanager
-    def evaluator(self) -> Iterator[Evaluator]:
-        """The run's evaluator, closed (its server sessions left) when the run ends."""
-        if self.env == SIMPLE:
-            yield SimpleSoccerEvaluator(self.game)
-            return
-        from soccer.rcss.evaluate import RcssEvaluator
-
-        with RcssEvaluator(self.servers, self.trial) as evaluate:
-            yield evaluate
 
 
 class StoreWriter:
@@ -230,23 +158,26 @@ class RunManager:
     # ---- starting, stopping, resuming -----------------------------------------------------
     def start(
         self,
-        name: str,
+        name: str | None = None,
         ga: GAConfig | dict[str, Any] | None = None,
         game: GameConfig | dict[str, Any] | None = None,
         *,
+        algorithm: str = GA,
         env: str = SIMPLE,
         servers: Sequence[str] | None = None,
         trial: TrialConfig | dict[str, Any] | None = None,
     ) -> RunRecord:
-        """Start a new evolution. `ga`/`game`/`trial`: a GAConfig/GameConfig/TrialConfig or a dict of
-        their fields (missing fields take the chapter's defaults). env "rcss" plays trials on `servers`
-        (HOST:PORT; default 127.0.0.1:6000) with ga.workers 1. Invalid values raise ValueError before
-        anything is saved; a server another run plays on raises RunStateError."""
-        settings = RunSettings.build(ga, game, env, servers, trial)
+        """Start a new run of `algorithm` ("ga" or "random-search"), named `name` or, when None, by its
+        settings. `ga`/`game`/`trial`: a GAConfig/GameConfig/TrialConfig or a dict of their fields (missing
+        fields take the chapter's defaults). env "rcss" plays trials on `servers` (HOST:PORT; default
+        127.0.0.1:6000) with ga.workers 1. Invalid values raise ValueError before anything is saved; a
+        server another run plays on raises RunStateError."""
+        settings = RunSettings.build(ga, game, env, servers, trial, algorithm)
         with self._lock:
             self._check_capacity()
             self._check_servers_free(settings)
-            record = self.store.create_run(name, settings.to_dict(), self.runs_dir / "{id}")
+            record = self.store.create_run(name if name is not None else settings.default_name(),
+                                           settings.to_dict(), self.runs_dir / "{id}")
             self._launch(record, settings, resume_run=False)
         return record
 
@@ -318,7 +249,7 @@ class RunManager:
 
     def best_rulebase(self, run_id: int) -> Rulebase:
         """The best individual so far (also while the run goes on), ready to play."""
-        return parse_rulebase(self.store.best_individual(run_id).rules, Vocabulary.default())
+        return parse_rulebase(self.store.best_individual(run_id).rules, SOCCER_VOCABULARY)
 
     def _check_capacity(self) -> None:
         if len(self._active) >= self.max_concurrent_runs:
@@ -366,29 +297,10 @@ class RunManager:
 
     def _evolve(self, record: RunRecord, settings: RunSettings, stop: threading.Event, resume_run: bool) -> str:
         """Play the run to its end or until `stop`; the GA's stop reason."""
-        folder = RunFolder(Path(record.folder))
-        folder.path.mkdir(parents=True, exist_ok=True)
-        vocabulary = Vocabulary.default()
-        codec = ChromosomeCodec(vocabulary)
-        writer = StoreWriter(self.store, record.id, codec, self._notify)
-        from_checkpoint = resume_run and folder.checkpoint.is_file()
-        if from_checkpoint:
-            state = load_checkpoint(folder.checkpoint)
-            history = [stats.to_dict() for stats in state.history]
-            writer.restore(history, state.best)
-            recorder = RunRecorder(folder.recording, history=history)
-            outputs = RunOutputs(folder, state.vocabulary, history=history, best=state.best)
-        else:
-            recorder = RunRecorder(folder.recording)
-            outputs = RunOutputs(folder, vocabulary)
-        try:
-            callbacks = (writer, outputs, recorder)
-            with settings.evaluator() as evaluate:
-                if from_checkpoint:
-                    result = resume(folder.checkpoint, evaluate, callbacks=callbacks, stop=stop)
-                else:
-                    result = evolve(settings.ga, evaluate, vocabulary, callbacks=callbacks,
-                                    checkpoint=folder.checkpoint, stop=stop)
-        finally:
-            recorder.close()
-        return result.stop_reason
+        run = Run(settings, record.folder)
+        writer = StoreWriter(self.store, record.id, ChromosomeCodec(run.vocabulary), self._notify)
+        state = run.saved_state() if resume_run else None
+        if state is not None:
+            writer.restore([stats.to_dict() for stats in state.history], state.best)
+        with run.evaluator() as evaluate:
+            return run.play(evaluate, callbacks=[writer], stop=stop).stop_reason

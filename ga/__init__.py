@@ -3,7 +3,7 @@
 from ga.algorithms import evolve, random_search, resume
 from ga.checkpoint import CheckpointError, load_checkpoint, save_checkpoint
 from ga.codec import ChromosomeCodec
-from ga.config import ConfigError, GAConfig
+from ga.config import GAConfig
 from ga.evaluation import INVALID_FITNESS, EvaluationError
 from ga.genes import GeneSpace
 from ga.individual import Individual
@@ -13,6 +13,6 @@ from ga.statistics import GenerationStats
 
 __all__ = [
     "evolve", "random_search", "resume", "CheckpointError", "load_checkpoint", "save_checkpoint",
-    "ChromosomeCodec", "ConfigError", "GAConfig", "INVALID_FITNESS", "EvaluationError", "GeneSpace",
+    "ChromosomeCodec", "GAConfig", "INVALID_FITNESS", "EvaluationError", "GeneSpace",
     "Individual", "NotationError", "format_compact", "parse_compact", "RunResult", "GenerationStats",
 ]

@@ -54,7 +54,7 @@ def resume(checkpoint_path: str | Path, evaluate: Evaluator, *, callbacks: Itera
     `workers` may differ from the original run's: results do not depend on it."""
     state = load_checkpoint(checkpoint_path)
     if workers is not None:
-        state = replace(state, config=GAConfig.from_values({**state.config.model_dump(), "workers": workers}))
+        state = replace(state, config=GAConfig(**{**state.config.model_dump(), "workers": workers}))
     return _run(state, evaluate, callbacks, checkpoint_path, stop)
 
 

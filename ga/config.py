@@ -2,16 +2,12 @@
 
 from __future__ import annotations
 
-from typing import Any, Literal
+from typing import Literal
 
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 
 SEED_BOUND = 2**63  # seeds (the run's and its games') lie in [0, SEED_BOUND)
-
-
-class ConfigError(ValueError):
-    """One line naming the parameter and what is wrong with it."""
 
 
 class GAConfig(BaseModel):
@@ -50,18 +46,3 @@ class GAConfig(BaseModel):
         if self.selection != "elitist":
             return 0
         return max(1, round(self.elite_fraction * self.population_size))
-
-    @classmethod
-    def from_values(cls, values: dict[str, Any]) -> "GAConfig":
-        """Validate user-supplied values; ConfigError with one line per problem, no traceback needed."""
-        try:
-            return cls(**values)
-        except ValidationError as exc:
-            raise ConfigError("; ".join(_describe(e) for e in exc.errors())) from None
-
-
-def _describe(error: dict[str, Any]) -> str:
-    where = ".".join(str(part) for part in error["loc"])
-    given = f" (got {error['input']!r})" if "input" in error and not isinstance(error["input"], dict) else ""
-    message = error["msg"].removeprefix("Value error, ")
-    return f"{where}: {message}{given}" if where else f"{message}"

@@ -11,6 +11,7 @@ from starlette.types import ASGIApp, Message, Receive, Scope, Send
 
 from app.runs import RunStateError
 from app.store import NotFound, StoreError
+from app.validation import describe_problems, dotted, problem_message
 from fuzzy.parser import RuleSyntaxError
 
 MAX_BODY_BYTES = 1_000_000
@@ -21,17 +22,16 @@ def error_response(status: int, detail: str, errors: list[dict[str, Any]] | None
 
 
 def _where(location: tuple[Any, ...]) -> str:
-    return ".".join(str(part) for part in location if part != "body") or "body"
+    return dotted(tuple(part for part in location if part != "body")) or "body"
 
 
 async def _invalid_request(_: Request, exc: RequestValidationError) -> JSONResponse:
-    errors = [
-        {"location": _where(tuple(e.get("loc", ()))), "message": e.get("msg", ""), "type": e.get("type", "")}
-        for e in exc.errors()
-    ]
+    problems = list(exc.errors())
+    errors = [{"location": _where(tuple(e.get("loc", ()))), "message": problem_message(e), "type": e.get("type", "")}
+              for e in problems]
     if any(e["type"] == "json_invalid" for e in errors):
         return error_response(400, "malformed JSON: " + "; ".join(e["message"] for e in errors), errors)
-    return error_response(422, "; ".join(f"{e['location']}: {e['message']}" for e in errors), errors)
+    return error_response(422, describe_problems(problems, where=_where), errors)
 
 
 async def _rule_syntax(_: Request, exc: RuleSyntaxError) -> JSONResponse:

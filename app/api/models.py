@@ -8,8 +8,10 @@ from typing import Annotated, Any
 from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 
 from app.environments import SIMPLE, EnvName
+from app.run import AlgorithmName
 from app.store import NAME_MAX_LENGTH, BestIndividual, RulebaseRecord, RunRecord
 from ga.config import GAConfig
+from ga.state import GA
 from soccer.config import GameConfig
 from soccer.rcss.trial import TrialConfig
 
@@ -140,11 +142,14 @@ class RulebaseOut(BaseModel):
 
 # ---- runs --------------------------------------------------------------------------------
 class RunStart(Strict):
-    """A new evolution; every GA and game parameter defaults to the chapter's (spec 3.2, 4). env "rcss"
-    plays trials (`trial`, spec 5) on real rcssservers (`servers`, HOST:PORT, default 127.0.0.1:6000;
-    several play in parallel) instead of SimpleSoccer games (`game`); it needs ga.workers 1."""
+    """A new run of the GA or of random search (the baseline: the same evaluations spent on fresh random
+    rulebases); every GA and game parameter defaults to the chapter's. `name` defaults to what the run is
+    (e.g. "GA 200x25 roulette/inverse assisted seed 0"). env "rcss" plays trials (`trial`) on real
+    rcssservers (`servers`, HOST:PORT, default 127.0.0.1:6000; several play in parallel) instead of
+    SimpleSoccer games (`game`); it needs ga.workers 1."""
 
-    name: Name = "evolution"
+    name: Name | None = None
+    algorithm: AlgorithmName = GA
     ga: GAConfig = GAConfig()
     game: GameConfig = GameConfig()
     env: EnvName = SIMPLE
@@ -153,9 +158,9 @@ class RunStart(Strict):
 
     @model_validator(mode="after")
     def playable(self) -> "RunStart":
-        from app.runs import RunSettings  # the one place the rules for env, servers and workers live
+        from app.run import RunSettings  # the one place the rules for env, servers and workers live
 
-        RunSettings.build(self.ga, self.game, self.env, self.servers, self.trial)
+        RunSettings.build(self.ga, self.game, self.env, self.servers, self.trial, self.algorithm)
         return self
 
 

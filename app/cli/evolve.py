@@ -1,16 +1,14 @@
 """`soccer-lab evolve` and `soccer-lab random-search`: one run from the terminal, with a progress bar,
 a summary, and its outputs in a run folder (app/run_outputs.py); `evolve --resume RUN_DIR` continues
 a killed run (either kind) from its checkpoint. Evaluations play SimpleSoccer games or, with
-`--env rcss`, trials on real rcssservers (spec 5)."""
+`--env rcss`, trials on real rcssservers. The run itself is app/run.py's `Run`, as in the app."""
 
 from __future__ import annotations
 
 import os
-from contextlib import contextmanager
-from dataclasses import asdict, dataclass
-from types import SimpleNamespace
 from pathlib import Path
-from typing import TYPE_CHECKING, Annotated, Any, ClassVar, Iterator, Optional
+from types import SimpleNamespace
+from typing import TYPE_CHECKING, Annotated, Any, Optional
 
 import typer
 from rich.console import Console
@@ -21,21 +19,16 @@ from app.cli.play import (EnvOption, FitnessOption, GoalCapOption, IdleTicksOpti
                           NoiseOption, ServerOption, chosen_env, config_from_options, game_config, option_help,
                           option_name, rcss_servers, trial_config)
 from app.environments import RCSS, RCSS_WORKERS, SIMPLE, checked_workers
-from app.recording import RunRecorder
 from app.rulebase_files import rulebase_text
-from app.run_outputs import RunFolder, RunFolderError, RunOutputs, default_run_dir
-from fuzzy.vocabulary import Vocabulary
-from ga.algorithms import evolve, random_search, resume
-from ga.checkpoint import CheckpointError, load_checkpoint
+from app.run_outputs import RunFolder, RunFolderError, default_run_dir
+from ga.checkpoint import CheckpointError
 from ga.config import GAConfig
-from ga.evaluation import Evaluator
 from ga.result import RunResult
 from ga.state import GA, RANDOM_SEARCH
 from soccer.config import GameConfig
 
 if TYPE_CHECKING:
-    from fuzzy.rule import Rulebase
-    from soccer.rcss.trial import TrialConfig
+    from app.run import Run, RunSettings
 
 GA_PANEL = "Genetic algorithm"
 RUN_PANEL = "Run"
@@ -118,168 +111,83 @@ def random_search_command(
     _start(RANDOM_SEARCH, dict(locals()))
 
 
-# ---- where evaluations play ----------------------------------------------------------------------
-@dataclass(frozen=True)
-class SimpleSoccerGames:
-    """Evaluations are SimpleSoccer games; the best is replayed into the run's recording."""
+# ---- where evaluations play -------------------------------------------------------------------
+def _settings(algorithm: str, options: dict[str, Any]) -> "RunSettings":
+    """The run the options ask for, each checked with a message naming its option."""
+    from app.run import RunSettings
 
-    game: GameConfig
-    failures: ClassVar[tuple[type[Exception], ...]] = ()  # nothing outside this process can fail
-
-    def manifest(self) -> dict[str, Any]:
-        return {"env": SIMPLE, "game": self.game.model_dump()}
-
-    @contextmanager
-    def evaluator(self) -> Iterator[Evaluator]:
-        from soccer.evaluate import SimpleSoccerEvaluator
-
-        yield SimpleSoccerEvaluator(self.game)
-
-    def replay(self, rulebase: "Rulebase", seed: int, recorder: RunRecorder, folder: RunFolder) -> str:
-        """Replay the best player's first game (its evaluation's seed; the first of k games) into the
-        run's recording: games depend only on rulebase and seed, so this is the game the GA scored."""
-        from soccer.engine import play_game
-        from soccer.evaluate import game_seeds
-
-        first_game = game_seeds(seed, self.game.games_per_evaluation)[0]
-        result, trace = play_game(rulebase, first_game, self.game, trace=True)
-        recorder.log_replay(trace, self.game.world)
-        return (f"replay of the best player's first game (seed {first_game}): {result.goals} goals, "
-                f"{result.kicks} kicks, {result.ticks} ticks, fitness {result.fitness:.4f}")
-
-
-@dataclass(frozen=True)
-class RcssTrials:
-    """Evaluations are trials on real rcssservers, one at a time per server, in parallel over the servers
-    (threads in this process: the GA itself runs with one worker)."""
-
-    servers: list[str]
-    trial: "TrialConfig"
-
-    @property
-    def failures(self) -> tuple[type[Exception], ...]:
-        from soccer.rcss.errors import RcssError
-
-        return (RcssError,)
-
-    def manifest(self) -> dict[str, Any]:
-        return {"env": RCSS, "servers": self.servers, "trial": asdict(self.trial)}
-
-    @contextmanager
-    def evaluator(self) -> Iterator[Evaluator]:
-        """Connected to every server up front: a missing server fails here, within seconds, before the run."""
-        from soccer.rcss.evaluate import RcssEvaluator
-
-        with RcssEvaluator(self.servers, self.trial) as evaluate:
-            try:
-                evaluate.connect()
-            except self.failures as exc:
-                fail(str(exc))
-            yield evaluate
-
-    def replay(self, rulebase: "Rulebase", seed: int, recorder: RunRecorder, folder: RunFolder) -> str:
-        """No replay here (it would hold the servers for one more trial): the summary says how to play it."""
-        servers = " ".join(f"--server {server}" for server in self.servers)
-        return f"play the best on rcssserver: soccer-lab play {folder.best_rules} --env {RCSS} {servers}"
-
-
-Environment = SimpleSoccerGames | RcssTrials
-
-
-def _environment(options: dict[str, Any]) -> Environment:
-    """The environment the options choose (popping its options); fixes the GA's workers for rcss."""
     env = chosen_env(options.pop("env"), options.get("server"),
                      {"--noise": options.get("noise"), "--games-per-evaluation": options.get("games_per_evaluation")})
     game_options = [options.pop(name) for name in ("fitness", "max_ticks", "goal_cap", "idle_ticks")]
     noise, games, servers = options.pop("noise"), options.pop("games_per_evaluation"), options.pop("server")
+    for name in ("out", "resume_dir"):
+        options.pop(name, None)
+    options["max_generations"] = options.pop("generations")
     if env == SIMPLE:
         if options["workers"] is None:
             options["workers"] = min(os.cpu_count() or 1, WORKERS_LIMIT)
-        return SimpleSoccerGames(game_config(*game_options, noise, games))
+        game = game_config(*game_options, noise, games)
+        return RunSettings(config_from_options(GAConfig, options, RENAMED), game, algorithm=algorithm)
     if options["workers"] is not None:
         try:
             checked_workers(RCSS, options["workers"])
         except ValueError as exc:
             fail(f"--workers: {exc}")
     options["workers"] = RCSS_WORKERS
-    return RcssTrials(rcss_servers(servers), trial_config(*game_options))
-
-
-def _manifest_environment(manifest: dict[str, Any], servers: list[str] | None, folder: RunFolder) -> Environment:
-    """The environment a run folder recorded; `servers` (from --server) replace an rcss run's servers."""
-    env = manifest.get("env", SIMPLE)  # folders from before --env played SimpleSoccer
-    if env == SIMPLE:
-        if servers:
-            fail(f"--server: the run in {folder.path} plays SimpleSoccer, not on rcssserver")
-        return SimpleSoccerGames(config_from_options(GameConfig, manifest.get("game", {})))
-    if env != RCSS:
-        fail(f"{folder.manifest}: unknown env {env!r}")
-    from soccer.rcss.trial import TrialConfig
-
-    try:
-        trial = TrialConfig(**manifest.get("trial", {}))
-    except (TypeError, ValueError) as exc:
-        fail(f"{folder.manifest}: bad trial settings: {exc}")
-    return RcssTrials(rcss_servers(servers or manifest.get("servers")), trial)
+    trial = trial_config(*game_options)
+    return RunSettings(config_from_options(GAConfig, options, RENAMED), env=RCSS,
+                       servers=tuple(rcss_servers(servers)), trial=trial, algorithm=algorithm)
 
 
 # ---- running ---------------------------------------------------------------------------------
 def _start(algorithm: str, options: dict[str, Any]) -> None:
-    environment = _environment(options)
-    out = options.pop("out")
-    options.pop("resume_dir", None)
-    options["max_generations"] = options.pop("generations")
-    config = config_from_options(GAConfig, options, RENAMED)
-    with environment.evaluator() as evaluate:
-        try:
-            folder = RunFolder.create(out or default_run_dir(),
-                                      {"algorithm": algorithm, "ga": config.model_dump(), **environment.manifest()})
-        except RunFolderError as exc:
-            fail(str(exc))
-        run = evolve if algorithm == GA else random_search
-        vocabulary = Vocabulary.default()
-        _drive(folder, config, environment, algorithm, vocabulary, history=[], best=None,
-               launch=lambda callbacks: run(config, evaluate, vocabulary, callbacks=callbacks,
-                                            checkpoint=folder.checkpoint))
+    from app.run import Run
+
+    out = options["out"]
+    settings = _settings(algorithm, options)
+    try:
+        run = Run.create(settings, out or default_run_dir())
+    except RunFolderError as exc:
+        fail(str(exc))
+    _drive(run, history=[])
 
 
 def _resume(path: Path, servers: list[str] | None) -> None:
+    from app.run import Run
+
     try:
-        folder = RunFolder.open(path)
-        environment = _manifest_environment(folder.read_manifest(), servers, folder)
-        state = load_checkpoint(folder.checkpoint)
+        run = Run.open(path)
+        state = run.saved_state()
     except (RunFolderError, CheckpointError) as exc:
         fail(str(exc))
-    history = [stats.to_dict() for stats in state.history]
-    with environment.evaluator() as evaluate:
-        typer.echo(f"resuming {folder.path} after generation {len(history) - 1}", err=True)
-        _drive(folder, state.config, environment, state.algorithm, state.vocabulary, history=history,
-               best=state.best, launch=lambda callbacks: resume(folder.checkpoint, evaluate, callbacks=callbacks))
+    if run.settings.env == SIMPLE and servers:
+        fail(f"--server: the run in {run.folder.path} plays SimpleSoccer, not on rcssserver")
+    if servers:
+        run.settings = run.settings.with_servers(rcss_servers(servers))
+    _drive(run, history=[stats.to_dict() for stats in state.history])
 
 
-def _drive(folder: RunFolder, config: GAConfig, environment: Environment, algorithm: str, vocabulary: Vocabulary,
-           *, history: list[dict], best: Any, launch: Any) -> None:
-    """Run `launch(callbacks)` (the GA, with the environment's evaluator) with the folder's callbacks, then
-    write the best rulebase and its replay and print the summary."""
-    outputs = RunOutputs(folder, vocabulary, history=history, best=best)
-    recorder = RunRecorder(folder.recording, history=history)
+def _drive(run: "Run", *, history: list[dict]) -> None:
+    """Play the run with a progress bar, then print the summary. Ctrl-C and a failing environment end it
+    with a line saying how to continue."""
+    settings, folder = run.settings, run.folder
+    label = "evolving" if settings.algorithm == GA else "random search"
     try:
-        with GenerationProgress(config.max_generations, last=history[-1] if history else None,
-                                label="evolving" if algorithm == GA else "random search") as progress:
-            result: RunResult = launch([outputs, recorder, progress])
+        with run.evaluator() as evaluate:
+            if history:
+                typer.echo(f"resuming {folder.path} after generation {len(history) - 1}", err=True)
+            with GenerationProgress(settings.ga.max_generations, last=history[-1] if history else None,
+                                    label=label) as progress:
+                result: RunResult = run.play(evaluate, callbacks=[progress])
+    except RunFolderError as exc:
+        fail(str(exc))
     except KeyboardInterrupt:
-        recorder.close()
         typer.echo(f"\ninterrupted; continue with: soccer-lab evolve --resume {folder.path}", err=True)
         raise typer.Exit(130)
-    except environment.failures as exc:
-        recorder.close()
+    except settings.environment.failures as exc:
         resumable = f"; continue with: soccer-lab evolve --resume {folder.path}" if folder.checkpoint.exists() else ""
         fail(f"{exc}{resumable}")
-    outputs.write_best(result.best_rulebase)
-    first_seed = result.best.first_seed if result.best.first_seed is not None else config.seed
-    replay = environment.replay(result.best_rulebase, first_seed, recorder, folder)
-    recorder.close()
-    _summary(folder, result, replay)
+    _summary(run, result)
 
 
 class GenerationProgress:
@@ -308,18 +216,27 @@ class GenerationProgress:
                              best=f"{stats.best:.4f}", mean=f"{stats.mean:.4f}")
 
 
-def _summary(folder: RunFolder, result: RunResult, replay: str) -> None:
-    best = result.best
+def _summary(run: "Run", result: RunResult) -> None:
+    folder, best = run.folder, result.best
     typer.echo(f"{len(result.history)} generations, {result.evaluations} evaluations ({result.stop_reason}), "
                f"{result.history[-1].wall_time:.1f} s")
     typer.echo(f"best fitness {best.fitness:.4f} (mean of {best.evaluations} evaluation"
                f"{'s' if best.evaluations != 1 else ''}; {best.goals} goal{'s' if best.goals != 1 else ''} "
                f"in its latest game)")
-    typer.echo(replay)
+    typer.echo(_replay_line(run))
     typer.echo(f"best rules ({len(result.best_rulebase)}):")
     for line in rulebase_text(result.best_rulebase, result.vocabulary).splitlines():
         typer.echo(f"  {line}")
     typer.echo(f"outputs in {folder.path}: {', '.join(p.name for p in _outputs(folder))}")
+
+
+def _replay_line(run: "Run") -> str:
+    game = run.best_game
+    if game is None:  # rcss: a replay would hold the servers for one more trial
+        servers = " ".join(f"--server {server}" for server in run.settings.servers)
+        return f"play the best on rcssserver: soccer-lab play {run.folder.best_rules} --env {RCSS} {servers}"
+    return (f"replay of the best player's first game (seed {game.seed}): {game.result.goals} goals, "
+            f"{game.result.kicks} kicks, {game.result.ticks} ticks, fitness {game.result.fitness:.4f}")
 
 
 def _outputs(folder: RunFolder) -> list[Path]:

@@ -16,6 +16,7 @@ from app.cli.common import fail
 from app.environments import ENVIRONMENTS, RCSS, SIMPLE, checked_env, checked_servers
 from app.recording import log_replay, open_stream
 from app.rulebase_files import RulebaseFileError, load_rulebase
+from app.validation import describe_problems
 from soccer.config import FITNESS_NAMES, GameConfig
 from soccer.rcss.client import DEFAULT_SERVER
 
@@ -48,13 +49,8 @@ def config_from_options(model: type[BaseModel], values: dict[str, Any], renamed:
     try:
         return model(**{field: value for field, value in values.items() if value is not None})
     except ValidationError as exc:
-        problems = []
-        for error in exc.errors():
-            field = str(error["loc"][0]) if error["loc"] else ""
-            where = f"{option_name(field, renamed)}: " if field else ""
-            given = f" (got {error['input']!r})" if field and not isinstance(error.get("input"), dict) else ""
-            problems.append(f"{where}{error['msg'].removeprefix('Value error, ')}{given}")
-        fail("; ".join(problems))
+        fail(describe_problems(exc.errors(), where=lambda location: option_name(str(location[0]), renamed)
+                               if location else ""))
 
 
 # The game options, shared with `evolve` and `random-search`: unset (None) means the GameConfig default.

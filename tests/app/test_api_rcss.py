@@ -8,7 +8,7 @@ from dataclasses import asdict
 
 import pytest
 
-from app.runs import RunSettings
+from app.run import RunSettings
 from fuzzy.parser import parse_rulebase
 from fuzzy.vocabulary import Vocabulary
 from soccer.rcss.client import DEFAULT_SERVER
@@ -73,6 +73,7 @@ def test_a_server_plays_one_run_at_a_time(tmp_path, monkeypatch):
         release.wait(30)
         raise RcssTimeoutError("released by the test")
 
+    monkeypatch.setattr(RcssEvaluator, "connect", lambda self: None)  # the servers answer...
     monkeypatch.setattr(RcssEvaluator, "__call__", held)
     with api_client(tmp_path) as client:
         body = {"ga": ONE_GENERATION, "env": "rcss", "servers": ["127.0.0.1:6100", "127.0.0.1:6101"]}

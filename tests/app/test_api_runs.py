@@ -2,19 +2,31 @@
 
 from __future__ import annotations
 
+import csv
+import json
 import threading
 
+from typer.testing import CliRunner
+
+from app.cli import _register
+from app.cli import app as cli_app
 from app.paths import DATABASE_FILE
+from app.run import RunSettings
 from app.runs import RunManager
 from app.store import RunStatus, Store
 from fuzzy.parser import parse_rulebase
 from fuzzy.printer import format_rulebase
+from ga.config import GAConfig
+from ga.statistics import GenerationStats
+from soccer.config import GameConfig
+from soccer.rcss.trial import TrialConfig
 from tests.app.api_client import SHORT_GAMES, TINY_GA, api_client, wait_for
 from fuzzy.vocabulary import Vocabulary
 
 VOCABULARY = Vocabulary.default()
 
 LONG_GA = {**TINY_GA, "max_generations": 10_000}  # runs until stopped
+_register()
 
 
 def finished(client, run_id: int) -> dict | None:
@@ -199,3 +211,43 @@ def test_deleting_a_run_never_touches_files_outside_the_data_folder(tmp_path):
         assert client.get("/api/runs").json() == []
     assert (outside / "precious.txt").read_text() == "keep me"
     assert escaping_link.is_symlink() and (data / DATABASE_FILE).is_file()
+
+
+def test_random_search_in_the_app_is_the_command_lines_run_bit_for_bit(tmp_path):
+    with api_client(tmp_path / "data") as client:
+        run = client.post("/api/runs", json={"algorithm": "random-search", "ga": TINY_GA, "game": SHORT_GAMES}).json()
+        assert run["config"]["algorithm"] == "random-search"
+        assert run["name"] == f"random search 4x2 {GameConfig().skills} seed 7"  # named by what it is
+        done = wait_for(lambda: finished(client, run["id"]), what="the random search to finish")
+        assert done["status"] == "finished"
+        statistics = client.get(f"/api/runs/{run['id']}/statistics").json()
+    folder = tmp_path / "data" / "runs" / str(run["id"])
+    assert json.loads((folder / "run.json").read_text()) == run["config"]  # the settings, as the CLI writes them
+
+    cli = tmp_path / "cli"
+    result = CliRunner().invoke(cli_app, [
+        "random-search", "--population-size", "4", "--generations", "2", "--max-length", "16", "--seed", "7",
+        "--max-ticks", "40", "--idle-ticks", "20", "--workers", "1", "--out", str(cli)])
+    assert result.exit_code == 0, result.output
+    with (cli / "statistics.csv").open(newline="") as handle:
+        rows = list(csv.DictReader(handle))
+    deterministic = [name for name in GenerationStats.field_names() if name != "wall_time"]
+    assert [[float(row[name]) for name in deterministic] for row in rows] == \
+        [[float(row[name]) for name in deterministic] for row in statistics]
+    assert (cli / "best.rules").read_text() == (folder / "best.rules").read_text()
+
+
+def test_a_run_is_named_by_its_settings_unless_named(tmp_path):
+    with api_client(tmp_path) as client:
+        ga = {**TINY_GA, "selection": "tournament"}
+        unnamed = client.post("/api/runs", json={"ga": ga, "game": SHORT_GAMES}).json()
+        assert unnamed["name"] == f"GA 4x2 tournament {GameConfig().skills} seed 7"
+        named = client.post("/api/runs", json={"name": "my striker", "ga": TINY_GA, "game": SHORT_GAMES}).json()
+        assert named["name"] == "my striker"
+        for run in (unnamed, named):
+            wait_for(lambda: finished(client, run["id"]), what="the runs to finish")
+    weighting = GAConfig().roulette_weighting
+    assert RunSettings.build({"selection": "elitist"}).default_name() == \
+        f"GA 200x25 elitist/{weighting} {GameConfig().skills} seed 0"
+    assert RunSettings.build(env="rcss").default_name() == \
+        f"GA 200x25 roulette/{weighting} {TrialConfig().skills} on rcssserver seed 0"

@@ -1,6 +1,7 @@
 import pytest
+from pydantic import ValidationError
 
-from ga.config import ConfigError, GAConfig
+from ga.config import GAConfig
 
 
 def test_defaults_are_the_chapters_table_2():
@@ -23,31 +24,10 @@ def test_elite_count_is_five_percent_for_elitist_selection_only():
     assert GAConfig().elite_count == 0
 
 
-@pytest.mark.parametrize(
-    ("values", "message"),
-    [
-        ({"population_size": 1}, "population_size: Input should be greater than or equal to 2 (got 1)"),
-        ({"max_length": 1}, "max_length: Input should be greater than or equal to 2"),
-        ({"mutation_rate": 1.5}, "mutation_rate: Input should be less than or equal to 1 (got 1.5)"),
-        ({"crossover_probability": -0.1}, "crossover_probability: Input should be greater than or equal to 0"),
-        ({"consequent_probability": 0}, "consequent_probability: Input should be greater than 0"),
-        ({"crossover": "uniform"}, "crossover: Input should be 'one-point' or 'two-point' (got 'uniform')"),
-        ({"selection": "rank"}, "selection: Input should be 'roulette', 'tournament' or 'elitist'"),
-        ({"workers": 0}, "workers: Input should be greater than or equal to 1"),
-        ({"seed": -1}, "seed: Input should be greater than or equal to 0"),
-        ({"population_size": "many"}, "population_size: Input should be a valid integer"),
-        ({"popsize": 10}, "popsize: Extra inputs are not permitted"),
-        ({"selection": "elitist", "population_size": 4, "elite_fraction": 0.9},
-         "elite_fraction leaves no room to breed"),
-    ],
-)
-def test_out_of_range_values_give_one_clear_line(values, message):
-    with pytest.raises(ConfigError) as error:
-        GAConfig.from_values(values)
-    assert message in str(error.value)
-    assert "\n" not in str(error.value)
-
-
-def test_several_problems_are_reported_together():
-    with pytest.raises(ConfigError, match="population_size: .*; workers: "):
-        GAConfig.from_values({"population_size": 0, "workers": 0})
+@pytest.mark.parametrize("values", [
+    {"population_size": 1}, {"mutation_rate": 1.5}, {"crossover": "uniform"}, {"workers": 0}, {"popsize": 10},
+    {"selection": "elitist", "population_size": 4, "elite_fraction": 0.9},
+])
+def test_out_of_range_values_are_refused(values):
+    with pytest.raises(ValidationError):  # app/validation.py words it for people (tests/app/test_validation.py)
+        GAConfig(**values)

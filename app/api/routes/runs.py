@@ -25,10 +25,10 @@ def _out(record: RunRecord, store: Store, request: Request) -> RunOut:
     return RunOut.of(record, store.statistics(record.id), recording)
 
 
-@router.post("", status_code=201, summary="Start an evolution in the background", responses=CONFLICT)
+@router.post("", status_code=201, summary="Start a GA or random-search run in the background", responses=CONFLICT)
 def start(body: RunStart, runs: RunsDependency, store: StoreDependency, request: Request) -> RunOut:
-    return _out(runs.start(body.name, body.ga, body.game, env=body.env, servers=body.servers, trial=body.trial),
-                store, request)
+    return _out(runs.start(body.name, body.ga, body.game, algorithm=body.algorithm, env=body.env,
+                           servers=body.servers, trial=body.trial), store, request)
 
 
 @router.get("", summary="List runs")

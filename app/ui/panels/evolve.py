@@ -14,10 +14,12 @@ from app.runs import RunEvent, RunManager, RunStateError, SampledPlayer
 from app.store import NotFound, RunStatus, Store
 from app.ui import style
 from app.ui.panels.svg import escape
+from app.validation import describe_problem, dotted
 from fuzzy.rule import Rulebase
 from ga.config import GAConfig
+from ga.state import GA, RANDOM_SEARCH
 
-RUN_NAME = "from the UI"
+ALGORITHMS = {"GA": GA, "Random search": RANDOM_SEARCH}  # what the teacher picks -> the run's algorithm
 LABELS = {  # what a teacher reads next to each field; fields missing here show their own name
     "population_size": "Population size",
     "max_generations": "Generations (max)",
@@ -67,6 +69,8 @@ class EvolvePanel:
         self.best: list[float] = []
         self.mean: list[float] = []
         self.inputs: dict[str, viser.GuiInputHandle] = {}
+        self.algorithm = gui.add_dropdown("Algorithm", tuple(ALGORITHMS), initial_value="GA")
+        self.name = gui.add_text("Run name (empty: from the settings)", initial_value="")
         with gui.add_folder("GA parameters (chapter's Table 2)", expand_by_default=False):
             for name, field in ga_fields().items():
                 self.inputs[name] = self._input(gui, name, field)
@@ -121,7 +125,8 @@ class EvolvePanel:
     # ---- actions ----------------------------------------------------------------------------
     def start(self) -> None:
         try:
-            record = self.runs.start(RUN_NAME, ga=self.config())
+            record = self.runs.start(self.name.value.strip() or None, ga=self.config(),
+                                     algorithm=ALGORITHMS[self.algorithm.value])
         except (ValueError, RunStateError) as exc:  # pydantic's ValidationError is a ValueError
             self.status.content = self._status_html(f"Not started: {_first_line(exc)}", error=True)
             return
@@ -211,8 +216,6 @@ def _first_line(exc: Exception) -> str:
     """One readable line: pydantic's first error as 'field: message', else the exception's first line."""
     errors = getattr(exc, "errors", None)
     if callable(errors):
-        first = errors()[0]
-        field = ".".join(str(part) for part in first.get("loc", ()))
-        return f"{LABELS.get(field, field)}: {first.get('msg', '')}"
+        return describe_problem(errors()[0], where=lambda location: LABELS.get(dotted(location), dotted(location)))
     text = str(exc).strip()
     return text.splitlines()[0] if text else type(exc).__name__

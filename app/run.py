@@ -1,0 +1,188 @@
+"""One evolution run, from the command line or from the app: its settings and its folder.
+
+`Run.evaluator()` opens the evaluator of the settings' environment (SimpleSoccer games or rcssserver
+trials, app/environments.py); `Run.play` then plays the GA or random search with the folder's callbacks (statistics.csv,
+best.rules/best.json, the rerun recording; the GA checkpoints into the folder after every generation),
+plus the caller's own (the CLI's progress bar, the app's store). A folder with a checkpoint continues
+from it, and finishes exactly as the uninterrupted run would. The settings are written to the folder's
+run.json in the same form the app stores them, so any run folder can be continued by either.
+"""
+
+from __future__ import annotations
+
+import threading
+from dataclasses import dataclass, replace
+from pathlib import Path
+from typing import Any, ContextManager, Iterable, Literal, Sequence
+
+from pydantic import ValidationError
+
+from app.environments import (RCSS, SIMPLE, Environment, RcssTrials, Replay, SimpleSoccerGames, checked_env,
+                              checked_servers, checked_workers)
+from app.recording import RunRecorder
+from app.run_outputs import RunFolder, RunFolderError, RunOutputs
+from app.validation import describe_problems
+from fuzzy.vocabulary import Vocabulary
+from ga.algorithms import Callback, evolve, random_search, resume
+from ga.checkpoint import load_checkpoint
+from ga.config import GAConfig
+from ga.evaluation import Evaluator
+from ga.result import RunResult
+from ga.state import ALGORITHMS, GA, RANDOM_SEARCH, RunState
+from soccer.config import SOCCER_VOCABULARY, GameConfig
+from soccer.rcss.trial import TrialConfig
+
+AlgorithmName = Literal["ga", "random-search"]  # ga.state's GA and RANDOM_SEARCH, for the API's schema
+
+
+@dataclass(frozen=True)
+class RunSettings:
+    """Everything a run needs to be played (or resumed): the algorithm (the GA or random search), the
+    GA's parameters and where evaluations play: SimpleSoccer games (`game`) or, for env "rcss", trials
+    (`trial`) on `servers`."""
+
+    ga: GAConfig = GAConfig()
+    game: GameConfig = GameConfig()
+    env: str = SIMPLE
+    servers: tuple[str, ...] = ()
+    trial: TrialConfig = TrialConfig()
+    algorithm: str = GA
+
+    @classmethod
+    def build(
+        cls,
+        ga: GAConfig | dict[str, Any] | None = None,
+        game: GameConfig | dict[str, Any] | None = None,
+        env: str = SIMPLE,
+        servers: Sequence[str] | None = None,
+        trial: TrialConfig | dict[str, Any] | None = None,
+        algorithm: str = GA,
+    ) -> "RunSettings":
+        """Validated settings (an rcss run without servers plays on the default one); ValueError naming
+        each bad parameter (pydantic's ValidationError, a ValueError, for bad GA parameters: the caller
+        names the fields its own way)."""
+        if algorithm not in ALGORITHMS:
+            raise ValueError(f"algorithm: expected {' or '.join(ALGORITHMS)}, got {algorithm!r}")
+        ga = ga if isinstance(ga, GAConfig) else GAConfig(**(ga or {}))
+        try:
+            game = game if isinstance(game, GameConfig) else GameConfig(**(game or {}))
+        except ValidationError as exc:
+            raise ValueError(f"invalid game parameters: {describe_problems(exc.errors())}") from None
+        try:
+            trial = trial if isinstance(trial, TrialConfig) else TrialConfig(**(trial or {}))
+        except (TypeError, ValueError) as exc:
+            raise ValueError(f"invalid trial parameters: {exc}") from None
+        for where, check in (("env", lambda: checked_env(env)), ("servers", lambda: checked_servers(env, servers)),
+                             ("ga.workers", lambda: checked_workers(env, ga.workers))):
+            try:
+                check()
+            except ValueError as exc:
+                raise ValueError(f"{where}: {exc}") from None
+        return cls(ga, game, env, tuple(checked_servers(env, servers)), trial, algorithm)
+
+    @classmethod
+    def from_dict(cls, data: dict[str, Any]) -> "RunSettings":
+        """Settings as stored (run.json, the app's store); runs from before env existed played SimpleSoccer,
+        from before algorithm was stored the GA."""
+        return cls.build(data.get("ga"), data.get("game"), data.get("env", SIMPLE), data.get("servers"),
+                         data.get("trial"), data.get("algorithm", GA))
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"algorithm": self.algorithm, "ga": self.ga.model_dump(), "env": self.env,
+                **self.environment.settings()}
+
+    @property
+    def environment(self) -> Environment:
+        if self.env == RCSS:
+            return RcssTrials(self.servers, self.trial)
+        return SimpleSoccerGames(self.game)
+
+    def with_servers(self, servers: Sequence[str]) -> "RunSettings":
+        """The same rcss run on other servers (a resumed run may play on other servers or ports)."""
+        return replace(self, servers=tuple(checked_servers(self.env, servers)))
+
+    def default_name(self) -> str:
+        """What the run is, e.g. "GA 200x25 roulette/inverse assisted seed 0" or "random search 200x25 ..."."""
+        size = f"{self.ga.population_size}x{self.ga.max_generations}"
+        if self.algorithm == RANDOM_SEARCH:
+            method = f"random search {size}"
+        else:
+            selection = self.ga.selection
+            if selection in ("roulette", "elitist"):  # the two that weigh individuals for the roulette
+                selection += f"/{self.ga.roulette_weighting}"
+            method = f"GA {size} {selection}"
+        if self.env == RCSS:
+            return f"{method} {self.trial.skills} on rcssserver seed {self.ga.seed}"
+        return f"{method} {self.game.skills} seed {self.ga.seed}"
+
+
+class Run:
+    """One run in its folder: `play` starts it, or continues it from the folder's checkpoint."""
+
+    def __init__(self, settings: RunSettings, folder: str | Path):
+        self.settings = settings
+        self.folder = RunFolder(Path(folder))
+        self.vocabulary = SOCCER_VOCABULARY  # what a new run's rules are made of (a resumed run keeps its own)
+        self.best_game: Replay | None = None  # the best player's first game, where the environment can replay it
+
+    @classmethod
+    def create(cls, settings: RunSettings, folder: str | Path) -> "Run":
+        """A new run; RunFolderError when the folder already holds one. The folder is made when the run
+        plays, once its evaluator is ready (so a missing server leaves no folder behind)."""
+        run = cls(settings, folder)
+        if run.folder.manifest.exists():
+            raise RunFolderError(f"{run.folder.path} already holds a run (use --resume {run.folder.path} to continue it)")
+        return run
+
+    @classmethod
+    def open(cls, folder: str | Path) -> "Run":
+        """The run a folder holds, to continue from its checkpoint. RunFolderError (no run, no checkpoint,
+        unreadable settings) with one line."""
+        opened = RunFolder.open(folder)
+        try:
+            settings = RunSettings.from_dict(opened.read_manifest())
+        except ValueError as exc:
+            raise RunFolderError(f"{opened.manifest}: {exc}") from None
+        return cls(settings, opened.path)
+
+    def saved_state(self) -> RunState | None:
+        """The GA's state after the last finished generation, or None before the first (CheckpointError
+        for a damaged checkpoint)."""
+        return load_checkpoint(self.folder.checkpoint) if self.folder.checkpoint.is_file() else None
+
+    def evaluator(self) -> ContextManager[Evaluator]:
+        """The evaluator `play` scores with, open for the run's length: `with run.evaluator() as evaluate:`.
+        A missing rcssserver fails here, within seconds, before anything is written."""
+        return self.settings.environment.evaluator()
+
+    def play(self, evaluate: Evaluator, callbacks: Iterable[Callback] = (),
+             stop: threading.Event | None = None) -> RunResult:
+        """Play the run to its end (or until `stop`, after the generation in progress); the GA's result.
+        The environment's failures (a server gone...) and KeyboardInterrupt propagate; every finished
+        generation is kept and the run can be continued."""
+        if not self.folder.manifest.exists():
+            RunFolder.create(self.folder.path, self.settings.to_dict())
+        state = self.saved_state()
+        history = [stats.to_dict() for stats in state.history] if state else []
+        vocabulary = state.vocabulary if state else self.vocabulary
+        outputs = RunOutputs(self.folder, vocabulary, history=history, best=state.best if state else None)
+        recorder = RunRecorder(self.folder.recording, history=history)
+        try:
+            everything = [outputs, recorder, *callbacks]
+            if state is not None:
+                result = resume(self.folder.checkpoint, evaluate, callbacks=everything, stop=stop)
+            else:
+                algorithm = evolve if self.settings.algorithm == GA else random_search
+                result = algorithm(self.settings.ga, evaluate, vocabulary, callbacks=everything,
+                                   checkpoint=self.folder.checkpoint, stop=stop)
+            outputs.write_best(result.best_rulebase)
+            self._replay_best(result, recorder, vocabulary)
+        finally:
+            recorder.close()
+        return result
+
+    def _replay_best(self, result: RunResult, recorder: RunRecorder, vocabulary: Vocabulary) -> None:
+        first_seed = result.best.first_seed if result.best.first_seed is not None else result.config.seed
+        self.best_game = self.settings.environment.replay(result.best_rulebase, first_seed, vocabulary)
+        if self.best_game is not None:
+            recorder.log_replay(self.best_game.trace, self.settings.game.world)
