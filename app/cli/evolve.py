@@ -113,9 +113,8 @@ def random_search_command(
 
 # ---- where evaluations play -------------------------------------------------------------------
 def _settings(algorithm: str, options: dict[str, Any]) -> "RunSettings":
-    """The run the options ask for, each checked with a message naming its option."""
-    from app.run import RunSettings
-
+    """The run the options ask for, each checked with a message naming its option (before the run's
+    machinery is imported: a bad option is refused at once)."""
     env = chosen_env(options.pop("env"), options.get("server"),
                      {"--noise": options.get("noise"), "--games-per-evaluation": options.get("games_per_evaluation")})
     game_options = [options.pop(name) for name in ("fitness", "max_ticks", "goal_cap", "idle_ticks")]
@@ -126,25 +125,27 @@ def _settings(algorithm: str, options: dict[str, Any]) -> "RunSettings":
     if env == SIMPLE:
         if options["workers"] is None:
             options["workers"] = min(os.cpu_count() or 1, WORKERS_LIMIT)
-        game = game_config(*game_options, noise, games)
-        return RunSettings(config_from_options(GAConfig, options, RENAMED), game, algorithm=algorithm)
-    if options["workers"] is not None:
-        try:
-            checked_workers(RCSS, options["workers"])
-        except ValueError as exc:
-            fail(f"--workers: {exc}")
-    options["workers"] = RCSS_WORKERS
-    trial = trial_config(*game_options)
-    return RunSettings(config_from_options(GAConfig, options, RENAMED), env=RCSS,
-                       servers=tuple(rcss_servers(servers)), trial=trial, algorithm=algorithm)
+        where = {"game": game_config(*game_options, noise, games)}
+    else:
+        if options["workers"] is not None:
+            try:
+                checked_workers(RCSS, options["workers"])
+            except ValueError as exc:
+                fail(f"--workers: {exc}")
+        options["workers"] = RCSS_WORKERS
+        where = {"env": RCSS, "servers": tuple(rcss_servers(servers)), "trial": trial_config(*game_options)}
+    ga = config_from_options(GAConfig, options, RENAMED)
+    from app.run import RunSettings
+
+    return RunSettings(ga, algorithm=algorithm, **where)
 
 
 # ---- running ---------------------------------------------------------------------------------
 def _start(algorithm: str, options: dict[str, Any]) -> None:
-    from app.run import Run
-
     out = options["out"]
     settings = _settings(algorithm, options)
+    from app.run import Run
+
     try:
         run = Run.create(settings, out or default_run_dir())
     except RunFolderError as exc:
