@@ -94,8 +94,7 @@ def skfuzzy_simulation(rulebase, vocabulary):
     consequents = {}
     for variable in layout.outputs:
         universe = np.linspace(variable.minimum, variable.maximum, RESOLUTION + 1)
-        method = "som" if variable.smallest_of_maximum else "mom"
-        consequent = ctrl.Consequent(universe, variable.name, defuzzify_method=method)
+        consequent = ctrl.Consequent(universe, variable.name, defuzzify_method="mom")
         for term in variable.terms:
             consequent[term.name] = fuzz.trapmf(universe, list(term.parameters))
         consequents[variable.name] = consequent

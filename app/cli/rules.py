@@ -125,7 +125,7 @@ def export(
     output: Optional[Path] = typer.Option(None, "--output", "-o", help="Write here instead of standard output."),
     vocabulary: Optional[Path] = VOCABULARY_OPTION,
 ) -> None:
-    """Export FILE as our JSON, FCL (IEC 61131-7) or fuzzylite's FLL."""
+    """Export FILE as our JSON, FCL (IEC 61131-7), fuzzylite's FLL or MATLAB's .fis."""
     if format not in FORMATS:
         fail(f"unknown format {format!r}; expected one of {', '.join(FORMATS)}")
     rulebase, vocab = load_rulebase(file, vocabulary)

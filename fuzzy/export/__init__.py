@@ -1,8 +1,13 @@
-"""Export a rulebase with its vocabulary (spec 2.4): our versioned JSON, FCL (IEC 61131-7), fuzzylite's FLL."""
+"""Export a rulebase with its vocabulary: our versioned JSON, FCL (IEC 61131-7), fuzzylite's FLL and
+MATLAB's .fis. Each format's file suffix and media type are here too, for the CLI, API and UI."""
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+from typing import Callable
+
 from fuzzy.export.fcl import to_fcl
+from fuzzy.export.fis import to_fis
 from fuzzy.export.fll import to_fll
 from fuzzy.export.rulebase_json import (
     RulebaseFormatError,
@@ -14,18 +19,35 @@ from fuzzy.export.rulebase_json import (
 from fuzzy.rule import Rulebase
 from fuzzy.vocabulary import Vocabulary
 
-EXPORTERS = {"json": to_json, "fcl": to_fcl, "fll": to_fll}
-FORMATS = tuple(EXPORTERS)
+
+@dataclass(frozen=True)
+class ExportFormat:
+    name: str
+    suffix: str
+    media_type: str
+    write: Callable[[Rulebase, Vocabulary], str]
+
+
+EXPORT_FORMATS = {
+    f.name: f
+    for f in (
+        ExportFormat("json", ".json", "application/json", to_json),
+        ExportFormat("fcl", ".fcl", "text/plain", to_fcl),
+        ExportFormat("fll", ".fll", "text/plain", to_fll),
+        ExportFormat("fis", ".fis", "text/plain", to_fis),
+    )
+}
+FORMATS = tuple(EXPORT_FORMATS)
 
 
 def export_rulebase(rulebase: Rulebase, fmt: str, vocabulary: Vocabulary) -> str:
     """The rulebase as text in `fmt` (one of FORMATS)."""
-    if fmt not in EXPORTERS:
+    if fmt not in EXPORT_FORMATS:
         raise ValueError(f"unknown export format {fmt!r}; expected one of {', '.join(FORMATS)}")
-    return EXPORTERS[fmt](rulebase, vocabulary)
+    return EXPORT_FORMATS[fmt].write(rulebase, vocabulary)
 
 
 __all__ = [
-    "EXPORTERS", "FORMATS", "RulebaseFormatError", "export_rulebase", "rulebase_from_dict", "rulebase_from_json",
-    "rulebase_to_dict", "to_fcl", "to_fll", "to_json",
+    "EXPORT_FORMATS", "ExportFormat", "FORMATS", "RulebaseFormatError", "export_rulebase", "rulebase_from_dict",
+    "rulebase_from_json", "rulebase_to_dict", "to_fcl", "to_fis", "to_fll", "to_json",
 ]

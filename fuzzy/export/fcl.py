@@ -1,17 +1,34 @@
-"""IEC 61131-7 Fuzzy Control Language (see fuzzy/export/layout.py for how our FIS maps onto a plain
-Mamdani function block). Mean of maximum is not among the standard's methods (CoG, CoGS, CoA, LM,
-RM); we write `MM`, the name jFuzzyLogic and fuzzylite use, and `LM` (left-most maximum) for supports.
+"""IEC 61131-7 Fuzzy Control Language that standard readers (jFuzzyLogic) and fuzzylite 6 both load.
+
+fuzzylite's FCL reader is line based and differs from the standard in three places; the text is
+written so that each reader sees what it expects (see fuzzy/export/layout.py for the FIS itself):
+
+- Comments: the standard has only `(* ... *)`; fuzzylite rejects a line that starts with one. Ours
+  follow a keyword whose line fuzzylite reads no further (`VAR_INPUT`, `VAR_OUTPUT`, the head of a
+  DEFUZZIFY or RULEBLOCK).
+- ACCU: the standard puts the accumulation in RULEBLOCK, fuzzylite in each DEFUZZIFY and refuses it in
+  RULEBLOCK. The RULEBLOCK head line carries the standard's `AND : MIN; ACT : MIN; ACCU : MAX;`
+  (fuzzylite reads only the head's first and last word) and opens a comment; inside it, lines
+  that fuzzylite reads up to its own `//` comment give it AND, OR and ACT. Each DEFUZZIFY head opens a
+  comment whose line `ACCU : MAX; // ... *)` only fuzzylite reads.
+- Rules: fuzzylite wants lower-case rule words and one conclusion per rule, which the standard allows
+  (its keywords are case-insensitive): a rule setting the support and two parameters becomes three
+  rules with the same condition, which max aggregation makes equivalent.
+
+Mean of maximum is not among the standard's methods (CoG, CoGS, CoA, LM, RM); we write `MM`, the name
+jFuzzyLogic and fuzzylite use. fuzzylite reads FCL with 100 samples per output (FCL cannot say more).
 """
 
 from __future__ import annotations
 
-from fuzzy.export.layout import ENGINE_NAME, ExportedVariable, FisLayout, Keywords, number
+from fuzzy.export.layout import ENGINE_NAME, ExportedVariable, FisLayout, Keywords, number, visibility_input
 from fuzzy.rule import Rulebase
 from fuzzy.term import Term
 from fuzzy.vocabulary import Vocabulary
 
-WORDS = Keywords(is_="IS", not_="NOT", and_="AND", or_="OR")
+WORDS = Keywords(is_="is", not_="not", and_="and", or_="or")
 INDENT = "    "
+RULEBLOCK_NAME = "rules"
 
 
 def fcl_points(term: Term) -> str:
@@ -29,39 +46,60 @@ def _terms(variable: ExportedVariable) -> list[str]:
     return [f"{INDENT}TERM {t.name} := {fcl_points(t)};" for t in variable.terms]
 
 
-def _range(variable: ExportedVariable) -> str:
-    return f"{INDENT}RANGE := ({number(variable.minimum)} .. {number(variable.maximum)});"
+def _declarations(kind: str, variables: list[ExportedVariable], comment: str) -> list[str]:
+    if not variables:
+        return []
+    return [f"{kind} (* {comment} *)"] + [f"{INDENT}{v.name} : REAL;" for v in variables] + ["END_VAR", ""]
+
+
+def _fuzzify(variable: ExportedVariable) -> list[str]:
+    # No RANGE (not in the standard's FUZZIFY): FCL holds a term's end values flat beyond its first and
+    # last points, which for our shoulders is the same as clamping the input to its universe.
+    return [f"FUZZIFY {variable.name}"] + _terms(variable) + ["END_FUZZIFY", ""]
+
+
+def _defuzzify(variable: ExportedVariable) -> list[str]:
+    return [
+        f"DEFUZZIFY {variable.name} (*",
+        f"{INDENT}ACCU : MAX; // fuzzylite reads ACCU here, the standard in RULEBLOCK *)",
+        *_terms(variable),
+        f"{INDENT}METHOD : MM;",
+        f"{INDENT}DEFAULT := {number(variable.default)};",
+        f"{INDENT}RANGE := ({number(variable.minimum)} .. {number(variable.maximum)});",
+        "END_DEFUZZIFY",
+        "",
+    ]
+
+
+def _ruleblock(layout: FisLayout) -> list[str]:
+    lines = [
+        f"RULEBLOCK {RULEBLOCK_NAME} AND : MIN; ACT : MIN; ACCU : MAX; "
+        f"(* fuzzylite reads only the first and the last word of this line: {RULEBLOCK_NAME}",
+        f"{INDENT}AND : MIN; //",
+        f"{INDENT}OR : MAX; //",
+        f"{INDENT}ACT : MIN; // it takes its operators from these lines, which the standard reads as a comment *)",
+    ]
+    number_ = 0
+    for rule in layout.rulebase:
+        condition = layout.antecedent(rule, WORDS)
+        for output, term in layout.conclusions(rule):
+            number_ += 1
+            lines.append(f"{INDENT}RULE {number_} : if {condition} then {output} {WORDS.is_} {term};")
+    return lines + ["END_RULEBLOCK", ""]
 
 
 def to_fcl(rulebase: Rulebase, vocabulary: Vocabulary) -> str:
     layout = FisLayout(rulebase, vocabulary)
-    lines = [
-        "(* exported by soccer-lab: feed *_visible 1 (seen) or 0 (unseen); *)",
-        "(* the player performs the action with the largest *_support output *)",
-        f"FUNCTION_BLOCK {ENGINE_NAME}",
-        "",
-        "VAR_INPUT",
-    ]
-    lines += [f"{INDENT}{v.name} : REAL;" for v in layout.inputs]
-    lines += ["END_VAR", "", "VAR_OUTPUT"]
-    lines += [f"{INDENT}{v.name} : REAL;" for v in layout.outputs]
-    lines += ["END_VAR", ""]
+    seen = " and ".join(visibility_input(o) for o in vocabulary.object_names)
+    lines = [f"FUNCTION_BLOCK {ENGINE_NAME}", ""]
+    lines += _declarations("VAR_INPUT", layout.inputs,
+                           f"exported by soccer-lab; feed {seen} 1 when the object is seen, 0 when not")
+    lines += _declarations("VAR_OUTPUT", layout.outputs,
+                           "the player performs the action whose *_support is the largest")
     for variable in layout.inputs:
-        # No RANGE here (not in the standard): FCL holds a term's end values flat beyond its first and
-        # last points, which for our shoulders is the same as clamping the input to its universe.
-        lines += [f"FUZZIFY {variable.name}"] + _terms(variable) + ["END_FUZZIFY", ""]
+        lines += _fuzzify(variable)
     for variable in layout.outputs:
-        method = "LM" if variable.smallest_of_maximum else "MM"
-        lines += [f"DEFUZZIFY {variable.name}"] + _terms(variable) + [
-            f"{INDENT}METHOD : {method};",
-            f"{INDENT}DEFAULT := {number(variable.default)};",
-            _range(variable),
-            "END_DEFUZZIFY",
-            "",
-        ]
-    lines += ["RULEBLOCK rules", f"{INDENT}AND : MIN;", f"{INDENT}ACT : MIN;", f"{INDENT}ACCU : MAX;"]
-    for index, rule in enumerate(rulebase, start=1):
-        then = ", ".join(f"{out} {WORDS.is_} {term}" for out, term in layout.conclusions(rule))
-        lines.append(f"{INDENT}RULE {index} : IF {layout.antecedent(rule, WORDS)} THEN {then};")
-    lines += ["END_RULEBLOCK", "", "END_FUNCTION_BLOCK"]
+        lines += _defuzzify(variable)
+    lines += _ruleblock(layout)
+    lines.append("END_FUNCTION_BLOCK")
     return "\n".join(lines) + "\n"

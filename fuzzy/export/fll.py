@@ -29,14 +29,13 @@ def _input(variable: ExportedVariable) -> list[str]:
 
 
 def _output(variable: ExportedVariable) -> list[str]:
-    defuzzifier = "SmallestOfMaximum" if variable.smallest_of_maximum else "MeanOfMaximum"
     return [
         f"OutputVariable: {variable.name}",
         "  enabled: true",
         f"  range: {number(variable.minimum)} {number(variable.maximum)}",
         "  lock-range: false",
         "  aggregation: Maximum",
-        f"  defuzzifier: {defuzzifier} {RESOLUTION}",
+        f"  defuzzifier: MeanOfMaximum {RESOLUTION}",
         f"  default: {number(variable.default)}",
         "  lock-previous: false",
     ] + [fll_term(t) for t in variable.terms]

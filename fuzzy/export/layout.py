@@ -1,16 +1,20 @@
-"""How our FIS maps onto a plain Mamdani FIS that other tools load (shared by the FCL and FLL exporters).
+"""How our FIS maps onto a plain Mamdani FIS that other tools load (shared by the FCL, FLL and .fis writers).
 
-- Inputs: the vocabulary's crisp inputs (clamped to their universe), plus one visibility input per
-  object, `ball_visible` in [0, 1] with the term YES (a ramp from 0 to 1): feed 1 when the object
-  is seen, 0 when not. Each premise becomes `(ball_visible is YES and ball_distance is [not] NEAR)`,
-  so a premise about an unseen object has degree 0, negated or not, as in our engine. (NaN inputs
-  would not do: tools disagree on min/max with NaN.)
+- Inputs: the vocabulary's crisp inputs, plus one visibility input per object, `ball_visible` in
+  [0, 1] with the term YES (a ramp from 0 to 1): feed 1 when the object is seen, 0 when not. Each
+  premise becomes `(ball_visible is YES and ball_distance is [not] NEAR)`, so a premise about an
+  unseen object has degree 0, negated or not, as in our engine. (NaN inputs would not do: tools
+  disagree on min/max with NaN.)
 - Outputs: our FIS has one output per (action, parameter) pair in effect. For every action the
-  rulebase uses: `kick_support` (the term FIRED, a ramp from 0 to 1, defuzzified by smallest of
-  maximum, so its value is the largest strength among the action's rules: its support) and
+  rulebase uses: `kick_support`, whose value is the largest strength among the action's rules, and
   `kick_direction`, `kick_power` for the parameters the action uses (the variable's terms, max
-  aggregation, mean of maximum, our default when no rule gives a term).
-- The consumer selects the action with the largest support (ties: the first in the rulebase).
+  aggregation, our default when no rule gives a term).
+- Every output is defuzzified by mean of maximum, the only method all three formats share (a .fis
+  file names one method for all its outputs). The support's term FIRED rises from 0 at -1 to 1 at 1:
+  clipped at strength s its maximum is [2s - 1, 1], whose mean is s.
+- The consumer selects the action with the largest support; on a tie, the one declared first. The
+  actions are declared in the order of their first rule, so that is our engine's choice unless an
+  action's earlier rules fired weaker (ours takes the first rule that reaches the tied support).
 - Premises combine strictly left to right, written with explicit parentheses.
 """
 
@@ -24,10 +28,10 @@ from fuzzy.vocabulary import Vocabulary
 
 ENGINE_NAME = "soccer_lab"
 VISIBLE_TERM = Term("YES", 0.0, 1.0, 1.0, 1.0)
-FIRED_TERM = Term("FIRED", 0.0, 1.0, 1.0, 1.0)
-SUPPORT_RANGE = (0.0, 1.0)
+FIRED_TERM = Term("FIRED", -1.0, 1.0, 1.0, 1.0)
+SUPPORT_RANGE = (-1.0, 1.0)
 SUPPORT_DEFAULT = 0.0
-RESOLUTION = 1000  # samples of the integral defuzzifiers in the exported engine
+RESOLUTION = 1000  # samples of the defuzzifiers where the format can say so (FLL)
 
 
 def visibility_input(obj: str) -> str:
@@ -49,7 +53,6 @@ class ExportedVariable:
     maximum: float
     terms: tuple[Term, ...]
     default: float = 0.0
-    smallest_of_maximum: bool = False  # the support outputs; parameters use mean of maximum
 
 
 @dataclass(frozen=True)
@@ -62,13 +65,22 @@ class Keywords:
     or_: str
 
 
+@dataclass(frozen=True)
+class Literal:
+    """`input is [not] term`: one premise's membership test, or an object's visibility test."""
+
+    input: str
+    term: str
+    negated: bool = False
+
+
 class FisLayout:
     """The exported inputs, outputs and rule texts of one rulebase."""
 
     def __init__(self, rulebase: Rulebase, vocabulary: Vocabulary):
         self.rulebase = rulebase
         self.vocabulary = vocabulary
-        self.actions = [a for a in vocabulary.action_names if any(r.consequent.action == a for r in rulebase)]
+        self.actions = list(dict.fromkeys(rule.consequent.action for rule in rulebase))  # by first rule
 
     @property
     def inputs(self) -> list[ExportedVariable]:
@@ -83,18 +95,23 @@ class FisLayout:
     def outputs(self) -> list[ExportedVariable]:
         outputs = []
         for action in self.actions:
-            outputs.append(ExportedVariable(support_output(action), *SUPPORT_RANGE, (FIRED_TERM,), SUPPORT_DEFAULT, True))
+            outputs.append(ExportedVariable(support_output(action), *SUPPORT_RANGE, (FIRED_TERM,), SUPPORT_DEFAULT))
             for output in self.vocabulary.actions[action]:
                 variable = self.vocabulary.output_variable(output)
                 outputs.append(ExportedVariable(parameter_output(action, output), variable.minimum, variable.maximum,
                                                 variable.terms, self.vocabulary.output_default(output)))
         return outputs
 
+    def literals(self, premise: Premise) -> tuple[Literal, Literal]:
+        """The premise as (object is visible) and (input is [not] term)."""
+        return (Literal(visibility_input(premise.object), VISIBLE_TERM.name),
+                Literal(self.vocabulary.premise_input(premise.object, premise.term), premise.term, premise.negated))
+
     def premise(self, premise: Premise, words: Keywords) -> str:
-        input_name = self.vocabulary.premise_input(premise.object, premise.term)
-        negation = f"{words.not_} " if premise.negated else ""
-        return (f"({visibility_input(premise.object)} {words.is_} {VISIBLE_TERM.name} {words.and_} "
-                f"{input_name} {words.is_} {negation}{premise.term})")
+        visible, test = self.literals(premise)
+        negation = f"{words.not_} " if test.negated else ""
+        return (f"({visible.input} {words.is_} {visible.term} {words.and_} "
+                f"{test.input} {words.is_} {negation}{test.term})")
 
     def antecedent(self, rule: Rule, words: Keywords) -> str:
         text = self.premise(rule.premises[0], words)

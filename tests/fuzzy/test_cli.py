@@ -89,7 +89,7 @@ def test_infer_rejects_bad_inputs_in_one_line(rule_file, argument, message):
 
 
 @pytest.mark.parametrize("fmt, marker", [("json", '"format": "soccer-lab-rulebase"'), ("fcl", "FUNCTION_BLOCK"),
-                                         ("fll", "Engine: soccer_lab")])
+                                         ("fll", "Engine: soccer_lab"), ("fis", "Type='mamdani'")])
 def test_export_formats(rule_file, tmp_path, fmt, marker):
     result = run("export", rule_file, "--format", fmt)
     assert result.exit_code == 0 and marker in result.stdout

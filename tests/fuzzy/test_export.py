@@ -1,4 +1,5 @@
-"""Export (spec 2.4): lossless JSON, FLL that pyfuzzylite runs to the same outputs, well-formed FCL."""
+"""Export: lossless JSON, and the shape of the FLL, FCL and .fis text (tests/fuzzy/test_export_readers.py
+loads them in the real readers)."""
 
 import json
 import re
@@ -8,13 +9,12 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from fuzzy.defuzzifier import sampled_error_bound
-from fuzzy.engine import Engine
-from fuzzy.export import RulebaseFormatError, export_rulebase, rulebase_from_json, to_fcl, to_fll, to_json
-from fuzzy.export.layout import RESOLUTION, parameter_output, support_output
+from fuzzy.export import RulebaseFormatError, export_rulebase, rulebase_from_json, to_fcl, to_fis, to_fll, to_json
+from fuzzy.export.layout import FisLayout
 from fuzzy.parser import parse_rulebase
 from fuzzy.random_rulebase import random_rulebase
 from fuzzy.vocabulary import Vocabulary
+from tests.fuzzy.iec_fcl import FclError, parse_fcl
 
 fl = pytest.importorskip("fuzzylite")
 
@@ -64,110 +64,88 @@ def test_json_loader_names_what_is_wrong(text, message):
     assert message in str(caught.value)
 
 
-def load_fll(rulebase):
-    return fl.FllImporter().from_string(to_fll(rulebase, VOCABULARY))
-
-
 def test_fll_loads_in_pyfuzzylite_with_explicit_grouping():
-    engine = load_fll(EXAMPLE)
+    engine = fl.FllImporter().from_string(to_fll(EXAMPLE, VOCABULARY))
     assert engine.input_variable("ball_visible") is not None
     first = engine.rule_blocks[0].rules[0].antecedent.text
     assert first == ("((ball_visible is YES and ball_distance is NEAR) or (ball_visible is YES and ball_distance "
                      "is not FAR)) and (goal_visible is YES and goal_distance is NEAR)")
-    names = {v.name for v in engine.output_variables}
-    assert names == {"runtowardball_support", "runtowardball_power", "kick_support", "kick_direction", "kick_power",
-                     "turn_support", "turn_direction", "donothing_support"}
+    names = [v.name for v in engine.output_variables]
+    assert names == ["runtowardball_support", "runtowardball_power", "kick_support", "kick_direction", "kick_power",
+                     "turn_support", "turn_direction", "donothing_support"]  # actions by their first rule
 
 
-def test_fll_in_pyfuzzylite_matches_our_engine_to_its_sampling_error():
-    rng = np.random.default_rng(2024)
-    compared = 0
-    for _ in range(8):
-        rulebase = random_rulebase(rng, VOCABULARY, rules=10)
-        engine = load_fll(rulebase)
-        n = 150
-        inputs = np.column_stack([rng.uniform(v.minimum - 10, v.maximum + 10, n)
-                                  for v in (VOCABULARY.variables[k] for k in VOCABULARY.inputs.values())])
-        visible = rng.random((n, 2)) < 0.8
-        for j, name in enumerate(VOCABULARY.input_names):
-            engine.input_variable(name).value = inputs[:, j]
-        for j, obj in enumerate(VOCABULARY.object_names):
-            engine.input_variable(f"{obj.lower()}_visible").value = visible[:, j].astype(float)
-        engine.process()
-
-        def fll_value(name, i):
-            return np.broadcast_to(engine.output_variable(name).value, (n,))[i]
-
-        ours = Engine(rulebase, VOCABULARY)
-        for i in range(n):
-            seen = dict(zip(VOCABULARY.object_names, visible[i]))
-            crisp = {name: (inputs[i, j] if seen[obj] else None) for j, name in enumerate(VOCABULARY.input_names)
-                     for obj in VOCABULARY.object_names if name in VOCABULARY.objects[obj].values()}
-            inference = ours.infer(crisp)
-            fired = {a.action: a for a in inference.fired}
-            for action in {r.consequent.action for r in rulebase}:
-                support = fired[action].support if action in fired else 0.0
-                assert fll_value(support_output(action), i) == pytest.approx(support, abs=1.0 / RESOLUTION)
-                if action not in fired:
-                    continue
-                for output, value in fired[action].parameters.items():
-                    variable = VOCABULARY.output_variable(output)
-                    step = (variable.maximum - variable.minimum) / RESOLUTION
-                    sets = inference.clipped_sets[action][output]
-                    tolerance = sampled_error_bound(ours.maximum_cuts(output, sets), step) if sets else 0.0
-                    if tolerance is None:  # a maximum made of points: sampling cannot see it (spec 2.2)
-                        continue
-                    assert fll_value(parameter_output(action, output), i) == pytest.approx(value, abs=tolerance + 1e-9)
-                    compared += 1
-    assert compared > 1000
+def test_fcl_follows_the_standards_production_rules():
+    block = parse_fcl(to_fcl(EXAMPLE, VOCABULARY))
+    assert block.operators == {"AND": "MIN", "ACT": "MIN", "ACCU": "MAX"}
+    assert set(block.inputs) == {"ball_distance", "ball_direction", "goal_distance", "goal_direction",
+                                 "ball_visible", "goal_visible"}
+    assert set(block.methods.values()) == {"MM"}
+    # one conclusion per rule: the support, then each non-Null parameter the action uses
+    assert [c for _, c in block.rules] == [
+        [("runtowardball_support", "FIRED")], [("runtowardball_power", "LOW")],
+        [("kick_support", "FIRED")], [("kick_direction", "SLIGHTLYRIGHT")], [("kick_power", "HIGH")],
+        [("turn_support", "FIRED")], [("turn_direction", "LEFT")],
+        [("donothing_support", "FIRED")],
+    ]
+    assert block.rules[0][0] == block.rules[1][0]
+    assert "is not FAR" in block.rules[0][0]
+    assert "turn_power" not in block.outputs  # Turn's unused power is not exported
 
 
-def fcl_blocks(text):
-    body = re.sub(r"\(\*.*?\*\)", "", text, flags=re.S)
-    return body, {kind: dict(re.findall(rf"^{kind} (\w+)\n(.*?)^END_{kind}", body, flags=re.S | re.M))
-                  for kind in ("FUZZIFY", "DEFUZZIFY")}
+@given(st.integers(0, 2**32 - 1))
+def test_fcl_of_any_rulebase_follows_the_standard(seed):
+    rulebase = random_rulebase(np.random.default_rng(seed), VOCABULARY, rules=1 + int(seed % 12))
+    block = parse_fcl(to_fcl(rulebase, VOCABULARY))
+    layout = FisLayout(rulebase, VOCABULARY)
+    assert len(block.rules) == sum(len(layout.conclusions(rule)) for rule in rulebase)
 
 
-def test_fcl_is_well_formed():
+@pytest.mark.parametrize("old, new, message", [
+    ("(*\n    ACCU : MAX; // fuzzylite reads ACCU here, the standard in RULEBLOCK *)", "\n    ACCU : MAX;",
+     "expected TERM, found ACCU"),
+    ("RULE 1 :", "// a comment fuzzylite reads\n    RULE 1 :", "character '/'"),
+    ("ACT : MIN; ACCU : MAX; (*", "ACT : MIN; (*", "expected ACCU"),
+])
+def test_the_standard_reader_is_strict(old, new, message):
+    """What only fuzzylite reads, taken out of its standard comment, breaks the standard's view."""
     text = to_fcl(EXAMPLE, VOCABULARY)
-    body, blocks = fcl_blocks(text)
-    lines = [line.strip() for line in body.splitlines() if line.strip()]
-    assert lines[0] == "FUNCTION_BLOCK soccer_lab" and lines[-1] == "END_FUNCTION_BLOCK"
-    for opener in ("VAR_INPUT", "VAR_OUTPUT", "FUZZIFY", "DEFUZZIFY", "RULEBLOCK"):
-        opened = sum(line.split()[0] == opener for line in lines)
-        closed = sum(line == {"VAR_INPUT": "END_VAR", "VAR_OUTPUT": "END_VAR"}.get(opener, f"END_{opener}")
-                     for line in lines)
-        assert opened >= 1 and (opener.startswith("VAR") or opened == closed)
-    statements = [line for line in lines if not line.startswith(("FUNCTION_BLOCK", "END_", "VAR_", "FUZZIFY",
-                                                                   "DEFUZZIFY", "RULEBLOCK"))]
-    assert all(line.endswith(";") for line in statements)
-    declared_inputs = set(re.findall(r"^\s+(\w+) : REAL;", body.split("VAR_OUTPUT")[0], flags=re.M))
-    assert declared_inputs == set(blocks["FUZZIFY"])
-    terms = {name: set(re.findall(r"TERM (\w+) :=", block)) for kind in blocks.values() for name, block in kind.items()}
-    for block in blocks["DEFUZZIFY"].values():
-        assert re.search(r"METHOD : (MM|LM);", block) and re.search(r"DEFAULT := [-\d.]+;", block)
-    rules = re.findall(r"RULE (\d+) : IF (.*) THEN (.*);", body)
-    assert [int(r[0]) for r in rules] == [1, 2, 3, 4]
-    for _, antecedent, conclusion in rules:
-        depth = 0
-        for char in antecedent:
-            depth += {"(": 1, ")": -1}.get(char, 0)
-            assert depth >= 0
-        assert depth == 0
-        for variable, term in re.findall(r"(\w+) IS (?:NOT )?(\w+)", antecedent + ", " + conclusion):
-            assert term in terms[variable]
-    assert "IS NOT FAR" in rules[0][1] and "turn_direction IS LEFT" in rules[2][2]
-    assert "turn_power" not in body  # Turn's unused power is not exported
+    assert old in text
+    with pytest.raises(FclError, match=message):
+        parse_fcl(text.replace(old, new, 1))
 
 
 def test_fcl_shoulders_are_flat_beyond_their_end_points():
-    _, blocks = fcl_blocks(to_fcl(EXAMPLE, VOCABULARY))
-    distance = blocks["FUZZIFY"]["ball_distance"]
+    text = to_fcl(EXAMPLE, VOCABULARY)
+    distance = text.split("FUZZIFY ball_distance")[1].split("END_FUZZIFY")[0]
     assert "TERM AT := (0, 1) (1, 1) (2, 0);" in distance
     assert "TERM VERYFAR := (40, 0) (60, 1) (130, 1);" in distance
-    assert "TERM LEFT180 := (-180, 1) (-90, 0);" in blocks["FUZZIFY"]["ball_direction"]
+    assert "TERM LEFT180 := (-180, 1) (-90, 0);" in text.split("FUZZIFY ball_direction")[1]
+
+
+def test_fis_expands_or_into_rules_and_reads_repeated_inputs_from_copies():
+    text = to_fis(parse_rulebase("if (Ball is Near or Ball is not Far) and Ball is not VeryNear then Kick High\n",
+                                 VOCABULARY), VOCABULARY)
+    names = re.findall(r"^Name='(\w+)'", text, flags=re.M)
+    assert names[1:8] == ["ball_distance", "ball_direction", "goal_distance", "goal_direction", "ball_visible",
+                          "goal_visible", "ball_distance_2"]
+    assert names[8:] == ["kick_support", "kick_direction", "kick_power"]
+    rules = text.split("[Rules]\n")[1].splitlines()
+    # (Near and not VeryNear) or (not Far and not VeryNear); the second test of ball_distance reads the copy
+    assert rules == ["3 0 0 0 1 0 -2, 1 0 6 (1) : 1", "-7 0 0 0 1 0 -2, 1 0 6 (1) : 1"]
+    assert "NumRules=2" in text and "NumInputs=7" in text and "DefuzzMethod='mom'" in text
+
+
+def test_fis_ranges_have_our_defaults_in_their_middle():
+    """MATLAB gives an output no rule fired for the middle of its range: that must be our default."""
+    text = to_fis(EXAMPLE, VOCABULARY)
+    ranges = dict(re.findall(r"^Name='(\w+)'\nRange=\[([^]]+)\]", text, flags=re.M))
+    assert ranges["kick_power"] == "0 110"  # default 55
+    assert ranges["kick_direction"] == "-180 180"  # default 0
+    assert ranges["kick_support"] == "-1 1"  # 0 when no rule of the action fired
+    assert "MF7='VERYHIGH':'trapmf',[85 100 100 100]" in text  # terms keep their own feet
 
 
 def test_unknown_export_format():
-    with pytest.raises(ValueError, match="unknown export format 'xml'; expected one of json, fcl, fll"):
+    with pytest.raises(ValueError, match="unknown export format 'xml'; expected one of json, fcl, fll, fis"):
         export_rulebase(EXAMPLE, "xml", VOCABULARY)
