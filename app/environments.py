@@ -13,7 +13,7 @@ from contextlib import contextmanager
 from dataclasses import asdict, dataclass
 from typing import TYPE_CHECKING, Any, ClassVar, Iterator, Literal, NamedTuple, Sequence
 
-from soccer.config import GameConfig
+from soccer.config import GameConfig, WorldConfig
 from soccer.rcss.client import DEFAULT_SERVER, parse_server
 
 if TYPE_CHECKING:
@@ -77,6 +77,11 @@ class SimpleSoccerGames:
     def settings(self) -> dict[str, Any]:
         return {"game": self.game.model_dump()}
 
+    @property
+    def world(self) -> WorldConfig:
+        """Where replays are drawn."""
+        return self.game.world
+
     @contextmanager
     def evaluator(self) -> Iterator["Evaluator"]:
         from soccer.evaluate import SimpleSoccerEvaluator
@@ -110,6 +115,11 @@ class RcssTrials:
 
     def settings(self) -> dict[str, Any]:
         return {"servers": list(self.servers), "trial": asdict(self.trial)}
+
+    @property
+    def world(self) -> None:
+        """No replays are drawn (see `replay`)."""
+        return None
 
     @contextmanager
     def evaluator(self) -> Iterator["Evaluator"]:

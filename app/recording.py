@@ -3,9 +3,14 @@
 Each recording is its own `rr.RecordingStream` writing to a file, never the global stream, so the
 server can record several runs at once.
 
-- `RunRecorder(path)`: the per-generation callback. Every statistic of spec 3.3 becomes a scalar time
-  series on the `generation` timeline (entity `statistics/<group>/<name>`), and the share of the
-  population per goal count a bar chart (`statistics/goal_histogram`).
+- `RunRecorder(path)`: the per-generation callback. Every statistic becomes a scalar time series on the
+  `generation` timeline (entity `statistics/<group>/<name>`), the share of the population per goal count
+  also a bar chart (`statistics/goal_histogram`), and each chromosome count's mean - std and mean + std
+  a pair of thin lines (`statistics/chromosome_spread/<count>`). `log_generation_replay` adds a
+  generation's best player's game (`replay/generation_<g>/...`) on the `tick` timeline.
+- The recording carries a blueprint laid out like the chapter's figures (`run_blueprint`): one tab per
+  replayed generation (the latest open) beside best/mean/worst fitness (Figs. 11, 12), goal shares
+  (Fig. 13), chromosome composition with its standard deviation (Fig. 28) and the gene pool (Fig. 29).
 - `log_replay(stream, trace, world)`: one game on the `tick` timeline: pitch lines and goal (static),
   player with its facing and view cone, ball, the action chosen and the score.
 
@@ -16,10 +21,11 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
-from typing import Any, Mapping
+from typing import Any, Mapping, Sequence
 
 import numpy as np
 import rerun as rr
+import rerun.blueprint as rrb
 
 from app.pitch_markings import CENTRE_CIRCLE_RADIUS
 from soccer.config import WorldConfig
@@ -29,6 +35,7 @@ GENERATION_TIMELINE = "generation"
 TICK_TIMELINE = "tick"
 STATISTICS_ENTITY = "statistics"
 GOAL_HISTOGRAM_ENTITY = f"{STATISTICS_ENTITY}/goal_histogram"
+SPREAD_ENTITY = f"{STATISTICS_ENTITY}/chromosome_spread"
 REPLAY_ENTITY = "replay"
 GOAL_BINS = ("goals_0", "goals_1", "goals_2", "goals_3", "goals_4", "goals_more")
 # Statistic name prefix -> the group (one plot in the viewer) its series joins; the rest go to "run".
@@ -40,26 +47,43 @@ STATISTIC_GROUPS = (
 )
 NOT_A_SERIES = ("generation",)
 
+# What each figure of the blueprint plots: statistic -> (legend name, colour).
+FITNESS_SERIES = {"best": ("best", (0, 150, 60)), "mean": ("mean", (30, 120, 255)), "worst": ("worst", (220, 60, 50))}
+GOAL_SERIES = {"goals_0": ("0 goals", (150, 150, 150)), "goals_1": ("1 goal", (70, 130, 180)),
+               "goals_2": ("2 goals", (60, 170, 110)), "goals_3": ("3 goals", (230, 170, 30)),
+               "goals_4": ("4 goals", (230, 110, 40)), "goals_more": ("more than 4", (200, 40, 40))}
+COMPOSITION_SERIES = {"genes": ("genes", (30, 120, 255)), "premises": ("premises", (0, 150, 60)),
+                      "rules": ("rules", (230, 140, 20)), "valid_rules": ("valid rules", (200, 40, 40))}
+GENE_POOL_SERIES = {"unique_premise_genes": ("premise genes", (0, 150, 60)),
+                    "unique_consequent_genes": ("consequent genes", (230, 140, 20)),
+                    "unique_genes": ("all genes", (30, 120, 255))}
+SERIES_WIDTH = 2.0
+SPREAD_WIDTH = 0.75
+BAR_CHART_SHARE = 0.5  # of the goal-shares plot's width
+
 # Drawing (display only; the world's geometry comes from WorldConfig).
 VIEW_CONE_LENGTH = 20.0  # metres drawn along each edge of the view cone
 FACING_LENGTH = 1.5
 CIRCLE_SEGMENTS = 48
+PITCH_MARGIN = 3.0  # metres around the pitch (and the goal behind it) in the replay views
 PITCH_COLOUR = (230, 230, 230)
+GRASS_COLOUR = (40, 110, 60)  # the replay views' background
 GOAL_COLOUR = (255, 215, 0)
 PLAYER_COLOUR = (30, 120, 255)
 BALL_COLOUR = (255, 255, 255)
 VIEW_CONE_COLOUR = (30, 120, 255, 90)
 LINE_RADIUS = 0.12
 CONE_RADIUS = 0.05
-HUNT = "HUNT"  # the label of ticks where no rule fired and the player hunted (spec 4.3)
+HUNT = "HUNT"  # the label of ticks where no rule fired and the player hunted
 
 
-def open_stream(path: str | Path, recording_id: str | None = None) -> rr.RecordingStream:
+def open_stream(path: str | Path, recording_id: str | None = None,
+                blueprint: rrb.Blueprint | None = None) -> rr.RecordingStream:
     """A recording stream writing to `path` (overwritten), without wall-clock or log-tick timelines."""
     stream = rr.RecordingStream(APPLICATION_ID, recording_id=recording_id, send_properties=False)
     stream.set_log_time_enabled(False)
     stream.set_log_tick_enabled(False)
-    stream.save(str(path))
+    stream.save(str(path), default_blueprint=blueprint)
     return stream
 
 
@@ -71,13 +95,79 @@ def statistic_entity(name: str) -> str:
     return f"{STATISTICS_ENTITY}/run/{name}"
 
 
+def spread_entity(count: str) -> str:
+    """mean - std and mean + std of one chromosome count (genes, premises, rules, valid_rules)."""
+    return f"{SPREAD_ENTITY}/{count}"
+
+
+def replay_entity(generation: int) -> str:
+    return f"{REPLAY_ENTITY}/generation_{generation}"
+
+
+def log_series_styles(stream: rr.RecordingStream) -> None:
+    """Legend names, colours and widths of the plotted series (static: they hold on every timeline)."""
+    for group in (FITNESS_SERIES, GOAL_SERIES, GENE_POOL_SERIES):
+        for statistic, (name, colour) in group.items():
+            stream.log(statistic_entity(statistic), rr.SeriesLines(colors=colour, widths=SERIES_WIDTH, names=name),
+                       static=True)
+    for count, (name, colour) in COMPOSITION_SERIES.items():
+        stream.log(statistic_entity(f"{count}_mean"),
+                   rr.SeriesLines(colors=colour, widths=SERIES_WIDTH, names=name), static=True)
+        stream.log(spread_entity(count), rr.SeriesLines(colors=[colour, colour], widths=[SPREAD_WIDTH, SPREAD_WIDTH],
+                                                        names=[f"{name} - std", f"{name} + std"]), static=True)
+
+
 def log_statistics(stream: rr.RecordingStream, row: Mapping[str, Any]) -> None:
     """One generation's statistics (GenerationStats.to_dict()) at its place on the generation timeline."""
     stream.set_time(GENERATION_TIMELINE, sequence=int(row["generation"]))
     for name, value in row.items():
         if name not in NOT_A_SERIES:
             stream.log(statistic_entity(name), rr.Scalars(float(value)))
+    for count in COMPOSITION_SERIES:
+        mean, std = float(row[f"{count}_mean"]), float(row[f"{count}_std"])
+        stream.log(spread_entity(count), rr.Scalars([mean - std, mean + std]))
     stream.log(GOAL_HISTOGRAM_ENTITY, rr.BarChart(np.array([float(row[b]) for b in GOAL_BINS])))
+
+
+def _series_view(name: str, series: Sequence[str], *, unit_range: bool = False) -> rrb.TimeSeriesView:
+    return rrb.TimeSeriesView(name=name, origin="/", contents=[f"+ /{entity}" for entity in series],
+                              axis_y=rrb.ScalarAxis(range=(0.0, 1.0)) if unit_range else None,
+                              plot_legend=rrb.PlotLegend(visible=True))
+
+
+def run_blueprint(replays: Sequence[tuple[int, str]] = (), world: WorldConfig | None = None) -> rrb.Blueprint:
+    """The viewer's layout for a run: the chapter's figures and, when there are replays, one tab per
+    replayed generation ((generation, tab name), the last one open). No automatic views are added."""
+    figures = rrb.Vertical(
+        _series_view("Fitness: best, mean, worst (Figs. 11, 12; lower is better)",
+                     [statistic_entity(s) for s in FITNESS_SERIES], unit_range=True),
+        rrb.Horizontal(
+            _series_view("Share of the population scoring 0 .. more than 4 goals (Fig. 13)",
+                         [statistic_entity(s) for s in GOAL_SERIES], unit_range=True),
+            rrb.BarChartView(name="Goal shares at this generation", origin=GOAL_HISTOGRAM_ENTITY),
+            column_shares=[1.0, BAR_CHART_SHARE]),
+        _series_view("Per chromosome: genes, premises, rules, valid rules, mean and ± std (Fig. 28)",
+                     [statistic_entity(f"{count}_mean") for count in COMPOSITION_SERIES]
+                     + [spread_entity(count) for count in COMPOSITION_SERIES]),
+        _series_view("Gene pool: unique premise, consequent and all genes (Fig. 29)",
+                     [statistic_entity(s) for s in GENE_POOL_SERIES]),
+    )
+    layout: rrb.Container = figures
+    if replays:
+        bounds = None
+        if world is not None:
+            half_length = world.pitch_length / 2 + world.goal_depth + PITCH_MARGIN
+            half_width = world.pitch_width / 2 + PITCH_MARGIN
+            bounds = rrb.VisualBounds2D(x_range=(-half_length, half_length), y_range=(-half_width, half_width))
+        tabs = rrb.Tabs(*(rrb.Spatial2DView(name=name, origin=f"/{REPLAY_ENTITY}", visual_bounds=bounds,
+                                            background=rrb.Background(color=GRASS_COLOUR),
+                                            contents=["+ $origin/pitch/**", "+ $origin/goal/**",
+                                                      f"+ /{replay_entity(generation)}/**"])
+                          for generation, name in replays), active_tab=len(replays) - 1)
+        layout = rrb.Horizontal(tabs, figures, column_shares=[1.0, 1.0])
+    return rrb.Blueprint(layout, rrb.BlueprintPanel(state="collapsed"), rrb.SelectionPanel(state="collapsed"),
+                         rrb.TimePanel(state="expanded", timeline=GENERATION_TIMELINE, play_state="following"),
+                         auto_layout=False, auto_views=False)
 
 
 class RunRecorder:
@@ -85,11 +175,18 @@ class RunRecorder:
 
     When resuming, pass the statistics rows of the generations already finished as `history`:
     they are logged again first, so the recording is whole (a killed run's .rrd may be cut short).
+    `world` (SimpleSoccer's) is where replays are drawn; without it the recording has no replays.
     """
 
-    def __init__(self, path: str | Path, *, history: list[Mapping[str, Any]] = (), recording_id: str | None = None):
+    def __init__(self, path: str | Path, *, history: Sequence[Mapping[str, Any]] = (),
+                 world: WorldConfig | None = None, recording_id: str | None = None):
         self.path = Path(path)
-        self.stream = open_stream(self.path, recording_id)
+        self.world = world
+        self.replays: list[tuple[int, str]] = []  # (generation, tab name) of each replay logged
+        self.stream = open_stream(self.path, recording_id, run_blueprint())
+        log_series_styles(self.stream)
+        if world is not None:
+            log_pitch(self.stream, world, REPLAY_ENTITY)
         for row in history:
             log_statistics(self.stream, row)
         self.stream.flush()
@@ -98,8 +195,15 @@ class RunRecorder:
         log_statistics(self.stream, stats.to_dict())
         self.stream.flush()  # a killed run keeps what it logged
 
-    def log_replay(self, trace: Any, world: WorldConfig, *, entity: str = REPLAY_ENTITY) -> None:
-        log_replay(self.stream, trace, world, entity=entity)
+    def log_generation_replay(self, generation: int, trace: Any, result: Any) -> None:
+        """A generation's best player's game (`result` its GameResult) under replay/generation_<g>, and
+        the blueprint with its tab added."""
+        if self.world is None:
+            raise ValueError("this recording has no world to draw replays in")
+        log_replay(self.stream, trace, self.world, entity=replay_entity(generation), generation=generation,
+                   pitch=False)
+        self.replays.append((generation, f"generation {generation} ({result.goals} goals)"))
+        self.stream.send_blueprint(run_blueprint(self.replays, self.world))
         self.stream.flush()
 
     def close(self) -> None:
@@ -144,17 +248,23 @@ def log_pitch(stream: rr.RecordingStream, world: WorldConfig, entity: str = REPL
                static=True)
 
 
-def log_replay(stream: rr.RecordingStream, trace: Any, world: WorldConfig, *, entity: str = REPLAY_ENTITY) -> None:
-    """One game's trace (soccer.engine GameTrace) on the tick timeline under `entity`, sent as columns; its
-    actions are labelled in the vocabulary the game was played in."""
+def log_replay(stream: rr.RecordingStream, trace: Any, world: WorldConfig, *, entity: str = REPLAY_ENTITY,
+               generation: int | None = None, pitch: bool = True) -> None:
+    """One game's trace (soccer.engine GameTrace) on the tick timeline under `entity`, sent as columns, its
+    actions labelled in the vocabulary the game was played in, with its pitch (`pitch`) under the same
+    entity. A generation's replay also sits at `generation` on the generation timeline, so that timeline
+    shows where each generation's game ended."""
     vocabulary = trace.vocabulary
     labels = [vocabulary.display(name) for name in (HUNT,) + vocabulary.action_names]  # action -1 = hunt
-    stream.reset_time()  # the replay lives on the tick timeline only, not at some generation
-    log_pitch(stream, world, entity)
+    stream.reset_time()  # a replay's times are its own columns, not the stream's current generation
+    if pitch:
+        log_pitch(stream, world, entity)
     ticks = len(trace.action)
     if ticks == 0:
         return
     timeline = [rr.TimeColumn(TICK_TIMELINE, sequence=np.arange(ticks))]
+    if generation is not None:
+        timeline.append(rr.TimeColumn(GENERATION_TIMELINE, sequence=np.full(ticks, generation)))
     player = np.column_stack([trace.player_x, trace.player_y]).astype(float)
     facing = np.radians(np.asarray(trace.facing, dtype=float))
     cones = np.stack([view_cone(x, y, f, world.view_width / 2)

@@ -1,9 +1,13 @@
-"""Rerun's web viewer on the address `serve` was told (spec 8: 127.0.0.1 unless told otherwise).
+"""Rerun's web viewer on the address `serve` was told (127.0.0.1, this machine only, unless told otherwise).
 
 rerun-sdk 0.41's `rr.serve_web_viewer` has no host parameter and listens on 0.0.0.0, so the viewer is
 the rerun CLI that the same wheel ships (`rerun_cli/rerun`, or $RERUN_CLI_PATH as rerun itself honours),
 run as a child process with `--serve-web --bind HOST`: its web server and the gRPC proxy it always
 starts (on a port the system picks) both listen on HOST only.
+
+The viewer's welcome screen links to rerun's online examples, which a machine without internet cannot
+load. The CLI's `--hide-welcome-screen` only reaches the native viewer; the web viewer takes it from its
+own address, so the app links to `viewer_home(...)`, whose `?hide_welcome_screen` turns that screen off.
 """
 
 from __future__ import annotations
@@ -19,6 +23,7 @@ START_TIMEOUT_SECONDS = 15.0
 STOP_TIMEOUT_SECONDS = 5.0
 POLL_SECONDS = 0.05
 ANY_FREE_PORT = 0
+WITHOUT_WELCOME_SCREEN = "hide_welcome_screen"  # the web viewer's own query parameter
 
 
 class RerunViewerError(RuntimeError):
@@ -32,6 +37,11 @@ def rerun_cli_path() -> Path:
     import rerun_cli
 
     return Path(rerun_cli.__file__).parent / "rerun"
+
+
+def viewer_home(viewer_url: str) -> str:
+    """Where to open the viewer: its address without the welcome screen and its example links."""
+    return f"{viewer_url.rstrip('/')}/?{WITHOUT_WELCOME_SCREEN}"
 
 
 def viewer_command(host: str, port: int) -> list[str]:

@@ -20,13 +20,15 @@ from pydantic import ValidationError
 from app.environments import (RCSS, SIMPLE, Environment, RcssTrials, Replay, SimpleSoccerGames, checked_env,
                               checked_servers, checked_workers)
 from app.recording import RunRecorder
-from app.run_outputs import RunFolder, RunFolderError, RunOutputs
+from app.run_outputs import GenerationBestsFile, RunFolder, RunFolderError, RunOutputs, generation_best
 from app.validation import describe_problems
 from fuzzy.vocabulary import Vocabulary
 from ga.algorithms import Callback, evolve, random_search, resume
 from ga.checkpoint import load_checkpoint
+from ga.codec import ChromosomeCodec
 from ga.config import GAConfig
 from ga.evaluation import Evaluator
+from ga.individual import Individual
 from ga.result import RunResult
 from ga.state import ALGORITHMS, GA, RANDOM_SEARCH, RunState
 from soccer.config import SOCCER_VOCABULARY, GameConfig
@@ -123,7 +125,7 @@ class Run:
         self.settings = settings
         self.folder = RunFolder(Path(folder))
         self.vocabulary = SOCCER_VOCABULARY  # what a new run's rules are made of (a resumed run keeps its own)
-        self.best_game: Replay | None = None  # the best player's first game, where the environment can replay it
+        self.best_game: Replay | None = None  # after play: the best player's first game, where it can be replayed
 
     @classmethod
     def create(cls, settings: RunSettings, folder: str | Path) -> "Run":
@@ -165,10 +167,16 @@ class Run:
         state = self.saved_state()
         history = [stats.to_dict() for stats in state.history] if state else []
         vocabulary = state.vocabulary if state else self.vocabulary
-        outputs = RunOutputs(self.folder, vocabulary, history=history, best=state.best if state else None)
-        recorder = RunRecorder(self.folder.recording, history=history)
+        bests = self._generation_bests(state)
+        outputs = RunOutputs(self.folder, vocabulary, history=history, best=state.best if state else None,
+                             generation_bests=bests)
+        environment = self.settings.environment
+        recorder = RunRecorder(self.folder.recording, history=history, world=environment.world)
         try:
-            everything = [outputs, recorder, *callbacks]
+            replays = GenerationReplays(environment, recorder, vocabulary)
+            for generation, best in bests:
+                replays.replay(generation, best)
+            everything = [outputs, recorder, replays, *callbacks]
             if state is not None:
                 result = resume(self.folder.checkpoint, evaluate, callbacks=everything, stop=stop)
             else:
@@ -176,13 +184,55 @@ class Run:
                 result = algorithm(self.settings.ga, evaluate, vocabulary, callbacks=everything,
                                    checkpoint=self.folder.checkpoint, stop=stop)
             outputs.write_best(result.best_rulebase)
-            self._replay_best(result, recorder, vocabulary)
+            self.best_game = replays.game_of(result.best)
         finally:
             recorder.close()
         return result
 
-    def _replay_best(self, result: RunResult, recorder: RunRecorder, vocabulary: Vocabulary) -> None:
-        first_seed = result.best.first_seed if result.best.first_seed is not None else result.config.seed
-        self.best_game = self.settings.environment.replay(result.best_rulebase, first_seed, vocabulary)
-        if self.best_game is not None:
-            recorder.log_replay(self.best_game.trace, self.settings.game.world)
+    def _generation_bests(self, state: RunState | None) -> list[tuple[int, Individual]]:
+        """Each finished generation's best, from generation_bests.jsonl: the lines of the generations the
+        checkpoint holds (a killed run may have written one more), and the last generation's best from
+        the checkpoint when the run was killed before writing its line."""
+        if state is None:
+            return []
+        finished = len(state.history)
+        bests = [(g, best) for g, best in GenerationBestsFile.read(self.folder.generation_bests) if g < finished]
+        if not any(g == finished - 1 for g, _ in bests):
+            bests.append((finished - 1, generation_best(state.population)))
+        return bests
+
+
+class GenerationReplays:
+    """Callback replaying each generation's best player's game into the recording, where the environment
+    can replay games: the game of its first evaluation (individuals keep that game's seed, and a game
+    depends only on rulebase and seed), so it costs one game a generation. A best that an earlier
+    generation already had (an elite, say) is the same game: it is logged again, not played again."""
+
+    def __init__(self, environment: Environment, recorder: RunRecorder, vocabulary: Vocabulary):
+        self.environment = environment
+        self.recorder = recorder
+        self.vocabulary = vocabulary
+        self.codec = ChromosomeCodec(vocabulary)
+        self.games: dict[tuple[bytes, int], Replay] = {}
+
+    def on_generation(self, stats: Any, population: list[Individual]) -> None:
+        self.replay(stats.generation, generation_best(population))
+
+    def replay(self, generation: int, individual: Individual) -> None:
+        game = self.game_of(individual)
+        if game is not None:
+            self.recorder.log_generation_replay(generation, game.trace, game.result)
+
+    def game_of(self, individual: Individual) -> Replay | None:
+        """The individual's first game; None where it cannot be replayed (rcss, no valid rule to play,
+        a checkpoint from before individuals kept their seed)."""
+        if individual.first_seed is None:
+            return None
+        key = (individual.chromosome.tobytes(), individual.first_seed)
+        if key not in self.games:
+            rulebase = self.codec.decode(individual.chromosome)
+            game = self.environment.replay(rulebase, individual.first_seed, self.vocabulary) if len(rulebase) else None
+            if game is None:
+                return None
+            self.games[key] = game
+        return self.games[key]

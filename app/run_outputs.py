@@ -2,15 +2,17 @@
 
 ```
 RUN_DIR/
-  run.json         what was run (mode, GA config, game config): enough to resume it
-  statistics.csv   every statistic of spec 3.3, one row per generation
-  checkpoint       the GA's full state after the last finished generation
-  best.rules       the best rulebase so far, as rule text
-  best.json        the same, as versioned JSON
-  run.rrd          the rerun recording (app/recording.py)
+  run.json               what is run (algorithm, GA parameters, environment): enough to resume it
+  statistics.csv         every statistic of each generation, one row per generation
+  generation_bests.jsonl each generation's best individual, one JSON object a line
+  checkpoint             the GA's full state after the last finished generation
+  best.rules             the best rulebase so far, as rule text
+  best.json              the same, as versioned JSON
+  run.rrd                the rerun recording (app/recording.py)
 ```
 `RunOutputs` is the per-generation callback that keeps the folder current, so a killed run keeps
-every finished generation.
+every finished generation. Generations are numbered from 0 (the evaluated initial population)
+everywhere: in statistics.csv, generation_bests.jsonl, the recording and the app's API.
 """
 
 from __future__ import annotations
@@ -20,7 +22,7 @@ import json
 from dataclasses import dataclass
 from datetime import datetime
 from pathlib import Path
-from typing import Any, Iterable, Mapping
+from typing import Any, Iterable, Mapping, Sequence
 
 from app.rulebase_files import rulebase_json, rulebase_text
 from fuzzy.rule import Rulebase
@@ -35,6 +37,7 @@ CHECKPOINT = "checkpoint"
 BEST_RULES = "best.rules"
 BEST_JSON = "best.json"
 RECORDING = "run.rrd"
+GENERATION_BESTS = "generation_bests.jsonl"
 TIMESTAMP_FORMAT = "%Y%m%d-%H%M%S"
 
 
@@ -79,6 +82,10 @@ class RunFolder:
     @property
     def recording(self) -> Path:
         return self.path / RECORDING
+
+    @property
+    def generation_bests(self) -> Path:
+        return self.path / GENERATION_BESTS
 
     @classmethod
     def create(cls, path: str | Path, manifest: Mapping[str, Any]) -> "RunFolder":
@@ -126,6 +133,45 @@ class RunFolder:
         _write_atomically(self.best_json, json_text)
 
 
+def generation_best(population: Sequence[Individual]) -> Individual:
+    """A generation's best individual: the lowest (running mean) fitness, the first of equals, as the GA's."""
+    return min(population, key=lambda individual: individual.fitness)
+
+
+class GenerationBestsFile:
+    """generation_bests.jsonl: each generation's best individual (its genes, evaluations and the seed of
+    its first game), one JSON object a line: what the recording's replays are played from, so a resumed
+    run can replay the generations before it again."""
+
+    def __init__(self, path: Path, bests: Iterable[tuple[int, Individual]] = ()):
+        """Starts the file afresh with `bests` (generation, individual), as StatisticsFile does."""
+        self.path = path
+        self.path.write_text("")
+        for generation, individual in bests:
+            self.append(generation, individual)
+
+    def append(self, generation: int, individual: Individual) -> None:
+        with self.path.open("a") as handle:
+            handle.write(json.dumps({"generation": generation, **individual.to_dict()}) + "\n")
+
+    @staticmethod
+    def read(path: Path) -> list[tuple[int, Individual]]:
+        """The (generation, individual) lines written whole; [] when there is no file (older run folders).
+        A line cut short by a kill ends the list."""
+        bests = []
+        try:
+            lines = path.read_text().splitlines()
+        except OSError:
+            return []
+        for line in lines:
+            try:
+                row = json.loads(line)
+                bests.append((int(row["generation"]), Individual.from_dict(row)))
+            except (ValueError, KeyError, TypeError):
+                break
+        return bests
+
+
 class StatisticsFile:
     """statistics.csv, one row per generation, appended as each generation finishes."""
 
@@ -158,19 +204,22 @@ class RunOutputs:
     (the GA's own rule: a lower running mean; the first of equals stays)."""
 
     def __init__(self, folder: RunFolder, vocabulary: Vocabulary, *, history: Iterable[Mapping[str, Any]] = (),
-                 best: Individual | None = None):
-        """history, best: the finished generations' statistics and best individual, when resuming."""
+                 best: Individual | None = None, generation_bests: Iterable[tuple[int, Individual]] = ()):
+        """history, best, generation_bests: the finished generations' statistics, the run's best individual
+        and each generation's best, when resuming."""
         self.folder = folder
         self.vocabulary = vocabulary
         self.codec = ChromosomeCodec(vocabulary)
         self.statistics = StatisticsFile(folder.statistics, history)
+        self.generation_bests = GenerationBestsFile(folder.generation_bests, generation_bests)
         self.best: Individual | None = None
         if best is not None:
             self._keep_best(best)
 
     def on_generation(self, stats: Any, population: list[Individual]) -> None:
         self.statistics.append(stats.to_dict())
-        contender = min(population, key=lambda individual: individual.fitness)
+        contender = generation_best(population)
+        self.generation_bests.append(stats.generation, contender)
         if self.best is None or contender.fitness < self.best.fitness:
             self._keep_best(contender)
 

@@ -20,6 +20,7 @@ from typing import Any, Callable, Sequence
 from app.environments import SIMPLE
 from app.paths import RUNS_FOLDER
 from app.run import Run, RunSettings
+from app.run_outputs import generation_best
 from app.store import NotFound, RunRecord, RunStatus, Store
 from fuzzy.parser import parse_rulebase
 from fuzzy.printer import format_rulebase
@@ -93,8 +94,7 @@ class StoreWriter:
         self.notify = notify
 
     def on_generation(self, stats: Any, population: list[Individual]) -> None:
-        best = min(population, key=lambda individual: individual.fitness)
-        self._record(stats.to_dict(), best, sample_players(population, self.codec))
+        self._record(stats.to_dict(), generation_best(population), sample_players(population, self.codec))
 
     def restore(self, history: list[dict[str, Any]], best: Individual | None) -> None:
         """On resume: the generations the checkpoint holds but the store missed (the app ended

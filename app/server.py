@@ -13,7 +13,7 @@ import uvicorn
 
 from app.api import create_app
 from app.paths import DATABASE_FILE
-from app.rerun_viewer import RerunViewer, RerunViewerError
+from app.rerun_viewer import RerunViewer, RerunViewerError, viewer_home
 from app.runs import RunManager
 from app.store import Store
 from app.ui import PortBusyError, start_ui
@@ -91,7 +91,7 @@ def serve(options: ServeOptions, echo: Callable[[str], None] = print) -> None:
         echo(f"  home          {api_url}/")
         echo(f"  UI            {ui_url}")
         echo(f"  API           {api_url}/api   docs: {api_url}/docs")
-        echo(f"  rerun viewer  {viewer_url}")
+        echo(f"  rerun viewer  {viewer_home(viewer_url)}")
         echo(f"  data          {options.data_dir.resolve()}")
         if runs.interrupted_at_start:
             listed = ", ".join(map(str, runs.interrupted_at_start))

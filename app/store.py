@@ -264,7 +264,8 @@ class Store:
         return _run_record(rows[0])
 
     def list_runs(self) -> list[RunRecord]:
-        return [_run_record(row) for row in self._query("SELECT * FROM runs ORDER BY id")]
+        """Newest first."""
+        return [_run_record(row) for row in self._query("SELECT * FROM runs ORDER BY id DESC")]
 
     def set_run_status(self, run_id: int, status: RunStatus, error: str | None = None) -> RunRecord:
         status = RunStatus(status)

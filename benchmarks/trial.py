@@ -1,13 +1,20 @@
 """Times one Table 2 trial (README, Performance): population 200 x 25 generations with the chapter's defaults,
 SimpleSoccer games, 2 worker processes. Target: under 10 s on a 2-core machine.
 
+With --outputs the trial is played as `soccer-lab evolve` and the app play a run (app.run.Run, in a
+temporary run folder: checkpoint, statistics.csv, best rules, the rerun recording with each generation's
+best player's game), and the time spent replaying those games is reported too.
+
     python benchmarks/trial.py [--workers 2] [--seed 0] [--population-size 200] [--generations 25] [--full]
+                               [--outputs]
 """
 
 from __future__ import annotations
 
 import argparse
+import tempfile
 import time
+from pathlib import Path
 
 from fuzzy.vocabulary import Vocabulary
 from ga.algorithms import evolve
@@ -31,6 +38,8 @@ def main() -> None:
     parser.add_argument("--generations", type=int, default=TABLE_2.max_generations)
     parser.add_argument("--full", action="store_true",
                         help="run every generation (target fitness 0): the worst case, a stable figure")
+    parser.add_argument("--outputs", action="store_true",
+                        help="play it as a run, with its folder's outputs and a replay of each generation's best")
     args = parser.parse_args()
     config = TABLE_2.model_copy(update={"workers": args.workers, "seed": args.seed,
                                         "population_size": args.population_size,
@@ -40,13 +49,38 @@ def main() -> None:
     play_games([demo_rulebase()], [args.seed], game)  # load the compiled kernels before the clock starts
 
     started = time.perf_counter()
-    result = evolve(config, SimpleSoccerEvaluator(game), VOCABULARY)
+    if args.outputs:
+        result, replaying = _as_a_run(config, game)
+    else:
+        result = evolve(config, SimpleSoccerEvaluator(game), VOCABULARY)
     seconds = time.perf_counter() - started
 
     print(f"trial: population {config.population_size} x {len(result.history)} generations "
           f"({result.stop_reason}), {result.evaluations} evaluations, workers {config.workers}")
     print(f"best fitness {result.best.fitness:.4f}")
     print(f"wall time {seconds:.2f} s (target < {TARGET_SECONDS:.0f} s: {'met' if seconds < TARGET_SECONDS else 'MISSED'})")
+    if args.outputs:
+        print(f"of which replaying each generation's best into the recording: {replaying:.2f} s")
+
+
+def _as_a_run(config: GAConfig, game: GameConfig) -> tuple[object, float]:
+    """The trial as a Run in a temporary folder; its result and the seconds spent in the replays."""
+    from app.run import GenerationReplays, Run, RunSettings
+
+    spent = [0.0]
+    replay = GenerationReplays.replay
+
+    def timed(self, generation, individual):
+        started = time.perf_counter()
+        replay(self, generation, individual)
+        spent[0] += time.perf_counter() - started
+
+    GenerationReplays.replay = timed
+    with tempfile.TemporaryDirectory() as folder:
+        run = Run.create(RunSettings(config, game), Path(folder) / "run")
+        with run.evaluator() as evaluate:
+            result = run.play(evaluate)
+    return result, spent[0]
 
 
 if __name__ == "__main__":

@@ -11,6 +11,7 @@ from fastapi.staticfiles import StaticFiles
 from app.api.errors import MAX_BODY_BYTES, BodySizeLimit, install_error_handlers
 from app.api.models import ServerInfo
 from app.api.routes import experiments, rulebases, rules, runs, vocabulary
+from app.rerun_viewer import viewer_home
 from app.runs import RunManager
 from app.store import Store
 
@@ -46,7 +47,8 @@ def create_app(
 
     @api.get("/server", tags=["server"], summary="Addresses of the UI, the rerun viewer and the API docs")
     def server() -> ServerInfo:
-        return ServerInfo(ui=ui_url, viewer=viewer_url, docs=app.docs_url or "")
+        return ServerInfo(ui=ui_url, viewer=viewer_url, viewer_home=viewer_home(viewer_url) if viewer_url else None,
+                          docs=app.docs_url or "")
 
     app.include_router(api)
     app.mount("/", StaticFiles(directory=STATIC_DIR, html=True), name="static")

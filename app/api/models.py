@@ -108,7 +108,7 @@ class EvaluateResponse(BaseModel):
     visible: list[str]
     rules: list[RuleEvaluation]
     fired: list[FiredAction]
-    selected: FiredAction | None  # null: no rule fired and the player hunts (spec 4.3)
+    selected: FiredAction | None  # null: no rule fired and the player hunts (turns to find the ball)
 
 
 # ---- rulebases ---------------------------------------------------------------------------
@@ -245,5 +245,6 @@ class ExperimentOut(BaseModel):
 
 class ServerInfo(BaseModel):
     ui: str | None
-    viewer: str | None
+    viewer: str | None  # the rerun viewer's address; open a recording at `<viewer>/?url=<recording URL>`
+    viewer_home: str | None  # where to open the viewer itself (without rerun's welcome screen)
     docs: str

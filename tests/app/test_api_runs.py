@@ -16,12 +16,14 @@ from app.runs import RunManager
 from app.store import RunStatus, Store
 from fuzzy.parser import parse_rulebase
 from fuzzy.printer import format_rulebase
+from fuzzy.vocabulary import Vocabulary
+from ga.codec import ChromosomeCodec
 from ga.config import GAConfig
+from ga.individual import Individual
 from ga.statistics import GenerationStats
 from soccer.config import GameConfig
 from soccer.rcss.trial import TrialConfig
 from tests.app.api_client import SHORT_GAMES, TINY_GA, api_client, wait_for
-from fuzzy.vocabulary import Vocabulary
 
 VOCABULARY = Vocabulary.default()
 
@@ -251,3 +253,31 @@ def test_a_run_is_named_by_its_settings_unless_named(tmp_path):
         f"GA 200x25 elitist/{weighting} {GameConfig().skills} seed 0"
     assert RunSettings.build(env="rcss").default_name() == \
         f"GA 200x25 roulette/{weighting} {TrialConfig().skills} on rcssserver seed 0"
+
+
+def test_generations_are_numbered_from_0_alike_in_the_api_the_csv_and_the_recording(tmp_path):
+    from rerun.chunk import RrdReader
+
+    with api_client(tmp_path) as client:
+        first = client.post("/api/runs", json={"ga": TINY_GA, "game": SHORT_GAMES}).json()
+        second = client.post("/api/runs", json={"ga": {**TINY_GA, "seed": 8}, "game": SHORT_GAMES}).json()
+        for run in (first, second):
+            wait_for(lambda: finished(client, run["id"]), what="the runs to finish")
+        assert [r["id"] for r in client.get("/api/runs").json()] == [second["id"], first["id"]]  # newest first
+        api = [row["generation"] for row in client.get(f"/api/runs/{first['id']}/statistics").json()]
+        best = client.get(f"/api/runs/{first['id']}/best").json()["generation"]
+    folder = tmp_path / "runs" / str(first["id"])
+    with (folder / "statistics.csv").open(newline="") as handle:
+        csv_generations = [int(row["generation"]) for row in csv.DictReader(handle)]
+    lines = [json.loads(line) for line in (folder / "generation_bests.jsonl").read_text().splitlines()]
+    bests = [line["generation"] for line in lines]
+    codec = ChromosomeCodec(Vocabulary.default())
+    playable = {line["generation"] for line in lines if len(codec.decode(Individual.from_dict(line).chromosome))}
+    recorded, replayed = [], set()
+    for chunk in RrdReader(folder / "run.rrd").stream():
+        if chunk.entity_path == "/statistics/fitness/best" and not chunk.is_static:
+            recorded += chunk.to_record_batch().to_pydict()["generation"]
+        if chunk.entity_path.startswith("/replay/generation_") and chunk.entity_path.endswith("/ball"):
+            replayed |= set(chunk.to_record_batch().to_pydict()["generation"])
+    assert api == csv_generations == bests == recorded == [0, 1]  # 0 = the evaluated initial population
+    assert replayed == playable and best in (0, 1)  # a best without a valid rule is never played

@@ -6,6 +6,7 @@ import csv
 import json
 from pathlib import Path
 
+import numpy as np
 import pytest
 from typer.testing import CliRunner
 
@@ -15,7 +16,9 @@ from app.run_outputs import RunFolder
 from fuzzy.export import rulebase_from_json
 from fuzzy.parser import parse_rulebase
 from fuzzy.vocabulary import Vocabulary
+from ga.codec import ChromosomeCodec
 from ga.statistics import GenerationStats
+from soccer.config import GameConfig
 from soccer.demo import demo_rulebase
 from soccer.engine import play_game
 
@@ -84,19 +87,30 @@ def test_same_seed_same_run(evolved, tmp_path):
 
 
 def read_recording(path: Path) -> dict[str, dict]:
-    """entity path -> {timelines, columns as python lists}, read with rerun's own RRD reader."""
+    """entity path -> {timelines (of its temporal data), static (has static data), columns as python lists},
+    read with rerun's own RRD reader."""
     from rerun.chunk import RrdReader
 
     entities: dict[str, dict] = {}
     for chunk in RrdReader(path).stream():
         batch = chunk.to_record_batch().to_pydict()
-        entry = entities.setdefault(chunk.entity_path, {"timelines": set(chunk.timeline_names), "columns": {}})
+        entry = entities.setdefault(chunk.entity_path, {"timelines": set(), "static": False, "columns": {}})
+        if chunk.is_static:
+            entry["static"] = True
+        else:
+            entry["timelines"] |= set(chunk.timeline_names)
         for column, values in batch.items():
             entry["columns"].setdefault(column, []).extend(values)
     return entities
 
 
-def test_recording_reads_back_with_every_statistic_and_the_replay(evolved):
+def generation_bests(folder: Path) -> list[tuple[int, object]]:
+    from app.run_outputs import GenerationBestsFile
+
+    return GenerationBestsFile.read(folder / "generation_bests.jsonl")
+
+
+def test_recording_reads_back_with_every_statistic_and_each_generations_replay(evolved):
     folder, _ = evolved
     entities = read_recording(folder / "run.rrd")
     rows = statistics(folder)
@@ -112,13 +126,28 @@ def test_recording_reads_back_with_every_statistic_and_the_replay(evolved):
     histogram = entities["/statistics/goal_histogram"]["columns"]["BarChart:values"]
     assert len(histogram) == 3
     assert histogram[0][0]["buffer"] == pytest.approx([float(rows[0][b]) for b in recording.GOAL_BINS])
-    # The best player's replay: static pitch and goal, the moving parts on the tick timeline only.
-    assert entities["/replay/pitch"]["timelines"] == set()
-    assert entities["/replay/goal"]["timelines"] == set()
-    for moving in ("/replay/player", "/replay/ball", "/replay/player/view_cone", "/replay/player/facing"):
-        assert entities[moving]["timelines"] == {"tick"}, moving
-    ticks = entities["/replay/ball"]["columns"]["tick"]
-    assert ticks == list(range(len(ticks))) and 0 < len(ticks) <= 60
+    spread = entities["/statistics/chromosome_spread/genes"]["columns"]["Scalars:scalars"]
+    assert spread[1] == pytest.approx([float(rows[1]["genes_mean"]) - float(rows[1]["genes_std"]),
+                                       float(rows[1]["genes_mean"]) + float(rows[1]["genes_std"])])
+    # One pitch for every replay; each generation's best player's first game on the tick timeline.
+    assert entities["/replay/pitch"]["static"] and entities["/replay/pitch"]["timelines"] == set()
+    bests = generation_bests(folder)
+    assert [generation for generation, _ in bests] == [0, 1, 2]
+    config = GameConfig(max_ticks=60)
+    for generation, best in bests:
+        assert best.fitness == pytest.approx(float(rows[generation]["best"]))
+        game = f"/replay/generation_{generation}"
+        for moving in ("player", "ball", "player/view_cone", "player/facing"):
+            assert entities[f"{game}/{moving}"]["timelines"] == {"tick", "generation"}, moving
+        ball = entities[f"{game}/ball"]["columns"]
+        assert set(ball["generation"]) == {generation}
+        # The game the GA scored: its rulebase from its seed, played again here, is the recorded one.
+        result, trace = play_game(ChromosomeCodec(Vocabulary.default()).decode(best.chromosome), best.first_seed, config)
+        assert ball["tick"] == list(range(len(trace)))
+        recorded = np.array([p[0] for p in ball["Points2D:positions"]], dtype=np.float32)  # rerun keeps float32
+        np.testing.assert_array_equal(recorded, np.column_stack([trace.ball_x, trace.ball_y]).astype(np.float32))
+        if best.evaluations == 1:
+            assert result.fitness == pytest.approx(best.fitness)
 
 
 def test_resume_finishes_a_killed_run_as_the_uninterrupted_one(evolved, tmp_path, monkeypatch):
@@ -142,8 +171,14 @@ def test_resume_finishes_a_killed_run_as_the_uninterrupted_one(evolved, tmp_path
     assert resumed.exit_code == 0, resumed.output
     assert statistics(killed) == statistics(folder)
     assert (killed / "best.rules").read_text() == (folder / "best.rules").read_text()
-    recorded = read_recording(killed / "run.rrd")
+    recorded, uninterrupted = read_recording(killed / "run.rrd"), read_recording(folder / "run.rrd")
     assert recorded["/statistics/fitness/best"]["columns"]["generation"] == [0, 1, 2]
+    # The generations before the kill are replayed again from generation_bests.jsonl: the same games.
+    assert [(g, b.to_dict()) for g, b in generation_bests(killed)] == \
+        [(g, b.to_dict()) for g, b in generation_bests(folder)]
+    for generation in (0, 1, 2):
+        ball = f"/replay/generation_{generation}/ball"
+        assert recorded[ball]["columns"]["Points2D:positions"] == uninterrupted[ball]["columns"]["Points2D:positions"]
 
 
 def test_random_search_has_the_same_outputs(tmp_path):

@@ -11,12 +11,15 @@ import numpy as np
 import pytest
 from rerun.chunk import RrdReader
 
-from app.recording import (GOAL_BINS, GOAL_HISTOGRAM_ENTITY, VIEW_CONE_LENGTH, RunRecorder, goal_outline,
-                           log_replay, open_stream, statistic_entity, view_cone)
+from app.recording import (COMPOSITION_SERIES, FITNESS_SERIES, GENE_POOL_SERIES, GOAL_BINS, GOAL_HISTOGRAM_ENTITY,
+                           GOAL_SERIES, VIEW_CONE_LENGTH, RunRecorder, goal_outline, log_replay, open_stream,
+                           spread_entity, statistic_entity, view_cone)
 from app.run_outputs import RunFolder, RunFolderError, StatisticsFile, default_run_dir
 from fuzzy.vocabulary import Vocabulary
 from ga.statistics import GenerationStats
-from soccer.config import WorldConfig
+from soccer.config import GameConfig, WorldConfig
+from soccer.demo import demo_rulebase
+from soccer.engine import play_game
 
 
 def columns(path, entity: str) -> dict[str, list]:
@@ -103,6 +106,72 @@ def test_replay_logs_each_tick_of_a_trace(tmp_path):
     assert [v[0] for v in columns(path, "/game/score/goals")["Scalars:scalars"]] == [0.0, 0.0, 1.0]
     cones = columns(path, "/game/player/view_cone")["LineStrips2D:strips"]
     np.testing.assert_allclose(cones[2][0], view_cone(-9.0, 1.5, 30.0, 45.0))
+
+
+def blueprint_rows(path) -> list[dict[str, dict]]:
+    """Every blueprint the recording carries (in the order it sent them), each as entity path -> its
+    components, read with rerun's own reader."""
+    import pyarrow as pa
+
+    reader = RrdReader(path)
+    blueprints = []
+    for store in reader.blueprints():
+        rows: dict[str, dict] = {}
+        for chunk in reader.stream(store=store):
+            batch = chunk.to_record_batch()
+            for name in batch.schema.names:
+                if not pa.types.is_timestamp(batch.schema.field(name).type):
+                    rows.setdefault(chunk.entity_path, {})[name] = batch.column(name).to_pylist()[-1]
+        blueprints.append(rows)
+    return blueprints
+
+
+def views(blueprint: dict[str, dict]) -> dict[str, tuple[str, list[str]]]:
+    """View name -> (view class, its contents' query expressions)."""
+    found = {}
+    for path, row in blueprint.items():
+        if path.startswith("/view/") and "ViewBlueprint:display_name" in row:
+            contents = blueprint.get(f"{path}/ViewContents", {}).get("ViewContents:query", [])
+            found[row["ViewBlueprint:display_name"][0]] = (row["ViewBlueprint:class_identifier"][0], contents)
+    return found
+
+
+def test_the_blueprint_lays_a_run_out_like_the_chapters_figures_with_a_tab_per_replay(tmp_path):
+    config = GameConfig(max_ticks=30)
+    path = tmp_path / "run.rrd"
+    recorder = RunRecorder(path, world=config.world)
+    games = []
+    for generation in range(2):
+        recorder.on_generation(stats(generation, 0.5))
+        result, trace = play_game(demo_rulebase(), seed=generation, config=config)
+        recorder.log_generation_replay(generation, trace, result)
+        games.append(result)
+    recorder.close()
+    blueprints = blueprint_rows(path)
+    latest = max(blueprints, key=lambda blueprint: len(views(blueprint)))  # the one with every replay's tab
+    shown = views(latest)
+    series = lambda names: [f"+ /{statistic_entity(n)}" for n in names]
+    fitness = shown["Fitness: best, mean, worst (Figs. 11, 12; lower is better)"]
+    assert fitness == ("TimeSeries", series(FITNESS_SERIES))
+    assert shown["Share of the population scoring 0 .. more than 4 goals (Fig. 13)"] == ("TimeSeries", series(GOAL_SERIES))
+    assert shown["Goal shares at this generation"][0] == "BarChart"
+    composition = shown["Per chromosome: genes, premises, rules, valid rules, mean and ± std (Fig. 28)"]
+    assert composition == ("TimeSeries", series(f"{c}_mean" for c in COMPOSITION_SERIES)
+                           + [f"+ /{spread_entity(c)}" for c in COMPOSITION_SERIES])
+    assert shown["Gene pool: unique premise, consequent and all genes (Fig. 29)"] == ("TimeSeries", series(GENE_POOL_SERIES))
+    for generation, game in enumerate(games):
+        tab = shown[f"generation {generation} ({game.goals} goals)"]
+        assert tab == ("2D", ["+ $origin/pitch/**", "+ $origin/goal/**", f"+ /replay/generation_{generation}/**"])
+    assert len(shown) == 5 + len(games)  # nothing else: no automatic views either
+    viewport = latest["/viewport"]
+    assert viewport["ViewportBlueprint:auto_views"] == [False] and viewport["ViewportBlueprint:auto_layout"] == [False]
+    tabs = next(row for row in latest.values() if row.get("ContainerBlueprint:active_tab"))
+    assert tabs["ContainerBlueprint:contents"][-1] == tabs["ContainerBlueprint:active_tab"][0]  # the latest replay open
+    assert len(blueprints) == 1 + len(games)  # the first, statistics only, then one more with each replay
+    # The replays: each under its own generation, on the tick timeline and at its generation.
+    ball = columns(path, "/replay/generation_1/ball")
+    assert ball["tick"] == list(range(games[1].ticks)) and set(ball["generation"]) == {1}
+    assert columns(path, "/replay/pitch")["LineStrips2D:strips"]  # one pitch, drawn once for every replay
 
 
 # ---- the run folder --------------------------------------------------------------------------

@@ -81,6 +81,7 @@ def test_serve_binds_every_server_to_127_0_0_1_by_default(tmp_path):
             assert listening_addresses(port) == {"127.0.0.1"}, port
         home = httpx.get(f"http://127.0.0.1:{ports['--port']}/api/server", timeout=10).json()
         assert home["viewer"] == f"http://127.0.0.1:{ports['--rerun-port']}"
+        assert home["viewer_home"] == f"http://127.0.0.1:{ports['--rerun-port']}/?hide_welcome_screen"
     finally:
         serve.send_signal(signal.SIGINT)
         serve.wait(30)

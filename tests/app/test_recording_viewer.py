@@ -1,0 +1,106 @@
+"""A run's recording opened in rerun's own web viewer (the one `serve` runs) in headless Chromium: the
+blueprint's views are drawn (the replay on its grass, the fitness curves in their colours), not rerun's
+automatic grid. The screenshot goes to artifacts/screenshots/recording-viewer.png (git-ignored).
+
+The viewer draws on a canvas, so the test reads the screenshot's pixels: each view shows up as the
+colours only it uses."""
+
+from __future__ import annotations
+
+import functools
+import threading
+import time
+from http.server import SimpleHTTPRequestHandler, ThreadingHTTPServer
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from app.recording import FITNESS_SERIES, GOAL_COLOUR, GRASS_COLOUR, PLAYER_COLOUR
+from tests.app.test_ui_browser import CHROMIUM, CHROMIUM_ARGS, SCREENSHOTS, free_port
+
+pytestmark = [
+    pytest.mark.browser,
+    pytest.mark.skipif(not Path(CHROMIUM).exists(), reason=f"Chromium not installed at {CHROMIUM} "
+                                                           "(scripts/test installs it with apt)"),
+]
+VIEWPORT = {"width": 1400, "height": 900}
+DRAWN_WITHIN_SECONDS = 180.0
+SCREENSHOT_TIMEOUT_MS = 60_000  # the viewer renders in software (no GPU in headless Chromium)
+COLOUR_TOLERANCE = 12  # per channel: anti-aliased edges blend, the insides of lines and discs do not
+ENOUGH_PIXELS = 20
+POLL_SECONDS = 5.0  # longer than a frame: two equal screenshots in a row mean the viewer rests
+
+
+class CorsFiles(SimpleHTTPRequestHandler):
+    """Serves the recording to the viewer's page, which lives on another origin (its own port)."""
+
+    def end_headers(self) -> None:
+        self.send_header("Access-Control-Allow-Origin", "*")
+        super().end_headers()
+
+    def log_message(self, *args: object) -> None:
+        pass
+
+
+@pytest.fixture(scope="module")
+def recording(tmp_path_factory) -> Path:
+    from app.run import Run, RunSettings
+
+    folder = tmp_path_factory.mktemp("viewer") / "run"
+    settings = RunSettings.build({"population_size": 12, "max_generations": 3, "max_length": 24, "seed": 3},
+                                 {"max_ticks": 300})
+    run = Run.create(settings, folder)
+    with run.evaluator() as evaluate:
+        run.play(evaluate)
+    return run.folder.recording
+
+
+def pixels_near(image: np.ndarray, colour: tuple[int, ...]) -> int:
+    return int((np.abs(image[..., :3].astype(int) - np.array(colour[:3])) <= COLOUR_TOLERANCE).all(axis=-1).sum())
+
+
+def test_the_recording_opens_in_the_viewer_as_its_blueprint_lays_it_out(recording, tmp_path):
+    from PIL import Image
+    from playwright.sync_api import sync_playwright
+
+    from app.rerun_viewer import RerunViewer
+
+    files = ThreadingHTTPServer(("127.0.0.1", 0), functools.partial(CorsFiles, directory=str(recording.parent)))
+    threading.Thread(target=files.serve_forever, daemon=True).start()
+    viewer = RerunViewer("127.0.0.1", free_port(), tmp_path / "viewer.log")
+    viewer.start()
+    shot = SCREENSHOTS / "recording-viewer.png"
+    shot.parent.mkdir(parents=True, exist_ok=True)
+    try:
+        with sync_playwright() as playwright:
+            browser = playwright.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS)
+            try:
+                page = browser.new_page(viewport=VIEWPORT)
+                url = f"http://127.0.0.1:{files.server_address[1]}/{recording.name}"
+                page.goto(f"http://127.0.0.1:{viewer.port}/?url={url}")
+                deadline = time.monotonic() + DRAWN_WITHIN_SECONDS
+                previous = None
+                while True:  # the viewer loads its wasm, then the recording, then draws: poll the picture
+                    page.screenshot(path=str(shot), timeout=SCREENSHOT_TIMEOUT_MS)
+                    image = np.asarray(Image.open(shot).convert("RGB"))
+                    settled = previous is not None and np.array_equal(image, previous)  # all loaded: it rests
+                    previous = image
+                    left, right = image[:, : image.shape[1] // 2], image[:, image.shape[1] // 2:]
+                    drawn = {
+                        "grass": pixels_near(left, GRASS_COLOUR), "player": pixels_near(left, PLAYER_COLOUR),
+                        "goal": pixels_near(left, GOAL_COLOUR),
+                        **{name: pixels_near(right, colour) for name, (_, colour) in FITNESS_SERIES.items()},
+                    }
+                    if settled and all(count >= ENOUGH_PIXELS for count in drawn.values()):
+                        break
+                    if time.monotonic() > deadline:
+                        break
+                    time.sleep(POLL_SECONDS)
+            finally:
+                browser.close()
+    finally:
+        viewer.stop()
+        files.shutdown()
+    # Left: the latest generation's replay (grass, the goal, the player); right: the fitness curves.
+    assert settled and all(count >= ENOUGH_PIXELS for count in drawn.values()), drawn
