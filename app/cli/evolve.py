@@ -233,9 +233,11 @@ def _summary(run: "Run", result: RunResult) -> None:
 
 def _replay_line(run: "Run") -> str:
     game = run.best_game
-    if game is None:  # rcss: a replay would hold the servers for one more trial
+    if run.settings.env == RCSS:  # no replay: it would hold the servers for one more trial
         servers = " ".join(f"--server {server}" for server in run.settings.servers)
         return f"play the best on rcssserver: soccer-lab play {run.folder.best_rules} --env {RCSS} {servers}"
+    if game is None:
+        return "the best player's first game cannot be replayed (its seed was not kept by the run it comes from)"
     return (f"replay of the best player's first game (seed {game.seed}): {game.result.goals} goals, "
             f"{game.result.kicks} kicks, {game.result.ticks} ticks, fitness {game.result.fitness:.4f}")
 
