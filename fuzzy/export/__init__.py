@@ -3,6 +3,7 @@ MATLAB's .fis. Each format's file suffix and media type are here too, for the CL
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass
 from typing import Callable
 
@@ -26,6 +27,11 @@ class ExportFormat:
     suffix: str
     media_type: str
     write: Callable[[Rulebase, Vocabulary], str]
+
+    def filename(self, name: str) -> str:
+        """A file name for a rulebase called `name`, safe anywhere: `../best "run" #3` -> `best_run_3.fcl`."""
+        stem = re.sub(r"[^A-Za-z0-9.-]+", "_", name).strip("._-") or "rulebase"
+        return stem + self.suffix
 
 
 EXPORT_FORMATS = {

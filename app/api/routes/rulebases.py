@@ -2,13 +2,17 @@
 
 from __future__ import annotations
 
-from fastapi import APIRouter, Response
+from enum import Enum
+
+from fastapi import APIRouter, Query, Response
 
 from app.api.models import ErrorBody, RulebaseCreate, RulebaseOut, RulebaseUpdate
 from app.api.routes.dependencies import RecordId, StoreDependency
-from app.api.rule_text import parse
+from app.api.rule_text import VOCABULARY, parse
+from fuzzy.export import EXPORT_FORMATS, FORMATS
 
 router = APIRouter(prefix="/rulebases", tags=["rulebases"], responses={404: {"model": ErrorBody}})
+ExportFormatName = Enum("ExportFormatName", {name: name for name in FORMATS}, type=str)
 
 
 @router.post("", status_code=201, summary="Save a rulebase", responses={422: {"model": ErrorBody}})
@@ -38,3 +42,17 @@ def update(rulebase_id: RecordId, body: RulebaseUpdate, store: StoreDependency) 
 def delete(rulebase_id: RecordId, store: StoreDependency) -> Response:
     store.delete_rulebase(rulebase_id)
     return Response(status_code=204)
+
+
+@router.get(
+    "/{rulebase_id}/export",
+    summary="Download a rulebase as our JSON, FCL (IEC 61131-7), fuzzylite's FLL or MATLAB's .fis",
+    response_class=Response,
+    responses={200: {"content": {f.media_type: {} for f in EXPORT_FORMATS.values()}}, 422: {"model": ErrorBody}},
+)
+def export(rulebase_id: RecordId, store: StoreDependency,
+           format: ExportFormatName = Query(description="json, fcl, fll or fis")) -> Response:
+    record = store.get_rulebase(rulebase_id)
+    chosen = EXPORT_FORMATS[format.value]
+    return Response(chosen.write(parse(record.text), VOCABULARY), media_type=chosen.media_type,
+                    headers={"Content-Disposition": f'attachment; filename="{chosen.filename(record.name)}"'})

@@ -13,6 +13,7 @@ from app.store import NotFound, Store, StoreError
 from app.ui import style
 from app.ui.panels.experiments import experiment_html, experiment_label, figure_html
 from app.ui.panels.svg import escape
+from fuzzy.export import EXPORT_FORMATS, FORMATS
 from fuzzy.parser import RuleSyntaxError, parse_rulebase
 from fuzzy.rule import Rulebase
 from fuzzy.vocabulary import Vocabulary
@@ -52,6 +53,8 @@ class LibraryPanel:
         gui.add_markdown("**Saved rulebases**")
         self.rulebases = gui.add_dropdown("Rulebase", (NONE,))
         rulebase_actions = gui.add_button_group("Rulebase actions", ("Open", "Rename", "Delete"))
+        self.export_format = gui.add_dropdown("Export as", FORMATS, initial_value="fcl")
+        download = gui.add_button("Download", icon=viser.Icon.DOWNLOAD, color="gray")
         gui.add_markdown("**Past runs**")
         self.runs = gui.add_dropdown("Run", (NONE,))
         run_actions = gui.add_button_group("Run actions", ("Watch best", "Rename", "Delete"))
@@ -78,6 +81,11 @@ class LibraryPanel:
             {"Open": self.open_rulebase, "Rename": self.rename_rulebase, "Delete": self.delete_rulebase}[
                 event.target.value
             ]()
+
+        @download.on_click
+        def _(event: viser.GuiEvent) -> None:
+            if event.client is not None:
+                self.download_rulebase(event.client)
 
         @run_actions.on_click
         def _(event: viser.GuiEvent) -> None:
@@ -164,6 +172,22 @@ class LibraryPanel:
             return
         self.refresh()
         self._say(f"Deleted rulebase #{record_id}.")
+
+    def download_rulebase(self, client: viser.ClientHandle) -> None:
+        """Send the selected rulebase to the tab that asked, as a file in the chosen export format."""
+        record_id = self._selected(self.rulebases, "rulebase")
+        if record_id is None:
+            return
+        try:
+            record = self.store.get_rulebase(record_id)
+            rulebase = parse_rulebase(record.text, self.vocabulary)
+        except (NotFound, RuleSyntaxError) as exc:
+            self._say(f"Cannot export: {exc}", error=True)
+            return
+        chosen = EXPORT_FORMATS[self.export_format.value]
+        filename = chosen.filename(record.name)
+        client.send_file_download(filename, chosen.write(rulebase, self.vocabulary).encode(), save_immediately=True)
+        self._say(f"Downloading {filename}.")
 
     # ---- runs ---------------------------------------------------------------------------------
     def watch_run(self) -> None:
