@@ -26,7 +26,7 @@ def test_library_downloads_a_saved_rulebase_in_the_chosen_format(ui, page):
         page.get_by_role("option", name=fmt, exact=True).click()
         wait_until(lambda: session.library.export_format.value == fmt)
         with page.expect_download() as download:
-            page.get_by_role("button", name="Download").click()
+            page.get_by_role("button", name="Download", exact=True).click()
         assert download.value.suggested_filename == f"export_me.{fmt}"
         text = Path(download.value.path()).read_text()
         assert text == export_rulebase(parse_rulebase(TEXT, vocabulary), fmt, vocabulary)
