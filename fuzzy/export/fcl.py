@@ -95,7 +95,8 @@ def to_fcl(rulebase: Rulebase, vocabulary: Vocabulary) -> str:
     lines += _declarations("VAR_INPUT", layout.inputs,
                            f"exported by soccer-lab; feed {seen} 1 when the object is seen, 0 when not")
     lines += _declarations("VAR_OUTPUT", layout.outputs,
-                           "the player performs the action whose *_support is the largest")
+                           "the player performs the action whose *_support is the largest; "
+                           "on a tie, the one declared first")
     for variable in layout.inputs:
         lines += _fuzzify(variable)
     for variable in layout.outputs:

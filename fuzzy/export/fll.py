@@ -46,7 +46,7 @@ def to_fll(rulebase: Rulebase, vocabulary: Vocabulary) -> str:
     lines = [
         f"Engine: {ENGINE_NAME}",
         "  description: exported by soccer-lab; feed *_visible 1 (seen) or 0 (unseen); "
-        "the player performs the action with the largest *_support",
+        "the player performs the action with the largest *_support (on a tie, the one declared first)",
     ]
     for variable in layout.inputs:
         lines += _input(variable)

@@ -117,7 +117,8 @@ def fuzzylite_outputs(text: str, fmt: str, view: EngineView, rows: np.ndarray, f
     """fuzzylite's output values for each row of input values (columns in `view.inputs` order)."""
     source, data = folder / f"engine.{fmt}", folder / "inputs.fld"
     source.write_text(text)
-    data.write_text(" ".join(view.inputs) + "\n" + "\n".join(" ".join(repr(float(v)) for v in row) for row in rows) + "\n")
+    lines = [" ".join(view.inputs)] + [" ".join(repr(float(v)) for v in row) for row in rows]
+    data.write_text("\n".join(lines) + "\n")
     lines = [line.split() for line in _fuzzylite(source, fmt, "-of", "fld", "-d", str(data), "-dheader", "true",
                                                   "-dinputs", "true").splitlines() if line.strip()]
     header, values = lines[0], lines[1:]

@@ -12,7 +12,8 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass, field
 
-TOKEN = re.compile(r"\s+|\(\*.*?\*\)|(?P<t>:=|\.\.|[:;,()]|-?\d+(?:\.\d+)?(?:[eE][-+]?\d+)?|[A-Za-z_][A-Za-z0-9_]*)", re.S)
+TOKEN = re.compile(r"\s+|\(\*.*?\*\)"  # blanks and comments, then the tokens:
+                   r"|(?P<t>:=|\.\.|[:;,()]|-?\d+(?:\.\d+)?(?:[eE][-+]?\d+)?|[A-Za-z_][A-Za-z0-9_]*)", re.S)
 METHODS = {"COG", "COGS", "COA", "LM", "RM", "MM"}
 
 
@@ -133,7 +134,8 @@ class Parser:
         self.name()
         operator = self.take("AND", "OR")
         self.take(":")
-        self.block.operators[operator] = self.take("MIN", "PROD", "BDIF") if operator == "AND" else self.take("MAX", "ASUM", "BSUM")
+        methods = ("MIN", "PROD", "BDIF") if operator == "AND" else ("MAX", "ASUM", "BSUM")
+        self.block.operators[operator] = self.take(*methods)
         self.take(";")
         if self.peek("ACT"):
             self.take("ACT"), self.take(":")
