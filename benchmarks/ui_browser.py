@@ -45,8 +45,24 @@ SAME_POSITION = 1e-3  # metres: a drawn position is a tick's when every coordina
 WATCH_PAGE = """
 (() => {
   const watch = window.__watch = {frames: 0, draws: [], ticks: [], complete: null};
-  const PITCH = ["/pitch/grass", "/pitch/lines", "/pitch/net", "/pitch/player", "/pitch/ball"];
+  // The field is one picture ("/field"); before it was, grass and lines were nodes of their own.
+  const FIELDS = [["/field"], ["/pitch/grass", "/pitch/lines", "/pitch/net"]];
   let hooked = false;
+  function drawn(node) {
+    // Mounted, and every texture it shows decoded (a picture's quad is blank until then).
+    let ready = true;
+    node.traverse((o) => {
+      if (o.material && o.material.type === "MeshBasicMaterial" && !(o.material.map && o.material.map.image)) ready = false;
+    });
+    return ready;
+  }
+  function pitchComplete(m) {
+    const nodes = m.nodeRefFromName;
+    const parts = ["/pitch/player", "/pitch/ball"];
+    const field = FIELDS.find((names) => names.every((name) => nodes[name]));
+    return field !== undefined && [...field, ...parts].every((name) => drawn(nodes[name]))
+      && m.canvas && getComputedStyle(m.canvas).opacity === "1" && inView(m, parts) && pitchFitted(m);
+  }
   function inView(m, names) {
     const camera = m.camera;
     const Vector = m.scene.position.constructor;
@@ -62,11 +78,11 @@ WATCH_PAGE = """
   }
   function pitchFitted(m) {
     // The pitch's end lines project near the canvas edges once the camera is fitted to it.
-    const lines = m.nodeRefFromName["/pitch/lines"];
-    if (!lines) return false;
+    const pitch = m.nodeRefFromName["/pitch"];
+    if (!pitch) return false;
     const Vector = m.scene.position.constructor;
-    const left = lines.localToWorld(new Vector(-50, 0, 0)).project(m.camera);
-    const right = lines.localToWorld(new Vector(50, 0, 0)).project(m.camera);
+    const left = pitch.localToWorld(new Vector(-50, 0, 0)).project(m.camera);
+    const right = pitch.localToWorld(new Vector(50, 0, 0)).project(m.camera);
     return Math.abs(left.x) <= 1 && Math.abs(right.x) <= 1 && right.x - left.x > 1.0;
   }
   function hook() {
@@ -78,10 +94,7 @@ WATCH_PAGE = """
         const now = performance.now();
         watch.frames += 1;
         const nodes = m.nodeRefFromName, player = nodes["/pitch/player"], ball = nodes["/pitch/ball"];
-        if (watch.complete === null && m.canvas && getComputedStyle(m.canvas).opacity === "1"
-            && PITCH.every((name) => nodes[name]) && inView(m, ["/pitch/player", "/pitch/ball"]) && pitchFitted(m)) {
-          watch.complete = now;
-        }
+        if (watch.complete === null && pitchComplete(m)) watch.complete = now;
         if (player && ball) {
           const key = [player.position.x, player.position.y, ball.position.x, ball.position.y];
           if (last === null || key.some((v, i) => v !== last[i])) {
@@ -245,7 +258,7 @@ def run(tab_count: int, speed: float, seconds: float, playwright) -> dict[str, o
                 while ui.sessions and time.monotonic() < deadline:
                     time.sleep(0.1)
                 time.sleep(1.0)  # a late frame of a closed tab would warn now
-            closed_warnings = sum("closed connection" in str(w.message) for w in caught)
+            closed_warnings = [str(w.message).split(" (")[0] for w in caught if "closed connection" in str(w.message)]
         finally:
             browser.close()
             ui.stop()
@@ -274,7 +287,8 @@ def report(result: dict[str, object], speed: float) -> None:
     for name in ("game ticks/s", "pitch updates/s", "ticks drawn %", "tick label updates/s", "messages/s", "KiB/s"):
         print(f"  {name:<22} {spread([row[name] for row in rows])}")
     print(f"  {'frames drawn/s':<22} {spread(result['frames drawn/s'])}")
-    print(f"  viser warnings on close: {result['close warnings']}")
+    warned = result["close warnings"]
+    print(f"  viser closed-connection warnings (unfiltered) on closing the tabs: {len(warned)}{'  (' + '; '.join(sorted(set(warned))) + ')' if warned else ''}")
 
 
 def main() -> None:

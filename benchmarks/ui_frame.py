@@ -1,4 +1,4 @@
-"""UI frame cost (spec 9: 30 frames per second for one game with all panels live).
+"""UI frame cost on the server: 30 frames per second for one game with all panels live.
 
 Builds what a session sends each frame — one simulator tick, the scalar inference that explains it,
 the pitch frame, the decision, rule, output-set and membership panels, and the policy map — for a
@@ -18,7 +18,7 @@ import numpy as np
 from app.ui import style
 from app.ui.context import UiContext
 from app.ui.game import Game
-from app.ui.panels.membership import membership_html
+from app.ui.panels.membership import input_html, input_names
 from app.ui.panels.outputs import outputs_html
 from app.ui.panels.policy import policy_grid, policy_map_html
 from app.ui.panels.rules import decision_html, rules_html
@@ -51,7 +51,8 @@ def main() -> None:
         decision_html(vocabulary, inference)
         rules_html(game.rule_texts, inference, only_fired=False)
         outputs_html(vocabulary, inference)
-        membership_html(vocabulary, inputs)
+        for name in input_names(vocabulary):
+            input_html(vocabulary, name, inputs.get(name))
         if frame % round(style.FRAME_RATE * style.POLICY_REFRESH_SECONDS) == 0:
             ball = inputs["ball_distance"], inputs["ball_direction"]
             policy_map_html(vocabulary, grid, "power", ball if ball[0] is not None else None)

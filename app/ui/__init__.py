@@ -1,4 +1,4 @@
-"""The viser UI of `soccer-lab serve` (spec 7): one Session per browser tab, each with its own pitch,
+"""The viser UI of `soccer-lab serve`: one Session per browser tab, each with its own pitch,
 game, editor and panels; evolution runs in the RunManager's threads and sessions listen to it.
 
     handle = start_ui(store, runs, host="127.0.0.1", port=8080)
@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import logging
 import threading
+import warnings
 from dataclasses import dataclass, field
 
 import viser
@@ -18,6 +19,7 @@ import viser
 from typing import TYPE_CHECKING
 
 from app.ui.context import UiContext
+from app.ui.pitch import PitchGeometry, draw_field
 from fuzzy.vocabulary import Vocabulary
 from soccer.config import GameConfig
 
@@ -30,6 +32,13 @@ log = logging.getLogger(__name__)
 DEFAULT_HOST = "127.0.0.1"
 DEFAULT_PORT = 8080
 TITLE = "soccer-lab"
+
+
+# viser warns when something is queued for a connection that has closed. A closing tab's socket is
+# done a moment before viser calls our disconnect callback, which stops the tab's session at once; a
+# frame sent in that moment trips the warning, with nothing to tell (tests/app/test_ui_browser.py
+# checks that a closed tab's session stops).
+CLOSED_TAB_WARNING = r"Queued a \w+ on a closed connection"
 
 
 class PortBusyError(OSError):
@@ -53,6 +62,8 @@ class UiHandle:
             self.sessions.clear()
         for session in sessions:
             session.close()
+        for session in sessions:
+            session.join(timeout=5.0)  # no frame may still be on its way when the server stops
         self.server.stop()
 
 
@@ -71,24 +82,33 @@ def start_ui(
     JSON API answers, for links to the files it serves."""
     from app.ui.session import Session
 
+    warnings.filterwarnings("ignore", message=CLOSED_TAB_WARNING, category=UserWarning)
     context = UiContext(store, runs, vocabulary, game or GameConfig(), api_url=api_url)
     server = viser.ViserServer(host=host, port=port, label=TITLE, verbose=False)
     if server.get_port() != port:
         server.stop()
         raise PortBusyError(f"port {port} on {host} is busy (choose another with --ui-port)")
+    draw_field(server.scene, PitchGeometry.from_world(context.game.world))
     handle = UiHandle(server, context)
+
+    def close_session(client_id: int) -> None:
+        with handle.lock:
+            session = handle.sessions.pop(client_id, None)
+        if session is not None:
+            session.close()
 
     @server.on_client_connect
     def _(client: viser.ClientHandle) -> None:
         session = Session(client, context)
         with handle.lock:
             handle.sessions[client.client_id] = session
+        if client.client_id not in server.get_clients():  # the tab closed while its session was built
+            close_session(client.client_id)
 
     @server.on_client_disconnect
-    def _(client: viser.ClientHandle) -> None:
-        with handle.lock:
-            session = handle.sessions.pop(client.client_id, None)
-        if session is not None:
-            session.close()
+    async def _(client: viser.ClientHandle) -> None:
+        # In viser's event loop, right as the connection closes: the session stops drawing before it
+        # can queue another frame for a tab that is gone (a sync callback would wait for a thread).
+        close_session(client.client_id)
 
     return handle

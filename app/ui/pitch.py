@@ -1,4 +1,5 @@
-"""The top-down pitch in viser's 3D scene: lines, goal, player with facing and view cone, ball and trail.
+"""The top-down pitch in viser's 3D scene: the field (lines, goal), player with facing and view cone,
+ball and trail, each a flat picture (see pitch_pictures.py) but the trail.
 
 World coordinates are the simulator's (x toward the attacked goal, y to the player's right when it
 faces +x, as in rcssserver). Seen from above with x to the right, +y points down the screen, so the
@@ -13,13 +14,13 @@ from dataclasses import dataclass
 import numpy as np
 import viser
 
-from app.pitch_markings import CENTRE_CIRCLE_RADIUS, GOAL_AREA, PENALTY_AREA
 from app.ui import style
+from app.ui.pitch_pictures import Picture, ball_picture, cone_picture, field_picture, player_picture
 from soccer.config import WorldConfig
 
 CAMERA_FOV = math.radians(20.0)  # a narrow lens from far above looks orthographic
-CIRCLE_SEGMENTS = 64
-Z_GRASS, Z_LINES, Z_CONE, Z_TRAIL, Z_BODY = -0.05, 0.01, 0.02, 0.03, 0.2
+FIELD_NODE = "/field"
+Z_GRASS, Z_CONE, Z_TRAIL, Z_BODY = -0.05, 0.02, 0.03, 0.2
 
 
 @dataclass(frozen=True)
@@ -55,121 +56,58 @@ def yaw_quaternion(facing: float) -> tuple[float, float, float, float]:
     return (math.cos(half), 0.0, 0.0, math.sin(half))
 
 
-def _segments(points: list[tuple[float, float]], closed: bool = False) -> list[tuple[tuple, tuple]]:
-    pairs = list(zip(points, points[1:]))
-    if closed:
-        pairs.append((points[-1], points[0]))
-    return pairs
+def show_picture(scene: viser.SceneApi, name: str, picture: Picture, z: float, **kwargs) -> viser.ImageHandle:
+    """`picture` as a flat quad at height z, centred where it belongs. Every picture is symmetric about
+    its x axis (the pitch; the player, ball and view facing +x), so the scene's flipped y needs no
+    flipping of its rows."""
+    x, y = picture.centre
+    return scene.add_image(name, picture.pixels, picture.size[0], picture.size[1], format="png",
+                           position=to_scene(x, y, z), cast_shadow=False, receive_shadow=False, **kwargs)
 
 
-def _circle(cx: float, cy: float, radius: float, start: float = 0.0, end: float = 2 * math.pi) -> list:
-    n = max(4, int(CIRCLE_SEGMENTS * (end - start) / (2 * math.pi)))
-    return [(cx + radius * math.cos(start + (end - start) * i / n), cy + radius * math.sin(start + (end - start) * i / n))
-            for i in range(n + 1)]
-
-
-def marking_segments(geometry: PitchGeometry) -> np.ndarray:
-    """Every pitch line as segments float[N, 2, 3] in scene coordinates."""
-    hl, hw = geometry.half_length, geometry.half_width
-    pairs = _segments([(-hl, -hw), (hl, -hw), (hl, hw), (-hl, hw)], closed=True)
-    pairs += [((0.0, -hw), (0.0, hw))]
-    pairs += _segments(_circle(0.0, 0.0, CENTRE_CIRCLE_RADIUS))
-    for side in (-1.0, 1.0):
-        for depth, width in (PENALTY_AREA, GOAL_AREA):
-            line = side * hl
-            inner = side * (hl - depth)
-            pairs += _segments([(line, -width / 2), (inner, -width / 2), (inner, width / 2), (line, width / 2)])
-    goal = geometry.goal_half_width
-    pairs += _segments([(hl, -goal), (hl + geometry.goal_depth, -goal), (hl + geometry.goal_depth, goal), (hl, goal)])
-    return np.array([[to_scene(*a, Z_LINES), to_scene(*b, Z_LINES)] for a, b in pairs], dtype=np.float32)
-
-
-def net_segments(geometry: PitchGeometry) -> np.ndarray:
-    """A light mesh inside the goal so the net reads as a net."""
-    hl, goal, depth = geometry.half_length, geometry.goal_half_width, geometry.goal_depth
-    step = 0.7
-    pairs = [((hl + d, -goal), (hl + d, goal)) for d in np.arange(step, depth, step)]
-    pairs += [((hl, y), (hl + depth, y)) for y in np.arange(-goal + step, goal, step)]
-    return np.array([[to_scene(*a, Z_LINES), to_scene(*b, Z_LINES)] for a, b in pairs], dtype=np.float32)
-
-
-def cone_mesh(half_angle_deg: float, length: float) -> tuple[np.ndarray, np.ndarray]:
-    """A flat fan from the player's centre spanning +-half_angle about its facing (scene frame, facing +x)."""
-    half = math.radians(half_angle_deg)
-    n = 24
-    arc = [(length * math.cos(-half + 2 * half * i / n), length * math.sin(-half + 2 * half * i / n), 0.0)
-           for i in range(n + 1)]
-    vertices = np.array([(0.0, 0.0, 0.0)] + arc, dtype=np.float32)
-    faces = np.array([(0, i, i + 1) for i in range(1, n + 1)], dtype=np.uint32)
-    return vertices, faces
+def draw_field(scene: viser.SceneApi, geometry: PitchGeometry, name: str = FIELD_NODE) -> None:
+    """The field, the same for every tab: drawn once into the server's scene, which viser sends each
+    tab as it connects, before the tab's own session is built."""
+    # Unlit: no environment map (its loading keeps the canvas transparent for seconds) and no lights
+    # (the pictures carry their own colours).
+    scene.configure_environment_map(None)
+    scene.configure_default_lights(enabled=False, cast_shadow=False)
+    show_picture(scene, name, field_picture(geometry), Z_GRASS)
 
 
 class PitchView:
-    """The pitch drawn into one client's scene; `show(frame)` moves player, ball and trail."""
+    """What moves on one client's pitch: player with facing and view cone, ball and trail.
+    `show(frame)` sends only what changed since the last frame."""
 
     def __init__(self, scene: viser.SceneApi, geometry: PitchGeometry, root: str = "/pitch"):
         self.geometry = geometry
-        self.root = root
-        self._draw_static(scene)
         self.player = scene.add_frame(f"{root}/player", show_axes=False, position=to_scene(0, 0, Z_BODY))
-        vertices, faces = cone_mesh(geometry.view_half_angle, style.VIEW_CONE_LENGTH)
-        self.cone = scene.add_mesh_simple(
-            f"{root}/player/view_cone", vertices, faces, color=style.VIEW_CONE, opacity=style.VIEW_CONE_OPACITY,
-            side="double", flat_shading=True, cast_shadow=False, receive_shadow=False,
-            position=(0.0, 0.0, Z_CONE - Z_BODY),
-        )
-        scene.add_cylinder(
-            f"{root}/player/body", radius=style.PLAYER_DRAW_RADIUS, height=0.3, color=style.PLAYER, cast_shadow=False,
-        )
-        scene.add_line_segments(
-            f"{root}/player/facing", np.array([[(0, 0, 0.3), (style.PLAYER_DRAW_RADIUS * 1.9, 0, 0.3)]], np.float32),
-            colors=style.PLAYER_FACING, thickness=style.LINE_THICKNESS * 1.6,
-        )
-        self.ball = scene.add_icosphere(
-            f"{root}/ball", radius=style.BALL_DRAW_RADIUS, color=style.BALL, position=to_scene(0, 0, Z_BODY),
-            cast_shadow=False,
-        )
+        cones = {seen: cone_picture(geometry.view_half_angle, style.BALL if seen else style.VIEW_CONE)
+                 for seen in (False, True)}
+        self.cones = {seen: show_picture(scene, f"{root}/player/view_cone_{'ball' if seen else 'no_ball'}",
+                                         picture, Z_CONE - Z_BODY, visible=not seen)
+                      for seen, picture in cones.items()}
+        show_picture(scene, f"{root}/player/body", player_picture(), 0.0)
+        self.ball = show_picture(scene, f"{root}/ball", ball_picture(), Z_BODY)
         self.trail = scene.add_line_segments(
-            f"{root}/trail", np.zeros((1, 2, 3), np.float32), colors=style.BALL_TRAIL,
-            thickness=style.LINE_THICKNESS * 1.2,
+            f"{root}/trail", np.zeros((1, 2, 3), np.float32), colors=style.BALL_TRAIL, thickness=style.TRAIL_THICKNESS,
+            visible=False,
         )
-
-    def _draw_static(self, scene: viser.SceneApi) -> None:
-        g = self.geometry
-        margin = style.PITCH_MARGIN
-        length = 2 * (g.half_length + margin) + g.goal_depth
-        width = 2 * (g.half_width + margin)
-        centre_x = g.goal_depth / 2
-        scene.add_box(
-            f"{self.root}/grass", dimensions=(length, width, 0.1), color=style.GRASS,
-            position=(centre_x, 0.0, Z_GRASS), cast_shadow=False, receive_shadow=False,
-        )
-        stripes = 12
-        stripe_length = 2 * g.half_length / stripes
-        for i in range(0, stripes, 2):
-            x = -g.half_length + (i + 0.5) * stripe_length
-            scene.add_box(
-                f"{self.root}/stripe_{i}", dimensions=(stripe_length, 2 * g.half_width, 0.1), color=style.GRASS_STRIPE,
-                position=(x, 0.0, Z_GRASS + 0.01), cast_shadow=False, receive_shadow=False,
-            )
-        scene.add_line_segments(
-            f"{self.root}/lines", marking_segments(g), colors=style.LINE, thickness=style.LINE_THICKNESS
-        )
-        scene.add_line_segments(
-            f"{self.root}/net", net_segments(g), colors=style.GOAL_NET, thickness=style.LINE_THICKNESS * 0.4
-        )
-        for y in (-g.goal_half_width, g.goal_half_width):
-            scene.add_cylinder(
-                f"{self.root}/post_{'left' if y < 0 else 'right'}", radius=0.4, height=0.5, color=style.LINE,
-                position=to_scene(g.half_length, y, 0.2), cast_shadow=False,
-            )
+        self._trail_shown: np.ndarray | None = None
 
     def show(self, frame: PitchFrame) -> None:
         self.player.position = to_scene(*frame.player, Z_BODY)
         self.player.wxyz = yaw_quaternion(frame.facing)
         self.ball.position = to_scene(*frame.ball, Z_BODY)
-        self.cone.color = style.BALL if frame.ball_visible else style.VIEW_CONE
-        points = np.stack([frame.trail[:-1], frame.trail[1:]], axis=1) if len(frame.trail) >= 2 else np.zeros((0, 2, 2))
+        for seen, cone in self.cones.items():
+            cone.visible = seen == frame.ball_visible
+        self._show_trail(frame.trail)
+
+    def _show_trail(self, trail: np.ndarray) -> None:
+        if self._trail_shown is not None and np.array_equal(trail, self._trail_shown):
+            return  # the ball rests: nothing to send
+        self._trail_shown = trail.copy()
+        points = np.stack([trail[:-1], trail[1:]], axis=1) if len(trail) >= 2 else np.zeros((0, 2, 2))
         # The ball jumps to the centre line after a goal: no trail segment across that jump.
         points = points[np.linalg.norm(points[:, 1] - points[:, 0], axis=1) <= self.geometry.ball_speed_max * 1.01]
         if len(points):

@@ -1,4 +1,5 @@
-"""One browser tab: its own pitch, game, rulebase and editor, and the loop that plays at FRAME_RATE.
+"""One browser tab: its own pitch, game, rulebase and editor, and the loop that plays the game in real
+time (times the speed), sending each tick as it is played, at most FRAME_RATE times a second.
 
 Every control callback and the play loop take the session's lock, so a click never sees a half-made
 tick. Evolution runs elsewhere (the RunManager's threads); the session only listens.
@@ -28,6 +29,9 @@ from fuzzy.rule import Rulebase
 
 log = logging.getLogger(__name__)
 GAME_OVER_PAUSE = 2.0  # seconds the final position stays on screen before the next start
+MAX_CATCH_UP = 0.25  # seconds of play made up at most after a stall (a busy machine): no bursts
+DUE_EARLY = 0.02  # of a tick: a wake-up this early still plays it, not a frame later
+IDLE_WAKE = 0.1  # seconds: paused or slow, the loop still looks for a finished generation this often
 
 
 class Session:
@@ -48,39 +52,46 @@ class Session:
     # ---- layout ---------------------------------------------------------------------------
     def _build(self) -> None:
         gui, context = self.client.gui, self.context
+        # The pitch first, on its own: the browser draws it while the panels are still being built.
+        self.pitch = PitchView(self.client.scene, PitchGeometry.from_world(context.game.world))
+        self.pitch.show(self.game.frame())
+        self.pitch.fit_camera(self.client.camera)
+        self.client.flush()
         gui.configure_theme(dark_mode=False, show_logo=False, show_share_button=False, brand_color=(25, 118, 210))
         main = gui.main_panel
         main.dock_left()
         main.set_width(style.LEFT_PANEL_WIDTH)
-        self.pitch = PitchView(self.client.scene, PitchGeometry.from_world(context.game.world))
         play = functools.partial(self.load_rulebase, restart=True)  # a new player starts a new game
+        # Tabs and buttons without icons: viser reads each icon from a 2 MB zip file the first time it
+        # is used, seconds that the first visitor after a start would wait for.
         tabs = gui.add_tab_group()
-        with tabs.add_tab("Play", viser.Icon.PLAYER_PLAY):
+        with tabs.add_tab("Play"):
             self.controls = PlayControls(
                 gui, on_play=self.set_playing, on_step=self.step_once, on_new_start=self.new_start,
                 on_reset_view=lambda: self.pitch.fit_camera(self.client.camera),
             )
-        with tabs.add_tab("Rules", viser.Icon.PENCIL):
+        with tabs.add_tab("Rules"):
             self.editor = EditorPanel(
                 gui, context.vocabulary, context.store, (self.game.rulebase, self.game.name),
                 on_apply=self.load_rulebase, on_saved=lambda: self.library.refresh(),
             )
-        with tabs.add_tab("Evolve", viser.Icon.DNA):
+        with tabs.add_tab("Evolve"):
             self.evolve = EvolvePanel(
                 gui, context.runs, context.store, on_load=play,
                 on_generation=lambda *finished: self.population.generation_finished(*finished),
+                on_run_ended=lambda run_id, status: self.population.run_ended(run_id, status),
                 on_runs_changed=lambda: self.library.refresh(),
             )
-        with tabs.add_tab("Library", viser.Icon.BOOKS):
+        with tabs.add_tab("Library"):
             self.library = LibraryPanel(gui, context.store, context.runs, context.vocabulary, context.api_url,
                                         on_load=play)
         right = gui.add_panel()
-        with right.add_tab("Inference", viser.Icon.BRAIN):
+        with right.add_tab("Inference"):
             self.inference = InferencePanel(gui, context.vocabulary, on_change=self.refresh)
-        with right.add_tab("Policy map", viser.Icon.MAP):
+        with right.add_tab("Policy map"):
             self.policy = PolicyPanel(gui, context.vocabulary, self.game.rulebase, self.game.view_half_angle,
                                       on_change=self.refresh)
-        with right.add_tab("Population", viser.Icon.LAYOUT_GRID):
+        with right.add_tab("Population"):
             self.population = PopulationPanel(gui, context.game, context.vocabulary,
                                               start_seed=lambda: self.game.seed)
         right.dock_right()
@@ -130,46 +141,68 @@ class Session:
             self._render()
 
     def close(self) -> None:
+        """The tab is gone: stop drawing and listening (quick: called from viser's event loop)."""
         self._closed.set()
         self.evolve.close()
 
+    def join(self, timeout: float) -> bool:
+        """Wait for the loop to end after close(); whether it has."""
+        self._thread.join(timeout)
+        return not self._thread.is_alive()
+
     # ---- the loop -------------------------------------------------------------------------
     def _loop(self) -> None:
-        period = 1.0 / style.FRAME_RATE
-        next_frame = time.perf_counter()
+        last = time.perf_counter()
         while not self._closed.is_set():
+            now = time.perf_counter()
             try:
                 with self.lock:
-                    self._advance()
+                    if self._closed.is_set():
+                        break
+                    self._advance(min(now - last, MAX_CATCH_UP))
             except Exception:  # a broken frame must not kill the tab's loop
                 log.exception("session frame failed")
-            next_frame += period
-            delay = next_frame - time.perf_counter()
-            if delay < 0:  # fell behind (a busy machine): drop frames instead of bursting
-                next_frame = time.perf_counter()
-                delay = 0.0
-            self._closed.wait(delay)
+            last = now
+            self._closed.wait(self._until_next_tick())
 
-    def _advance(self) -> None:
-        ticks = self._due_ticks() if self.playing else 0
+    def _advance(self, elapsed: float) -> None:
+        ticks = self._due_ticks(elapsed) if self.playing else 0
         self.population.advance(ticks)
         if ticks == 0:
             return
         if self.game.done:
             self._restart_after_pause()
             return
+        # Up to FRAME_RATE ticks a second, every tick goes to the browser (a late wake-up sends two in a
+        # row); faster, each frame's last.
+        each = self._tick_rate() <= style.FRAME_RATE
         for _ in range(ticks):
             if self.game.done:
                 break
             self.game.step()
-        self._render()
+            if each:
+                self._render()
+        if not each:
+            self._render()
 
-    def _due_ticks(self) -> int:
-        """Ticks to play this frame so the game runs at `speed` times real time."""
-        self._tick_budget += float(self.controls.speed.value) * self._ticks_per_second / style.FRAME_RATE
-        ticks = int(self._tick_budget)
+    def _tick_rate(self) -> float:
+        return float(self.controls.speed.value) * self._ticks_per_second
+
+    def _due_ticks(self, elapsed: float) -> int:
+        """Ticks due after `elapsed` seconds of play, so the game runs at `speed` times real time."""
+        self._tick_budget += elapsed * self._tick_rate()
+        ticks = int(self._tick_budget + DUE_EARLY)
         self._tick_budget -= ticks
         return ticks
+
+    def _until_next_tick(self) -> float:
+        """Seconds to sleep: until the next tick is due, so each tick is sent (and drawn) on its own;
+        never less than a frame (faster games send several ticks a frame), never more than IDLE_WAKE."""
+        frame = 1.0 / style.FRAME_RATE
+        if not self.playing:
+            return IDLE_WAKE
+        due_in = (1.0 - DUE_EARLY - self._tick_budget) / self._tick_rate()
+        return min(max(due_in, frame), IDLE_WAKE)
 
     def _restart_after_pause(self) -> None:
         """Leave the final position on screen for a moment, then start the next game (the next seed)."""
@@ -183,9 +216,15 @@ class Session:
             self._render()
 
     def _render(self) -> None:
+        if self._closed.is_set():  # a control's callback may still arrive from a closed tab
+            return
         game = self.game
+        # Two batches: the browser applies panel-only updates at once, scene updates at its next frame.
         with self.client.atomic():
-            self.pitch.show(game.frame())
             self.controls.show_status(game.status_html())
             self.inference.show(game.inputs(), game.rule_texts, game.inference())
             self.policy.show_current(game.inputs())
+        if self._closed.is_set():
+            return
+        with self.client.atomic():
+            self.pitch.show(game.frame())

@@ -5,7 +5,7 @@ Sizes are chosen for a projector: large type, thick lines, strong contrast.
 
 from __future__ import annotations
 
-FRAME_RATE = 30.0  # frames per second the session loop aims for
+FRAME_RATE = 30.0  # at most this many frames a second go to the browser (faster games skip ticks)
 DEFAULT_SPEED = 2.0  # times real time (WorldConfig.tick_seconds per tick at 1x): lively yet watchable
 SPEED_RANGE = (0.25, 20.0)
 DEFAULT_SEED = 1
@@ -14,8 +14,17 @@ DEFAULT_SEED = 1
 PLAYER_DRAW_RADIUS = 1.6
 BALL_DRAW_RADIUS = 0.9
 VIEW_CONE_LENGTH = 30.0  # the view is unbounded in distance; the cone shows its angle
-LINE_THICKNESS = 0.35
+FACING_LINE_REACH = 1.9  # the facing line ends this many player radii from the centre
 PITCH_MARGIN = 5.0  # grass beyond the lines, metres
+GRASS_STRIPES = 12  # mown stripes across the pitch's length
+LINE_WIDTH = 0.3  # metres: painted lines, wider than FIFA's 12 cm to read on a projector
+NET_LINE_WIDTH = 0.1
+POST_DRAW_RADIUS = 0.4
+TRAIL_THICKNESS = 0.42  # the ball's trail (a line drawn by the browser), in viser's line units
+# Resolution of the pitch's pictures (pixels per metre): sharp on a 1920-pixel-wide projector.
+FIELD_PIXELS_PER_METRE = 14.0
+BODY_PIXELS_PER_METRE = 24.0
+CONE_PIXELS_PER_METRE = 6.0
 
 GRASS = (46, 125, 50)
 GRASS_STRIPE = (56, 142, 60)
@@ -49,6 +58,7 @@ ACTION_COLOURS = (
 HUNT_COLOUR = "#cfd8dc"
 
 LEFT_PANEL_WIDTH = 380
+RULE_EDITOR_HEIGHT = "max(18em, 55vh)"  # CSS: the rule text fills most of the panel's height
 RIGHT_PANEL_WIDTH = 500
 POLICY_REFRESH_SECONDS = 0.2  # the policy map's marker follows the player at 5 Hz (the map is ~12 kB)
 POPULATION_GRID = (3, 4)  # columns, rows of small pitches in the population view

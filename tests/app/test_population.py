@@ -120,3 +120,15 @@ def test_panel_shows_at_most_the_grid_and_ignores_an_empty_generation():
     panel.generation_finished(1, 1, ())
     panel.advance(1)
     assert panel.batch is batch
+
+
+def test_the_caption_says_when_the_run_has_ended():
+    panel = population_panel()
+    players = (SampledPlayer(CODEC.decode(parse_compact(CHASER, VOCABULARY)), 0.5),)
+    panel.generation_finished(3, 7, players)
+    panel.advance(1)
+    assert 'data-generation="7"' in panel.caption.content and "while generation 8 is evaluated" in panel.caption.content
+    panel.run_ended(3, "finished")
+    panel.advance(1)
+    assert 'data-ended="true"' in panel.caption.content and "evaluated" not in panel.caption.content
+    assert "the run finished after this generation" in panel.caption.content

@@ -132,6 +132,77 @@ def test_pitch_renders_and_the_demo_player_plays(ui, page):
     shot(page, "1-pitch-and-inference")
 
 
+PITCH_ON_SCREEN = """() => {
+  // The pitch as the page draws it: the field and player and ball pictures decoded, inside the view.
+  const m = window.__viserMutable;
+  if (!m || !m.camera) return null;
+  const Vector = m.scene.position.constructor;
+  const report = {};
+  for (const name of ["/field", "/pitch/player/body", "/pitch/ball"]) {
+    const node = m.nodeRefFromName[name];
+    let decoded = false;
+    if (node) node.traverse((o) => { if (o.material && o.material.map && o.material.map.image) decoded = true; });
+    const p = node ? node.getWorldPosition(new Vector()).project(m.camera) : null;
+    report[name] = {decoded, inView: p !== null && Math.abs(p.x) <= 1 && Math.abs(p.y) <= 1};
+  }
+  report.opaque = getComputedStyle(m.canvas).opacity === "1";
+  return report;
+}"""
+
+
+def colour_pixels(png: bytes, rgb: tuple[int, int, int], tolerance: int = 12) -> int:
+    import io
+
+    import numpy as np
+    from matplotlib.image import imread
+
+    pixels = np.rint(imread(io.BytesIO(png), format="png")[..., :3] * 255).astype(int)
+    return int((np.abs(pixels - np.array(rgb)).max(axis=-1) <= tolerance).sum())
+
+
+def test_a_new_tab_paints_the_whole_pitch_with_player_and_ball(ui, browser):
+    from app.ui import style
+
+    before = set(ui.sessions)
+    fresh = browser.new_page(viewport=VIEWPORT)
+    try:
+        fresh.set_default_timeout(TIMEOUT_MS)
+        fresh.goto(ui.url)
+        fresh.wait_for_function(f"() => {{ const r = ({PITCH_ON_SCREEN})(); return r && r.opaque && "
+                                f"Object.values(r).every((v) => v === true || (v.decoded && v.inView)); }}")
+        dismiss_notifications(fresh)
+        canvas = fresh.locator("canvas").first.screenshot()
+        # What the pictures show is on screen: the player's blue, the ball's yellow, the grass.
+        assert colour_pixels(canvas, style.PLAYER) > 20
+        assert colour_pixels(canvas, style.BALL) > 5
+        assert colour_pixels(canvas, style.GRASS) > 10_000
+    finally:
+        fresh.close()
+        wait_until(lambda: set(ui.sessions) <= before)  # the other tests' tab is the newest again
+
+
+def test_the_tick_label_follows_the_game(ui, page):
+    session = session_of(ui)
+    page.evaluate("""() => {
+      window.__ticks = [];
+      const record = () => { const s = document.querySelector('.game-status');
+        if (s && window.__ticks[window.__ticks.length - 1] !== Number(s.dataset.tick)) window.__ticks.push(Number(s.dataset.tick)); };
+      new MutationObserver(record).observe(document.body, {subtree: true, childList: true, attributes: true});
+      record();
+    }""")
+    page.get_by_role("tab", name="Play").click()
+    page.get_by_role("button", name="Play").click()
+    start = session.game.state.tick
+    wait_until(lambda: session.game.state.tick >= start + 15 or session.game.done)
+    pause(page)
+    wait_until(lambda: not session.playing)
+    final = session.game.state.tick
+    wait_until(lambda: tick(page) == final)
+    shown = page.evaluate("() => window.__ticks")
+    assert shown == sorted(shown) and len(set(shown)) >= 3  # it moved on with the game, never back
+    assert shown[-1] == final
+
+
 def test_stepping_changes_membership_and_rule_panels(ui, page):
     pause(page)
     time.sleep(0.3)
@@ -188,6 +259,8 @@ def test_applying_a_valid_rule_changes_the_behaviour(ui, page):
 
 
 def test_a_small_evolution_shows_progress_and_its_best_player_can_be_loaded(ui, page):
+    older = ui.context.store.create_run("an older run", {}, ui.context.runs.runs_dir / "{id}")
+    ui.context.store.set_run_status(older.id, "stopped")
     page.get_by_role("tab", name="Evolve").click()
     page.get_by_text("GA parameters (chapter's Table 2)").click()
     field(page, "Population size", "input").fill("12")
@@ -197,7 +270,7 @@ def test_a_small_evolution_shows_progress_and_its_best_player_can_be_loaded(ui, 
     wait_until(lambda: session.evolve.config()["population_size"] == 12 and session.evolve.config()["max_generations"] == 2)
     page.get_by_role("button", name="Start").click()
     status = page.locator(".evolve-status")
-    wait_until(lambda: "generation 1 of 2" in status.inner_text() or "finished" in status.inner_text(), timeout=60)
+    wait_until(lambda: "generation 0 of 0–1" in status.inner_text() or "finished" in status.inner_text(), timeout=60)
     load = page.get_by_role("button", name="Load best so far onto the pitch")
     wait_until(lambda: load.is_enabled())
     load.click()
@@ -216,9 +289,28 @@ def test_a_small_evolution_shows_progress_and_its_best_player_can_be_loaded(ui, 
     assert 0 < shown <= 12
     wait_until(lambda: page.locator(".mini-pitch").count() == shown)
     page.get_by_role("tab", name="Library").click()
-    run_label = page.locator("text=from the UI (finished)")
     shot(page, "6-library-and-population")
-    assert session.library.runs.value.startswith("#") or run_label.count()
+    # Newest first: the run just made is selected, not the older one.
+    assert session.library.runs.value.startswith(f"#{session.evolve.run_id} ")
+
+
+def test_after_a_run_every_view_numbers_its_generations_alike_and_says_it_ended(ui, page):
+    session = session_of(ui)  # the run of the test above has finished
+    run_id = session.evolve.run_id
+    last = ui.context.store.statistics(run_id)[-1]
+    assert last["generation"] == 1  # generations 0 and 1
+    page.get_by_role("tab", name="Evolve").click()
+    status = page.locator(".evolve-status").inner_text()
+    assert f"Run #{run_id} finished after generation 1" in status
+    legend = page.locator(".u-legend").first
+    assert "after generation 1" in page.locator(".u-title").first.inner_text()
+    assert f"best {last['best']:.3f}" in legend.inner_text() and f"mean {last['mean']:.3f}" in legend.inner_text()
+    assert "--" not in legend.inner_text()
+    page.get_by_role("tab", name="Population").click()
+    caption = page.locator(".population-caption")
+    wait_until(lambda: caption.get_attribute("data-ended") == "true")
+    assert caption.get_attribute("data-generation") == "1"
+    assert "evaluated" not in caption.inner_text() and "finished after this generation" in caption.inner_text()
 
 
 def test_save_to_library_then_open_it_again(ui, page):
@@ -239,6 +331,22 @@ def test_save_to_library_then_open_it_again(ui, page):
     page.get_by_role("button", name="Open").click()
     wait_until(lambda: session.game.name == "my striker")
     assert "GoToBall High" in "\n".join(session.game.rule_texts)
+
+
+def test_the_rule_editor_shows_a_whole_rulebase(ui, page):
+    from fuzzy.random_rulebase import random_rulebase
+    import numpy as np
+
+    vocabulary = ui.context.vocabulary
+    rulebase = random_rulebase(np.random.default_rng(3), vocabulary, rules=12)  # an evolved player's size
+    session = session_of(ui)
+    session.load_rulebase(rulebase, "twelve rules")
+    page.get_by_role("tab", name="Rules").click()
+    editor = field(page, "Rules", "textarea")
+    wait_until(lambda: editor.input_value().count("\n") >= 11)
+    height, content = editor.evaluate("t => [t.clientHeight, t.scrollHeight]")
+    assert content <= height + 1  # every rule in view, no scrolling
+    shot(page, "9-rule-editor")
 
 
 def test_policy_map_marks_the_current_input(ui, page):
@@ -289,3 +397,18 @@ def test_each_tab_has_its_own_game(ui, browser, page):
         assert second_session.game.name == ui.context.demo_name
     finally:
         second.close()
+
+
+def test_a_closed_tab_stops_its_session(ui, browser):
+    before = set(ui.sessions)
+    other = browser.new_page(viewport=VIEWPORT)
+    other.set_default_timeout(TIMEOUT_MS)
+    other.goto(ui.url)
+    other.locator(".game-status").wait_for()
+    session = ui.sessions[max(wait_until(lambda: set(ui.sessions) - before))]
+    other.close()
+    wait_until(lambda: session not in ui.sessions.values())
+    assert session.join(timeout=10)  # its loop has ended: nothing more goes to the closed tab
+    tick_after = session.game.state.tick
+    time.sleep(0.5)
+    assert session.game.state.tick == tick_after

@@ -12,7 +12,8 @@ from app.ui.panels.membership import membership_html
 from app.ui.panels.outputs import outputs_html
 from app.ui.panels.policy import COLUMNS, ROWS, policy_grid, policy_map_html
 from app.ui.panels.rules import HUNT_TEXT, decision_html, rules_html
-from app.ui.pitch import PitchGeometry, marking_segments, to_scene, yaw_quaternion
+from app.ui.pitch import PitchGeometry, to_scene, yaw_quaternion
+from app.ui.pitch_pictures import marking_segments
 from fuzzy.batched import NO_ACTION
 from fuzzy.engine import Engine
 from fuzzy.parser import parse_rulebase

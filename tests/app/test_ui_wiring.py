@@ -100,3 +100,20 @@ def test_policy_map_redraws_for_a_control_change_and_a_new_rulebase(gui):
     assert redraws == [True]
     policy.show_current(inputs)  # the redraw it asked for, however soon it comes
     assert "Turn" in policy.map.content and "GoToBall" not in policy.map.content
+
+
+def test_library_lists_newest_first_and_selects_what_was_just_made(gui, store, tmp_path):
+    from app.runs import RunManager
+    from app.ui.panels.library import LibraryPanel
+
+    first = store.create_rulebase("first", format_rulebase(DEMO, VOCABULARY))
+    library = LibraryPanel(gui, store, RunManager(store, tmp_path), VOCABULARY, None, on_load=lambda r, n: None)
+    assert library.rulebases.value == f"#{first.id} first"
+    second = store.create_rulebase("second", format_rulebase(DEMO, VOCABULARY))
+    library.refresh()
+    assert library.rulebases.options == (f"#{second.id} second", f"#{first.id} first")
+    assert library.rulebases.value == f"#{second.id} second"
+    library.rulebases.value = f"#{first.id} first"  # the user picks the older one and renames it
+    store.update_rulebase(first.id, name="renamed")
+    library.refresh()
+    assert library.rulebases.value == f"#{first.id} renamed"

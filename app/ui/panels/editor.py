@@ -19,6 +19,14 @@ from ga.notation import NotationError, format_compact, parse_compact
 
 EDITED_NAME = "edited"
 UNDO_DEPTH = 50
+# viser's text area grows to six lines at most; the rule text (the element after the heading) gets
+# the panel's whole width and most of its height, so a whole rulebase reads without scrolling.
+# min-height wins over the height the text area sets itself.
+EDITOR_STYLE = (
+    "<style>div:has(> .rules-on-pitch) + div .mantine-Flex-root > div:first-child { display: none }"
+    f"div:has(> .rules-on-pitch) + div textarea {{ min-height: {style.RULE_EDITOR_HEIGHT} !important;"
+    " line-height: 1.45 }</style>"
+)
 
 
 class EditorPanel:
@@ -48,7 +56,7 @@ class EditorPanel:
         self.message = gui.add_html("")
         with gui.add_folder("Save to library"):
             self.save_name = gui.add_text("Name", "")
-            save = gui.add_button("Save", icon=viser.Icon.DEVICE_FLOPPY)
+            save = gui.add_button("Save")
         with gui.add_folder("Chromosome (compact notation)"):
             self.compact = gui.add_text("Genes", "", multiline=True)
             conversions = gui.add_button_group("Convert", ("Rules → genes", "Genes → rules"))
@@ -74,8 +82,8 @@ class EditorPanel:
         self.text.value = format_rulebase(rulebase, self.vocabulary)
         self.compact.value = format_compact(self.codec.encode(rulebase), self.vocabulary)
         self.name.content = (
-            f'<div style="{style.FONT}; font-size:{style.FONT_SIZE}px">On the pitch: '
-            f"<b>{escape(name)}</b> ({len(rulebase)} rules)</div>"
+            f'<div class="rules-on-pitch" style="{style.FONT}; font-size:{style.FONT_SIZE}px">On the pitch: '
+            f"<b>{escape(name)}</b> ({len(rulebase)} rules)</div>{EDITOR_STYLE}"
         )
 
     def _say(self, text: str, *, error: bool = False, lines: list[str] | None = None) -> None:

@@ -45,9 +45,11 @@ def ga_fields() -> dict[str, Any]:
 
 
 class EvolvePanel:
-    """Starts and follows this tab's evolution. Callbacks: `on_load(rulebase, name)` puts the best player
-    so far on the pitch; `on_generation(run_id, generation, players)` hands each finished generation's
-    best players on (from the run's thread); `on_runs_changed()` follows a run starting or ending."""
+    """Starts and follows this tab's evolution. Generations are numbered from 0, the evaluated initial
+    population, as everywhere else. Callbacks: `on_load(rulebase, name)` puts the best player so far on
+    the pitch; `on_generation(run_id, generation, players)` hands each finished generation's best
+    players on and `on_run_ended(run_id, status)` says the run is over (both from the run's thread);
+    `on_runs_changed()` follows a run starting or ending."""
 
     def __init__(
         self,
@@ -57,12 +59,14 @@ class EvolvePanel:
         *,
         on_load: Callable[[Rulebase, str], None],
         on_generation: Callable[[int, int, Sequence[SampledPlayer]], None],
+        on_run_ended: Callable[[int, RunStatus], None],
         on_runs_changed: Callable[[], None],
     ):
         self.runs = runs
         self.store = store
         self.on_load = on_load
         self.on_generation = on_generation
+        self.on_run_ended = on_run_ended
         self.on_runs_changed = on_runs_changed
         self.run_id: int | None = None
         self.generations: list[int] = []
@@ -79,16 +83,14 @@ class EvolvePanel:
         self.status = gui.add_html(self._status_html("Not started. Press Start: the chapter's defaults are set."))
         self.plot = gui.add_uplot(
             data=self._plot_data(),
-            series=(
-                viser.uplot.Series(label="generation"),
-                viser.uplot.Series(label="best", stroke=style.SELECTED, width=3),
-                viser.uplot.Series(label="mean", stroke=style.ACCENT, width=2),
-            ),
+            series=self._plot_series(),
             scales=self._plot_scales(),
-            title="Fitness (lower is better)",
+            # The legend names the latest values itself (uPlot's live legend shows "--" until hovered).
+            legend=viser.uplot.Legend(live=False),
+            title=self._plot_title(),
             aspect=1.4,
         )
-        self.load_best = gui.add_button("Load best so far onto the pitch", icon=viser.Icon.PLAYER_PLAY, disabled=True)
+        self.load_best = gui.add_button("Load best so far onto the pitch", disabled=True)
         self._remove_listener = self.runs.add_listener(self._on_event)
 
         @buttons.on_click
@@ -168,18 +170,19 @@ class EvolvePanel:
     def _on_event(self, event: RunEvent) -> None:
         if event.run_id != self.run_id:
             return
-        total = int(self.inputs["max_generations"].value)  # generation 0 is the first of them
+        total = int(self.inputs["max_generations"].value)  # generations 0 .. total - 1
         if event.stats is not None:
             stats = event.stats
-            self.generations.append(int(stats["generation"]))
+            generation = int(stats["generation"])
+            self.generations.append(generation)
             self.best.append(float(stats["best"]))
             self.mean.append(float(stats["mean"]))
             self._redraw_plot()
-            self.on_generation(event.run_id, int(stats["generation"]), event.players)
-            self.progress.value = min(100.0, 100.0 * (stats["generation"] + 1) / total)
+            self.on_generation(event.run_id, generation, event.players)
+            self.progress.value = min(100.0, 100.0 * (generation + 1) / total)
             self.load_best.disabled = False
             self.status.content = self._status_html(
-                f"Run #{event.run_id}: generation {stats['generation'] + 1} of {total} — best {stats['best']:.3f}, "
+                f"Run #{event.run_id}: generation {generation} of 0–{total - 1} done — best {stats['best']:.3f}, "
                 f"mean {stats['mean']:.3f}, {stats.get('evaluations', 0)} games played"
             )
         elif event.status is not RunStatus.RUNNING:
@@ -187,9 +190,11 @@ class EvolvePanel:
             if event.status is RunStatus.FINISHED:
                 self.progress.value = 100.0
             best = f" — best {min(self.best):.3f}" if self.best else ""
+            last = f" after generation {self.generations[-1]}" if self.generations else ""
             self.status.content = self._status_html(
-                f"Run #{event.run_id} {event.status}{best}.", error=event.status is RunStatus.FAILED
+                f"Run #{event.run_id} {event.status}{last}{best}.", error=event.status is RunStatus.FAILED
             )
+            self.on_run_ended(event.run_id, event.status)
             self.on_runs_changed()
 
     def _plot_data(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -208,8 +213,23 @@ class EvolvePanel:
             "y": viser.uplot.Scale(auto=False, range=(0.0, 1.0)),
         }
 
+    def _plot_title(self) -> str:
+        after = f", after generation {self.generations[-1]}" if self.generations else ""
+        return f"Fitness (lower is better){after}"
+
+    def _plot_series(self) -> tuple[viser.uplot.Series, ...]:
+        """The legend: each series with its latest value (the x series is not shown in it)."""
+        best, mean = (f"best {self.best[-1]:.3f}", f"mean {self.mean[-1]:.3f}") if self.generations else ("best", "mean")
+        return (
+            viser.uplot.Series(label="generation"),
+            viser.uplot.Series(label=best, stroke=style.SELECTED, width=3),
+            viser.uplot.Series(label=mean, stroke=style.ACCENT, width=2),
+        )
+
     def _redraw_plot(self) -> None:
         self.plot.data = self._plot_data()
+        self.plot.series = self._plot_series()
+        self.plot.title = self._plot_title()
 
 
 def _first_line(exc: Exception) -> str:

@@ -7,7 +7,7 @@ from typing import Callable, Mapping, Sequence
 
 import viser
 
-from app.ui.panels.membership import membership_html
+from app.ui.panels.membership import input_html, input_names, terms_html
 from app.ui.panels.outputs import outputs_html
 from app.ui.panels.rules import decision_html, rules_html
 from fuzzy.engine import Inference
@@ -25,14 +25,16 @@ class InferencePanel:
         with gui.add_folder("Output sets (clipped, max, mean of maximum)"):
             self.outputs = gui.add_html("")
         with gui.add_folder("Inputs: membership degrees"):
-            self.membership = gui.add_html("")
+            gui.add_html(terms_html(vocabulary))
+            self.membership = {name: gui.add_html("") for name in input_names(vocabulary)}
         self._shown: dict[str, str] = {}
 
     def show(self, inputs: Mapping[str, float | None], rule_texts: Sequence[str], inference: Inference) -> None:
         self._set(self.decision, "decision", decision_html(self.vocabulary, inference))
         self._set(self.rules, "rules", rules_html(rule_texts, inference, self.only_fired.value))
         self._set(self.outputs, "outputs", outputs_html(self.vocabulary, inference))
-        self._set(self.membership, "membership", membership_html(self.vocabulary, inputs))
+        for name, handle in self.membership.items():
+            self._set(handle, name, input_html(self.vocabulary, name, inputs.get(name)))
 
     def _set(self, handle: viser.GuiHtmlHandle, key: str, content: str) -> None:
         # Only changed content goes over the websocket; at 30 fps most panels are unchanged most frames.

@@ -25,6 +25,10 @@ def _label(record_id: int, name: str) -> str:
     return f"#{record_id} {name}"
 
 
+def _newest_first(records: list) -> list:
+    return sorted(records, key=lambda record: record.id, reverse=True)
+
+
 def _id_of(label: str) -> int | None:
     if not label.startswith("#"):
         return None
@@ -59,7 +63,7 @@ class LibraryPanel:
         self.runs = gui.add_dropdown("Run", (NONE,))
         run_actions = gui.add_button_group("Run actions", ("Watch best", "Rename", "Delete"))
         self.new_name = gui.add_text("New name", "")
-        refresh = gui.add_button("Refresh", icon=viser.Icon.REFRESH, color="gray")
+        refresh = gui.add_button("Refresh", color="gray")
         self.message = gui.add_html("")
         gui.add_markdown("**Experiments** (`soccer-lab experiment`)")
         self.experiments = gui.add_dropdown("Experiment", (NONE,))
@@ -98,20 +102,25 @@ class LibraryPanel:
         self.refresh()
 
     def refresh(self) -> None:
-        rulebases = [_label(r.id, r.name) for r in self.store.list_rulebases()]
-        runs = [_label(r.id, f"{r.name} ({r.status})") for r in self.store.list_runs()]
+        # Newest first (the highest id); a record just made is selected.
+        rulebases = [_label(r.id, r.name) for r in _newest_first(self.store.list_rulebases())]
+        runs = [_label(r.id, f"{r.name} ({r.status})") for r in _newest_first(self.store.list_runs())]
         self._set_options(self.rulebases, rulebases)
         self._set_options(self.runs, runs)
-        experiments = [experiment_label(e) for e in reversed(self.store.list_experiments())]  # newest first
+        experiments = [experiment_label(e) for e in _newest_first(self.store.list_experiments())]
         self._set_options(self.experiments, experiments)
         self.show_experiment()
 
     @staticmethod
     def _set_options(dropdown: viser.GuiDropdownHandle, labels: list[str]) -> None:
         current = _id_of(dropdown.value)
+        known = {_id_of(label) for label in dropdown.options}
         options = tuple(labels) or (NONE,)
         if tuple(dropdown.options) != options:
             dropdown.options = options
+        if _id_of(options[0]) not in known:  # a new record (or the first look): select it
+            dropdown.value = options[0]
+            return
         for label in options:  # keep the selection on the same record across a rename
             if current is not None and _id_of(label) == current:
                 dropdown.value = label

@@ -1,4 +1,9 @@
-"""Live membership degrees of every term of the four inputs, greyed when the object is out of view."""
+"""Live membership degrees of every term of the four inputs, greyed when the object is out of view.
+
+The terms' outlines and the axis never change: `terms_html` draws them once, as SVG definitions each
+input's chart then shows with `<use>`. Each tick only the value, the clipped terms and the degrees
+are sent, for each input on its own (`input_html`), and only when they changed.
+"""
 
 from __future__ import annotations
 
@@ -16,13 +21,47 @@ PAD = 14
 
 
 def membership_html(vocabulary: Vocabulary, inputs: Mapping[str, float | None]) -> str:
-    """One block per input: its terms drawn on the universe with the crisp value marked, then a chip per
-    term with its degree. `inputs[name]` is None when the object is not in view."""
-    blocks = []
-    for obj, kinds in vocabulary.objects.items():
-        for kind, input_name in kinds.items():
-            blocks.append(_input_block(vocabulary, obj, kind, inputs.get(input_name)))
-    return f'<div style="{style.FONT}; color:{style.INK}">{"".join(blocks)}</div>'
+    """Every input's block after the shared term outlines (what the panel shows, in one piece)."""
+    blocks = [input_html(vocabulary, input_name, inputs.get(input_name)) for input_name in input_names(vocabulary)]
+    return terms_html(vocabulary) + "".join(blocks)
+
+
+def input_names(vocabulary: Vocabulary) -> list[str]:
+    return [input_name for kinds in vocabulary.objects.values() for input_name in kinds.values()]
+
+
+def _terms_id(kind: str) -> str:
+    return f"membership-terms-{kind}"
+
+
+def terms_html(vocabulary: Vocabulary) -> str:
+    """An invisible SVG holding, per kind of input (distance, direction), its terms' outlines and axis."""
+    groups = []
+    for kind in dict.fromkeys(kind for kinds in vocabulary.objects.values() for kind in kinds):
+        variable = vocabulary.variables[kind]
+        axis = Axis(variable, PAD, WIDTH - PAD)
+        parts = [f'<line x1="{PAD}" y1="{CHART_BOTTOM}" x2="{WIDTH - PAD}" y2="{CHART_BOTTOM}" stroke="{style.MUTED}"/>']
+        parts += [
+            f'<polygon points="{term_points(term, axis, CHART_TOP, CHART_BOTTOM)}" fill="none" '
+            f'stroke="{style.ACCENT}" stroke-width="1.5" opacity="0.8"/>'
+            for term in variable.terms
+        ]
+        parts += [
+            f'<text x="{axis(tick):.1f}" y="{AXIS_LABELS - 4}" font-size="{style.SMALL_FONT_SIZE - 1}" '
+            f'text-anchor="middle" fill="{style.MUTED}">{tick:g}</text>'
+            for tick in axis.ticks()
+        ]
+        groups.append(f'<g id="{_terms_id(kind)}">{"".join(parts)}</g>')
+    return (f'<svg class="membership-terms" width="0" height="0" style="position:absolute" aria-hidden="true">'
+            f'<defs>{"".join(groups)}</defs></svg>')
+
+
+def input_html(vocabulary: Vocabulary, input_name: str, value: float | None) -> str:
+    """One input's block: its terms drawn on the universe with the crisp value marked, then a chip per
+    term with its degree. `value` is None when the object is not in view."""
+    obj, kind = next((obj, kind) for obj, kinds in vocabulary.objects.items()
+                     for kind, name in kinds.items() if name == input_name)
+    return f'<div style="{style.FONT}; color:{style.INK}">{_input_block(vocabulary, obj, kind, value)}</div>'
 
 
 def _input_block(vocabulary: Vocabulary, obj: str, kind: str, value: float | None) -> str:
@@ -39,35 +78,19 @@ def _input_block(vocabulary: Vocabulary, obj: str, kind: str, value: float | Non
         f'<div style="font-size:{style.FONT_SIZE + 1}px; font-weight:600">{escape(title)} '
         f'<span class="reading" style="font-weight:400; color:{style.ACCENT if visible else style.MUTED}">'
         f"{escape(reading)}</span></div>"
-        f"{_chart(variable, value, degrees)}"
+        f"{_chart(variable, kind, value, degrees)}"
         f'<div style="display:flex; flex-wrap:wrap; gap:3px">{chips}</div></div>'
     )
 
 
-def _chart(variable, value, degrees) -> str:
+def _chart(variable, kind: str, value, degrees) -> str:
     axis = Axis(variable, PAD, WIDTH - PAD)
-    parts = [svg_open(WIDTH, AXIS_LABELS + 4)]
-    parts.append(
-        f'<line x1="{PAD}" y1="{CHART_BOTTOM}" x2="{WIDTH - PAD}" y2="{CHART_BOTTOM}" stroke="{style.MUTED}"/>'
-    )
-    for term in variable.terms:
-        degree = degrees[term.name]
-        fill = style.CLIP_FILL if degree > 0 else "none"
-        parts.append(
-            f'<polygon points="{term_points(term, axis, CHART_TOP, CHART_BOTTOM)}" fill="none" '
-            f'stroke="{style.ACCENT}" stroke-width="1.5" opacity="0.8"/>'
-        )
-        if degree > 0:
-            parts.append(
-                f'<polygon points="{term_points(term, axis, CHART_TOP, CHART_BOTTOM, degree)}" '
-                f'fill="{fill}" opacity="0.55"/>'
-            )
-    for tick in axis.ticks():
-        x = axis(tick)
-        parts.append(
-            f'<text x="{x:.1f}" y="{AXIS_LABELS - 4}" font-size="{style.SMALL_FONT_SIZE - 1}" '
-            f'text-anchor="middle" fill="{style.MUTED}">{tick:g}</text>'
-        )
+    parts = [svg_open(WIDTH, AXIS_LABELS + 4), f'<use href="#{_terms_id(kind)}"/>']
+    parts += [
+        f'<polygon points="{term_points(term, axis, CHART_TOP, CHART_BOTTOM, degrees[term.name])}" '
+        f'fill="{style.CLIP_FILL}" opacity="0.55"/>'
+        for term in variable.terms if degrees[term.name] > 0
+    ]
     if value is not None:
         x = axis(value)
         parts.append(

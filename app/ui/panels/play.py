@@ -27,7 +27,7 @@ class PlayControls:
         )
         self.seed = gui.add_number("Seed", initial_value=style.DEFAULT_SEED, min=0, step=1)
         starts = gui.add_button_group("Start", ("New random start", "Restart this seed"))
-        reset_view = gui.add_button("Fit pitch to view", icon=viser.Icon.FOCUS_CENTERED, color="gray")
+        reset_view = gui.add_button("Fit pitch to view", color="gray")
 
         @buttons.on_click
         def _(event: viser.GuiEvent) -> None:

@@ -82,20 +82,32 @@ def _warped_samples(axis: Axis, count: int) -> np.ndarray:
     return np.interp(targets, drawn, fine)
 
 
+ACTION_MAP, VALUE_MAP = "policy-actions", "policy-values"  # ids of the drawn maps
+
+
+def policy_cells_html(vocabulary: Vocabulary, grid: PolicyGrid, output: str) -> str:
+    """The two maps' cells and axes, drawn when the grid changes, as SVG definitions that
+    `policy_map_html` shows: the marker moves every few ticks, the cells much less often."""
+    variable = vocabulary.output_variable(output)
+    action_colours = [_action_colour(int(a)) for a in grid.actions.ravel()]
+    lo, hi = variable.minimum, variable.maximum
+    value_colours = [
+        _ramp((v - lo) / (hi - lo)) if ok else style.HUNT_COLOUR
+        for v, ok in zip(grid.values.ravel(), np.isfinite(grid.values).ravel())
+    ]
+    return (
+        f'<svg class="policy-cells" width="0" height="0" style="position:absolute" aria-hidden="true"><defs>'
+        f'<g id="{ACTION_MAP}">{_cells(vocabulary, action_colours)}</g>'
+        f'<g id="{VALUE_MAP}">{_cells(vocabulary, value_colours)}</g></defs></svg>'
+    )
+
+
 def policy_map_html(
     vocabulary: Vocabulary, grid: PolicyGrid, output: str, current: tuple[float, float] | None
 ) -> str:
-    """Two maps (action, then `output`'s value) with a legend and the current (distance, direction) marked."""
-    action_colours = [
-        style.HUNT_COLOUR if a == NO_ACTION else style.ACTION_COLOURS[a % len(style.ACTION_COLOURS)]
-        for a in grid.actions.ravel()
-    ]
+    """Two maps (action, then `output`'s value; their cells from `policy_cells_html`) with a legend and
+    the current (distance, direction) marked."""
     variable = vocabulary.output_variable(output)
-    finite = np.isfinite(grid.values)
-    lo, hi = variable.minimum, variable.maximum
-    value_colours = [
-        _ramp((v - lo) / (hi - lo)) if ok else style.HUNT_COLOUR for v, ok in zip(grid.values.ravel(), finite.ravel())
-    ]
     present = sorted({int(a) for a in np.unique(grid.actions)})
     legend = "".join(
         f'<span style="display:inline-flex; align-items:center; gap:4px; margin-right:10px">'
@@ -106,12 +118,12 @@ def policy_map_html(
     return (
         f'<div class="policy-map" style="{style.FONT}; font-size:{style.SMALL_FONT_SIZE + 1}px; color:{style.INK}">'
         f'<div style="font-weight:600">Selected action</div>'
-        f"{_map_svg(vocabulary, action_colours, current)}"
+        f"{_map_svg(vocabulary, ACTION_MAP, current)}"
         f'<div style="margin:4px 0 10px 0">{legend}</div>'
         f'<div style="font-weight:600">{escape(output)} ({variable.minimum:g} '
         f'<span style="background:linear-gradient(90deg,{_ramp(0)},{_ramp(1)}); padding:0 30px"></span> '
         f"{variable.maximum:g}; grey: not used)</div>"
-        f"{_map_svg(vocabulary, value_colours, current)}</div>"
+        f"{_map_svg(vocabulary, VALUE_MAP, current)}</div>"
     )
 
 
@@ -127,11 +139,16 @@ def _ramp(t: float) -> str:
     return f"rgb({r},{g},{b})"
 
 
-def _map_svg(vocabulary: Vocabulary, colours: list[str], current) -> str:
-    width_px = WIDTH - PAD_LEFT - 8
-    cell_w = width_px / COLUMNS
+def _axes(vocabulary: Vocabulary) -> tuple[Axis, Axis]:
+    distance_axis = Axis(vocabulary.variables[vocabulary.inputs[DISTANCE_INPUT]], PAD_TOP + MAP_HEIGHT, PAD_TOP)
+    direction_axis = Axis(vocabulary.variables[vocabulary.inputs[DIRECTION_INPUT]], PAD_LEFT, WIDTH - 8)
+    return distance_axis, direction_axis
+
+
+def _cells(vocabulary: Vocabulary, colours: list[str]) -> str:
+    cell_w = (WIDTH - PAD_LEFT - 8) / COLUMNS
     cell_h = MAP_HEIGHT / ROWS
-    parts = [svg_open(WIDTH, MAP_HEIGHT + PAD_TOP + PAD_BOTTOM)]
+    parts = []
     for i in range(ROWS):
         y = PAD_TOP + MAP_HEIGHT - (i + 1) * cell_h  # near at the bottom
         row = colours[i * COLUMNS : (i + 1) * COLUMNS]
@@ -144,8 +161,7 @@ def _map_svg(vocabulary: Vocabulary, colours: list[str], current) -> str:
                     f'height="{cell_h + 0.4:.1f}" fill="{row[start]}"/>'
                 )
                 start = j
-    distance_axis = Axis(vocabulary.variables[vocabulary.inputs[DISTANCE_INPUT]], PAD_TOP + MAP_HEIGHT, PAD_TOP)
-    direction_axis = Axis(vocabulary.variables[vocabulary.inputs[DIRECTION_INPUT]], PAD_LEFT, PAD_LEFT + width_px)
+    distance_axis, direction_axis = _axes(vocabulary)
     for tick in (1, 4, 15, 40, 130):
         parts.append(
             f'<text x="{PAD_LEFT - 4}" y="{distance_axis(tick) + 4:.1f}" font-size="{style.SMALL_FONT_SIZE}" '
@@ -160,7 +176,13 @@ def _map_svg(vocabulary: Vocabulary, colours: list[str], current) -> str:
         f'<text x="{PAD_LEFT}" y="{PAD_TOP - 6}" font-size="{style.SMALL_FONT_SIZE}" fill="{style.MUTED}">'
         f"ball distance (m, up) × ball direction (°, across; left is negative)</text>"
     )
+    return "".join(parts)
+
+
+def _map_svg(vocabulary: Vocabulary, cells: str, current: tuple[float, float] | None) -> str:
+    parts = [svg_open(WIDTH, MAP_HEIGHT + PAD_TOP + PAD_BOTTOM), f'<use href="#{cells}"/>']
     if current is not None:
+        distance_axis, direction_axis = _axes(vocabulary)
         x, y = direction_axis(current[1]), distance_axis(current[0])
         parts.append(
             f'<g class="current"><circle cx="{x:.1f}" cy="{y:.1f}" r="7" fill="none" stroke="white" stroke-width="4"/>'

@@ -9,7 +9,7 @@ import viser
 
 from app.ui import style
 from app.ui.panels.policy import (DIRECTION_INPUT, DISTANCE_INPUT, GOAL_DIRECTION_INPUT, GOAL_DISTANCE_INPUT,
-                                  policy_grid, policy_map_html)
+                                  policy_cells_html, policy_grid, policy_map_html)
 from fuzzy.rule import Rulebase
 from fuzzy.vocabulary import Vocabulary
 
@@ -38,6 +38,7 @@ class PolicyPanel:
             initial_value=INITIAL_GOAL_DIRECTION,
         )
         self.output = gui.add_dropdown("Parameter shown", vocabulary.output_names, initial_value=vocabulary.output_names[-1])
+        self.cells = gui.add_html("")
         self.map = gui.add_html("")
         self._grid_key: tuple | None = None
         self._grid = None
@@ -79,6 +80,7 @@ class PolicyPanel:
                 self.vocabulary, self.rulebase, float(goal_distance), float(goal_direction),
                 bool(goal_visible), self.view_half_angle, self.output.value,
             )
+            self.cells.content = policy_cells_html(self.vocabulary, self._grid, self.output.value)
         ball = inputs.get(DISTANCE_INPUT), inputs.get(DIRECTION_INPUT)
         current = (float(ball[0]), float(ball[1])) if ball[0] is not None else None
         html = policy_map_html(self.vocabulary, self._grid, self.output.value, current)

@@ -1,7 +1,7 @@
 """Population view: a grid of small pitches, all played at once by the batched engine (one GameBatch,
-one pymunk Space). While this tab's evolution runs, it shows the current generation's best players
+one pymunk Space). While this tab's evolution runs, it shows the latest generation's best players
 (the RunManager samples them as each generation finishes), all from the same start so the class
-compares them fairly, live while the next generation is being evaluated."""
+compares them fairly, live while the next generation is being evaluated; after the run, its last."""
 
 from __future__ import annotations
 
@@ -94,9 +94,13 @@ class PopulationPanel:
         )
         self.batch: GameBatch | None = None
         self.labels: list[str] = []
-        # Set from the run's thread, picked up by the session loop: (run id, generation, its players).
+        # Set from the run's thread, picked up by the session loop: (run id, generation, its players),
+        # and the run that ended with how it ended.
         self._pending: tuple[int, int, Sequence["SampledPlayer"]] | None = None
+        self._ended: tuple[int, str] | None = None
         self._pending_lock = threading.Lock()
+        self._shown: tuple[int, int, int, int] | None = None  # run id, generation, players, seed
+        self._caption_key: tuple | None = None
         self._last_render = 0.0
 
     def generation_finished(self, run_id: int, generation: int, players: Sequence["SampledPlayer"]) -> None:
@@ -105,14 +109,21 @@ class PopulationPanel:
             with self._pending_lock:
                 self._pending = (run_id, generation, players)
 
+    def run_ended(self, run_id: int, status: str) -> None:
+        """Called from the run's thread: no generation follows (finished, stopped or failed)."""
+        with self._pending_lock:
+            self._ended = (run_id, str(status))
+
     def advance(self, ticks: int) -> None:
         """Called by the session loop (under its lock) with the ticks the main pitch advanced."""
         with self._pending_lock:
             pending, self._pending = self._pending, None
+            ended = self._ended
         if pending is not None:
             self._rebuild(*pending)
         if self.batch is None:
             return
+        self._show_caption(ended)
         for _ in range(ticks):
             self.batch.step()
         now = time.perf_counter()
@@ -127,9 +138,19 @@ class PopulationPanel:
         seed = self.start_seed()  # one start for all, so the players are compared fairly
         self.batch = GameBatch([p.rulebase for p in shown], [seed] * len(shown), self.game, self.vocabulary)
         self.labels = [f"#{rank} · {player.fitness:.2f}" for rank, player in enumerate(shown, start=1)]
+        self._shown = (run_id, generation, len(shown), seed)
+
+    def _show_caption(self, ended: tuple[int, str] | None) -> None:
+        run_id, generation, count, seed = self._shown
+        status = ended[1] if ended is not None and ended[0] == run_id else None
+        if (self._shown, status) == self._caption_key:
+            return
+        self._caption_key = (self._shown, status)
+        when = (f"; the run {escape(status)} after this generation" if status is not None
+                else f" while generation {generation + 1} is evaluated")
         self.caption.content = (
             f'<div class="population-caption" data-run="{run_id}" data-generation="{generation}" '
-            f'style="{style.FONT}; font-size:{style.FONT_SIZE}px">Run #{run_id}, generation {generation}: its '
-            f"{len(shown)} best players (rank · fitness), all from the start of seed {seed}, played together by "
-            f"the batched engine while the next generation is evaluated. Top right: goals.</div>"
+            f'data-ended="{str(status is not None).lower()}" style="{style.FONT}; font-size:{style.FONT_SIZE}px">'
+            f"Run #{run_id}, generation {generation}: its {count} best players (rank · fitness), all from the "
+            f"start of seed {seed}, played together by the batched engine{when}. Top right: goals.</div>"
         )
