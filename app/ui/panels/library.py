@@ -58,7 +58,7 @@ class LibraryPanel:
         self.rulebases = gui.add_dropdown("Rulebase", (NONE,))
         rulebase_actions = gui.add_button_group("Rulebase actions", ("Open", "Rename", "Delete"))
         self.export_format = gui.add_dropdown("Export as", FORMATS, initial_value="fcl")
-        download = gui.add_button("Download", icon=viser.Icon.DOWNLOAD, color="gray")
+        download = gui.add_button("Download", color="gray")
         gui.add_markdown("**Past runs**")
         self.runs = gui.add_dropdown("Run", (NONE,))
         run_actions = gui.add_button_group("Run actions", ("Watch best", "Rename", "Delete"))
