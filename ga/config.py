@@ -8,6 +8,7 @@ from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 
 SEED_BOUND = 2**63  # seeds (the run's and its games') lie in [0, SEED_BOUND)
+RouletteWeighting = Literal["linear", "inverse"]  # ga/selection.py roulette_weights says what each does
 
 
 class GAConfig(BaseModel):
@@ -24,7 +25,7 @@ class GAConfig(BaseModel):
     mutation_probability: float = Field(0.35, ge=0, le=1, description="chance that a child is mutated")
     mutation_rate: float = Field(0.10, ge=0, le=1, description="chance that each gene of a mutated child is hit")
     selection: Literal["roulette", "tournament", "elitist"] = "roulette"
-    roulette_weighting: Literal["linear", "inverse"] = Field(
+    roulette_weighting: RouletteWeighting = Field(
         "inverse", description="roulette weight of an individual: 1 - fitness (linear) or 1 / fitness (inverse); "
                                "roulette and elitist selection use it (ga/selection.py)")
     tournament_size: int = Field(2, ge=2, le=1_000)

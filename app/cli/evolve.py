@@ -16,8 +16,8 @@ from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, T
 
 from app.cli.common import fail
 from app.cli.play import (EnvOption, FitnessOption, GoalCapOption, IdleTicksOption, MaxTicksOption,
-                          NoiseOption, ServerOption, chosen_env, config_from_options, game_config, option_help,
-                          option_name, rcss_servers, trial_config)
+                          NoiseOption, ServerOption, SkillsOption, chosen_env, config_from_options, game_config,
+                          option_help, option_name, rcss_servers, trial_config)
 from app.environments import RCSS, RCSS_WORKERS, SIMPLE, checked_workers
 from app.rulebase_files import rulebase_text
 from app.run_outputs import RunFolder, RunFolderError, default_run_dir
@@ -52,6 +52,8 @@ CrossoverProbability = _ga_option("crossover_probability", "Chance that a pair o
 MutationProbability = _ga_option("mutation_probability", "Chance that a child is mutated.", float)
 MutationRate = _ga_option("mutation_rate", "Chance that each gene of a mutated child is hit.", float)
 Selection = _ga_option("selection", "roulette, tournament or elitist.", str)
+RouletteWeighting = _ga_option("roulette_weighting", "Roulette weight (roulette and elitist selection): linear "
+                               "(1 - fitness) or inverse (1 / fitness).", str)
 TournamentSize = _ga_option("tournament_size", "Entrants per tournament.", int)
 TournamentSelector = _ga_option("tournament_selector", "Chance that the better entrant wins a tournament.", float)
 EliteFraction = _ga_option("elite_fraction", "Share of the population copied unchanged (elitist).", float)
@@ -79,12 +81,13 @@ def evolve_command(
     population_size: PopulationSize = None, generations: Generations = None, max_length: MaxLength = None,
     consequent_probability: ConsequentProbability = None, crossover: Crossover = None,
     crossover_probability: CrossoverProbability = None, mutation_probability: MutationProbability = None,
-    mutation_rate: MutationRate = None, selection: Selection = None, tournament_size: TournamentSize = None,
-    tournament_selector: TournamentSelector = None, elite_fraction: EliteFraction = None,
-    target_fitness: TargetFitness = None, seed: Seed = None, workers: Workers = None,
-    fitness: FitnessOption = None, games_per_evaluation: GamesPerEvaluation = None, max_ticks: MaxTicksOption = None,
-    goal_cap: GoalCapOption = None, idle_ticks: IdleTicksOption = None, noise: NoiseOption = None,
-    env: EnvOption = None, server: ServerOption = None, out: Out = None, resume_dir: Resume = None,
+    mutation_rate: MutationRate = None, selection: Selection = None, roulette_weighting: RouletteWeighting = None,
+    tournament_size: TournamentSize = None, tournament_selector: TournamentSelector = None,
+    elite_fraction: EliteFraction = None, target_fitness: TargetFitness = None, seed: Seed = None,
+    workers: Workers = None, fitness: FitnessOption = None, games_per_evaluation: GamesPerEvaluation = None,
+    max_ticks: MaxTicksOption = None, goal_cap: GoalCapOption = None, idle_ticks: IdleTicksOption = None,
+    noise: NoiseOption = None, skills: SkillsOption = None, env: EnvOption = None, server: ServerOption = None,
+    out: Out = None, resume_dir: Resume = None,
 ) -> None:
     """Evolve a goal-scoring rulebase with the messy-coded GA (defaults: the chapter's Table 2)."""
     options = dict(locals())
@@ -104,7 +107,8 @@ def random_search_command(
     consequent_probability: ConsequentProbability = None, target_fitness: TargetFitness = None, seed: Seed = None,
     workers: Workers = None, fitness: FitnessOption = None, games_per_evaluation: GamesPerEvaluation = None,
     max_ticks: MaxTicksOption = None, goal_cap: GoalCapOption = None, idle_ticks: IdleTicksOption = None,
-    noise: NoiseOption = None, env: EnvOption = None, server: ServerOption = None, out: Out = None,
+    noise: NoiseOption = None, skills: SkillsOption = None, env: EnvOption = None, server: ServerOption = None,
+    out: Out = None,
 ) -> None:
     """The baseline: spend the same evaluations on fresh random rulebases (population x generations),
     with the same statistics and outputs as evolve. Continue a killed one with `evolve --resume`."""
@@ -119,13 +123,14 @@ def _settings(algorithm: str, options: dict[str, Any]) -> "RunSettings":
                      {"--noise": options.get("noise"), "--games-per-evaluation": options.get("games_per_evaluation")})
     game_options = [options.pop(name) for name in ("fitness", "max_ticks", "goal_cap", "idle_ticks")]
     noise, games, servers = options.pop("noise"), options.pop("games_per_evaluation"), options.pop("server")
+    skills = options.pop("skills")
     for name in ("out", "resume_dir"):
         options.pop(name, None)
     options["max_generations"] = options.pop("generations")
     if env == SIMPLE:
         if options["workers"] is None:
             options["workers"] = min(os.cpu_count() or 1, WORKERS_LIMIT)
-        where = {"game": game_config(*game_options, noise, games)}
+        where = {"game": game_config(*game_options, noise, games, skills)}
     else:
         if options["workers"] is not None:
             try:
@@ -133,7 +138,7 @@ def _settings(algorithm: str, options: dict[str, Any]) -> "RunSettings":
             except ValueError as exc:
                 fail(f"--workers: {exc}")
         options["workers"] = RCSS_WORKERS
-        where = {"env": RCSS, "servers": tuple(rcss_servers(servers)), "trial": trial_config(*game_options)}
+        where = {"env": RCSS, "servers": tuple(rcss_servers(servers)), "trial": trial_config(*game_options, skills)}
     ga = config_from_options(GAConfig, options, RENAMED)
     from app.run import RunSettings
 

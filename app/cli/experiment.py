@@ -15,6 +15,7 @@ from app.experiment.executors import EXECUTOR_NAMES, LOCAL, ExecutorError, make_
 from app.experiment.presets import (CHAPTER_GENERATIONS, CHOICES, DEFAULT_TRIALS, INITIAL_TRIALS, LONG_GENERATIONS,
                                     ExperimentOptions)
 from app.experiment.runner import ExperimentError, ExperimentOutcome, run_experiment
+from soccer.config import SKILL_SET_NAMES
 
 DEFAULT_OUT_FOLDER = "experiments"
 
@@ -39,6 +40,16 @@ def experiment_command(
     seed: Annotated[Optional[int], typer.Option(
         "--seed", help=option_help(ExperimentOptions, "seed", "Experiment seed; each trial's seed derives from it."),
         show_default=False)] = None,
+    skills: Annotated[Optional[str], typer.Option(
+        "--skills", help=option_help(ExperimentOptions, "skills", f"Skill set: {' or '.join(SKILL_SET_NAMES)}."),
+        show_default=False)] = None,
+    noise: Annotated[Optional[bool], typer.Option(
+        "--noise/--no-noise", help=option_help(ExperimentOptions, "noise", "rcssserver-like movement noise."),
+        show_default=False)] = None,
+    roulette_weighting: Annotated[Optional[str], typer.Option(
+        "--roulette-weighting", help=option_help(ExperimentOptions, "roulette_weighting",
+                                                 "Roulette weight: linear (1 - fitness) or inverse (1 / fitness)."),
+        show_default=False)] = None,
     out: Annotated[Optional[Path], typer.Option(
         "--out", help="Output folder; running again into it resumes. (default: experiments/PRESET-seedN)",
         show_default=False)] = None,
@@ -60,7 +71,7 @@ def experiment_command(
         fail(f"unknown preset {preset!r}; choose one of {', '.join(CHOICES)}")
     options: ExperimentOptions = config_from_options(ExperimentOptions, {
         "trials": trials, "population": population, "generations": generations, "max_ticks": max_ticks,
-        "seed": seed})
+        "seed": seed, "skills": skills, "noise": noise, "roulette_weighting": roulette_weighting})
     folder = out or Path(DEFAULT_OUT_FOLDER) / f"{preset}-seed{options.seed}"
     try:
         runner = make_executor(executor, workers=workers, address=address)

@@ -17,7 +17,7 @@ from app.environments import ENVIRONMENTS, RCSS, SIMPLE, checked_env, checked_se
 from app.recording import log_replay, open_stream
 from app.rulebase_files import RulebaseFileError, load_rulebase
 from app.validation import describe_problems
-from soccer.config import FITNESS_NAMES, GameConfig
+from soccer.config import FITNESS_NAMES, SKILL_SET_NAMES, GameConfig
 from soccer.rcss.client import DEFAULT_SERVER
 
 if TYPE_CHECKING:  # soccer.rcss.trial compiles the player's kernels: imported only when rcss is used
@@ -71,12 +71,17 @@ NoiseOption = Annotated[Optional[bool], typer.Option(
     "--noise/--no-noise", help=option_help(GameConfig, "noise", "rcssserver-like movement noise."),
     show_default=False, rich_help_panel=GAME_PANEL)]
 
+SkillsOption = Annotated[Optional[str], typer.Option(
+    "--skills", help=option_help(GameConfig, "skills", f"Skill set: {' or '.join(SKILL_SET_NAMES)} (strict: the "
+                                 "kicking skills do nothing with the ball out of reach; assisted: they fetch it)."),
+    show_default=False, rich_help_panel=GAME_PANEL)]
+
 
 def game_config(fitness: str | None, max_ticks: int | None, goal_cap: int | None, idle_ticks: int | None,
-                noise: bool | None, games_per_evaluation: int | None = None) -> GameConfig:
+                noise: bool | None, games_per_evaluation: int | None = None, skills: str | None = None) -> GameConfig:
     return config_from_options(GameConfig, {
         "fitness": fitness, "max_ticks": max_ticks, "goal_cap": goal_cap, "idle_ticks": idle_ticks,
-        "noise": noise, "games_per_evaluation": games_per_evaluation,
+        "noise": noise, "games_per_evaluation": games_per_evaluation, "skills": skills,
     })
 
 
@@ -117,12 +122,14 @@ def rcss_servers(servers: list[str] | None) -> list[str]:
 
 
 def trial_config(fitness: str | None, max_ticks: int | None, goal_cap: int | None,
-                 idle_ticks: int | None) -> "TrialConfig":
+                 idle_ticks: int | None, skills: str | None = None) -> "TrialConfig":
     """rcssserver trials (spec 5) from the game options; unset ones keep TrialConfig's (the chapter's)."""
     from soccer.rcss.trial import TrialConfig
 
-    game_config(fitness, max_ticks, goal_cap, idle_ticks, None)  # the same checks and messages as SimpleSoccer
-    chosen = {"fitness": fitness, "max_cycles": max_ticks, "goal_cap": goal_cap, "idle_cycles": idle_ticks}
+    # the same checks and messages as SimpleSoccer
+    game_config(fitness, max_ticks, goal_cap, idle_ticks, None, skills=skills)
+    chosen = {"fitness": fitness, "max_cycles": max_ticks, "goal_cap": goal_cap, "idle_cycles": idle_ticks,
+              "skills": skills}
     return TrialConfig(**{name: value for name, value in chosen.items() if value is not None})
 
 
@@ -144,6 +151,7 @@ def play_command(
     goal_cap: GoalCapOption = None,
     idle_ticks: IdleTicksOption = None,
     noise: NoiseOption = None,
+    skills: SkillsOption = None,
     env: EnvOption = None,
     server: ServerOption = None,
 ) -> None:
@@ -151,14 +159,14 @@ def play_command(
     from soccer.engine import play_game, play_games
 
     env = chosen_env(env, server, {"--noise": noise, "--rrd": rrd})
-    config = game_config(fitness, max_ticks, goal_cap, idle_ticks, noise)
+    config = game_config(fitness, max_ticks, goal_cap, idle_ticks, noise, skills=skills)
     try:
         player = load_rulebase(rulebase)
     except RulebaseFileError as exc:
         fail(str(exc))
     seeds = consecutive_seeds(seed, games)
     if env == RCSS:
-        trial = trial_config(fitness, max_ticks, goal_cap, idle_ticks)
+        trial = trial_config(fitness, max_ticks, goal_cap, idle_ticks, skills)
         _print_table(seeds, _play_on_rcss(player, seeds, rcss_servers(server), trial))
         return
     if rrd is None:

@@ -24,9 +24,9 @@ from typing import Any
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
 
-from ga.config import SEED_BOUND, GAConfig
+from ga.config import SEED_BOUND, GAConfig, RouletteWeighting
 from ga.state import GA, RANDOM_SEARCH
-from soccer.config import GameConfig
+from soccer.config import GameConfig, SkillSet
 
 ALL = "all"
 EXPERIMENT_TARGET_FITNESS = 0.0  # fitness is always > 0, so no trial stops early (see above)
@@ -60,6 +60,11 @@ class ExperimentOptions(BaseModel):
     generations: int = Field(CHAPTER_GENERATIONS, ge=1, le=100_000, description="Table 2's generations")
     max_ticks: int = Field(GameConfig().max_ticks, ge=1, le=1_000_000, description="ticks a game lasts at most")
     seed: int = Field(0, ge=0, lt=SEED_BOUND, description="experiment seed: every trial's seed derives from it")
+    # The choices the chapter leaves open, for every setting of the study (defaults: GameConfig's, GAConfig's).
+    skills: SkillSet = Field(GameConfig.model_fields["skills"].default, description="the skill set (soccer/skills.py)")
+    noise: bool = Field(GameConfig.model_fields["noise"].default, description="rcssserver-like movement noise")
+    roulette_weighting: RouletteWeighting = Field(GAConfig.model_fields["roulette_weighting"].default,
+                                                  description="roulette weight: 1 - fitness or 1 / fitness")
 
     @property
     def population_scale(self) -> float:
@@ -76,7 +81,7 @@ class ExperimentOptions(BaseModel):
         return max(1, round(chapter_generations * self.generation_scale))
 
     def game(self) -> GameConfig:
-        return GameConfig(max_ticks=self.max_ticks)
+        return GameConfig(max_ticks=self.max_ticks, skills=self.skills, noise=self.noise)
 
     def identity(self) -> dict[str, Any]:
         """What makes two experiment folders' finished trials interchangeable (trials count excluded:
@@ -118,7 +123,8 @@ class Preset:
 def _config(options: ExperimentOptions, base: dict[str, Any], **changes: Any) -> GAConfig:
     values = {"population_size": options.scaled_population(CHAPTER_POPULATION),
               "max_generations": options.scaled_generations(CHAPTER_GENERATIONS),
-              "target_fitness": EXPERIMENT_TARGET_FITNESS, **base, **changes}
+              "target_fitness": EXPERIMENT_TARGET_FITNESS, "roulette_weighting": options.roulette_weighting,
+              **base, **changes}
     return GAConfig(**values)
 
 

@@ -110,6 +110,7 @@ def test_rcss_without_a_server_uses_the_default_server(tmp_path):
     (["--env", "rcss", "--games-per-evaluation", "3"], "--games-per-evaluation: SimpleSoccer only"),
     (["--env", "rcss", "--fitness", "style"], "--fitness: Input should be"),
     (["--env", "rcss", "--max-ticks", "0"], "--max-ticks: Input should be greater than 0"),
+    (["--env", "rcss", "--skills", "lazy"], "--skills: Input should be 'strict' or 'assisted'"),
     (["--server", "127.0.0.1:6000"], "--server needs --env rcss"),
     (["--env", "robocup"], "--env: expected simple or rcss, got 'robocup'"),
 ])

@@ -18,6 +18,7 @@ from app.validation import describe_problem, dotted
 from fuzzy.rule import Rulebase
 from ga.config import GAConfig
 from ga.state import GA, RANDOM_SEARCH
+from soccer.config import GameConfig
 
 ALGORITHMS = {"GA": GA, "Random search": RANDOM_SEARCH}  # what the teacher picks -> the run's algorithm
 LABELS = {  # what a teacher reads next to each field; fields missing here show their own name
@@ -30,18 +31,27 @@ LABELS = {  # what a teacher reads next to each field; fields missing here show 
     "mutation_probability": "Mutation probability",
     "mutation_rate": "Mutation rate (per gene)",
     "selection": "Selection",
+    "roulette_weighting": "Roulette weight (1-f linear, 1/f inverse)",
     "tournament_size": "Tournament size",
     "tournament_selector": "Tournament: P(better wins)",
     "elite_fraction": "Elite fraction",
     "target_fitness": "Target fitness (stop at or below)",
     "seed": "Seed",
     "workers": "Worker processes",
+    "skills": "Skills (strict: kicks only within reach)",
+    "noise": "Movement noise",
 }
+GAME_FIELDS = ("skills", "noise")  # the GameConfig choices the chapter leaves open; the rest are its rules
 
 
 def ga_fields() -> dict[str, Any]:
     """Field name -> pydantic FieldInfo of GAConfig, the one place the parameters and defaults live."""
     return dict(GAConfig.model_fields)
+
+
+def game_fields() -> dict[str, Any]:
+    """The GAME_FIELDS' pydantic FieldInfo of GameConfig (where their defaults live)."""
+    return {name: GameConfig.model_fields[name] for name in GAME_FIELDS}
 
 
 class EvolvePanel:
@@ -75,9 +85,13 @@ class EvolvePanel:
         self.inputs: dict[str, viser.GuiInputHandle] = {}
         self.algorithm = gui.add_dropdown("Algorithm", tuple(ALGORITHMS), initial_value="GA")
         self.name = gui.add_text("Run name (empty: from the settings)", initial_value="")
+        self.game_inputs: dict[str, viser.GuiInputHandle] = {}
         with gui.add_folder("GA parameters (chapter's Table 2)", expand_by_default=False):
             for name, field in ga_fields().items():
                 self.inputs[name] = self._input(gui, name, field)
+        with gui.add_folder("Game", expand_by_default=False):
+            for name, field in game_fields().items():
+                self.game_inputs[name] = self._input(gui, name, field)
         buttons = gui.add_button_group("Evolution", ("Start", "Stop"))
         self.progress = gui.add_progress_bar(0.0)
         self.status = gui.add_html(self._status_html("Not started. Press Start: the chapter's defaults are set."))
@@ -117,6 +131,9 @@ class EvolvePanel:
     def config(self) -> dict[str, Any]:
         return {name: handle.value for name, handle in self.inputs.items()}
 
+    def game_config(self) -> dict[str, Any]:
+        return {name: handle.value for name, handle in self.game_inputs.items()}
+
     def _status_html(self, text: str, *, error: bool = False) -> str:
         colour = style.ERROR if error else style.INK
         return (
@@ -127,7 +144,7 @@ class EvolvePanel:
     # ---- actions ----------------------------------------------------------------------------
     def start(self) -> None:
         try:
-            record = self.runs.start(self.name.value.strip() or None, ga=self.config(),
+            record = self.runs.start(self.name.value.strip() or None, ga=self.config(), game=self.game_config(),
                                      algorithm=ALGORITHMS[self.algorithm.value])
         except (ValueError, RunStateError) as exc:  # pydantic's ValidationError is a ValueError
             self.status.content = self._status_html(f"Not started: {_first_line(exc)}", error=True)

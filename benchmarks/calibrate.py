@@ -1,0 +1,196 @@
+"""Calibration: for one candidate setting of the choices the chapter leaves open (skill set, roulette
+weighting, noise), run the chapter's Table 2 trials and its GA against random search, and print the
+chapter's SimpleSoccer figures (as its text describes them) beside ours.
+
+    python benchmarks/calibrate.py --skills strict --roulette-weighting linear       # full size
+    python benchmarks/calibrate.py --skills assisted --trials 3 --population 50      # a quick look
+
+Full size is the chapter's: `initial` (20 Table 2 trials: Figs. 11-13, 16-17 at 64 genes) and `random`
+(10 trials each of the 100-generation elitist GA and of random search at 20,000 evaluations: Figs. 28,
+31). The trials run through the experiment machinery (app/experiment/), into --out when given, so a
+second call with the same options reuses them; the report's own verdicts on these two presets follow.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+from app.experiment.executors import LocalExecutor
+from app.experiment.presets import ExperimentOptions
+from app.experiment.report import GOAL_SCORING, assess_findings
+from app.experiment.runner import Plan, assemble, plan, prepare_folder, run_trials
+from app.experiment.table import StatisticsTable
+from ga.config import GAConfig
+from soccer.config import SKILL_SET_NAMES, GameConfig
+
+INITIAL, RANDOM = "initial", "random"
+GOAL_CAP_FITNESS = GAConfig().target_fitness  # 10 goals (Table 1): a run would stop here (section 5.3)
+CHECKPOINTS = (0.0, 0.25, 0.5, 0.75, 1.0)  # where along the run curves are shown (share of the generations)
+
+
+class Printer:
+    """Progress on stderr, in evaluations, so the table on stdout stays clean."""
+
+    def __init__(self) -> None:
+        self.started = time.perf_counter()
+
+    def update(self, completed: int, total: int, *, skipped: int = 0) -> None:
+        seconds = time.perf_counter() - self.started
+        print(f"\r{completed}/{total} evaluations, {seconds:.0f} s", end="", file=sys.stderr, flush=True)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    defaults = ExperimentOptions()
+    parser.add_argument("--skills", choices=SKILL_SET_NAMES, default=defaults.skills)
+    parser.add_argument("--roulette-weighting", choices=("linear", "inverse"), default=defaults.roulette_weighting)
+    parser.add_argument("--noise", action=argparse.BooleanOptionalAction, default=defaults.noise)
+    parser.add_argument("--trials", type=int, help="trials per setting (default: the chapter's, 20 and 10)")
+    parser.add_argument("--population", type=int, default=defaults.population)
+    parser.add_argument("--generations", type=int, default=defaults.generations)
+    parser.add_argument("--seed", type=int, default=defaults.seed)
+    parser.add_argument("--no-random", action="store_true", help="skip the GA against random search (Figs. 28, 31)")
+    parser.add_argument("--workers", type=int, default=os.cpu_count() or 1)
+    parser.add_argument("--out", type=Path, help="experiment folder to keep (and reuse) the trials in")
+    arguments = parser.parse_args()
+    options = ExperimentOptions(trials=arguments.trials, population=arguments.population,
+                                generations=arguments.generations, seed=arguments.seed, skills=arguments.skills,
+                                noise=arguments.noise, roulette_weighting=arguments.roulette_weighting)
+    names = [INITIAL] if arguments.no_random else [INITIAL, RANDOM]
+    if arguments.out is None:
+        with tempfile.TemporaryDirectory() as folder:
+            calibrate(options, names, Path(folder), arguments.workers)
+    else:
+        calibrate(options, names, arguments.out, arguments.workers)
+
+
+def calibrate(options: ExperimentOptions, names: list[str], folder: Path, workers: int) -> None:
+    plans = [plan(name, options) for name in names]
+    experiment = Plan([p for each in plans for p in each.presets], [m for each in plans for m in each.memberships])
+    prepare_folder(folder, options)
+    started = time.perf_counter()
+    with LocalExecutor(workers) as executor:
+        ran, skipped = run_trials(experiment, folder, executor, Printer())
+    seconds = time.perf_counter() - started
+    print(file=sys.stderr)
+    table = assemble(experiment, folder)
+    evaluations = sum(spec.setting.evaluations for spec in experiment.specs)
+    game = options.game()
+    print(f"candidate: skills {game.skills}, roulette weighting {options.roulette_weighting}, noise {game.noise}; "
+          f"population {options.population} x {options.generations} generations")
+    print(f"{len(experiment.specs)} trials ({ran} run, {skipped} reused), {evaluations} evaluations, "
+          f"{seconds:.0f} s on {workers} workers (load average before the report: {os.getloadavg()[0]:.1f})")
+    print()
+    rows = figure_rows(table, experiment)
+    print("| figure | the chapter | ours |")
+    print("|---|---|---|")
+    for row in rows:
+        print("| " + " | ".join(row) + " |")
+    print()
+    print("| report finding | verdict | measured |")
+    print("|---|---|---|")
+    for finding, assessment in assess_findings(table, experiment.presets):
+        if finding.preset in names:
+            print(f"| {finding.where}: {finding.claim} | {assessment.verdict} | {assessment.measured} |")
+
+
+def figure_rows(table: StatisticsTable, experiment: Plan) -> list[list[str]]:
+    presets = {p.name: p for p in experiment.presets}
+    initial = presets[INITIAL]
+    setting = initial.settings[0]
+    mean = table.curves(INITIAL, setting.label, "mean")
+    best = table.curves(INITIAL, setting.label, "best")
+    scorers = 1.0 - table.curves(INITIAL, setting.label, "goals_0")
+    many = table.curves(INITIAL, setting.label, "goals_more")
+    genes = table.curves(INITIAL, setting.label, "genes_mean") / setting.ga.max_length
+    valid = table.curves(INITIAL, setting.label, "valid_rules_mean")
+    trials = len(mean)
+    rows = [
+        ["Fig. 11 average fitness", "improves steadily, then plateaus around 0.75; trials tightly clustered",
+         f"{_along(np.nanmedian(mean, axis=0))} (median over {trials} trials); last generation "
+         f"{_spread(mean[:, -1])}"],
+        ["Fig. 12 best fitness", "good individuals (<= 0.5) after very few generations",
+         _first_at(best, GOAL_SCORING, "best <= 0.5")],
+        ["Fig. 12 / 5.3 10-goal cap", "early stopping (best <= 0.05) did not occur in any experiment",
+         _first_at(best, GOAL_CAP_FITNESS, "best <= 0.05") + f"; {np.mean(best <= GOAL_CAP_FITNESS):.0%} of all "
+         "generations"],
+        ["Fig. 13 goal scorers", "more players score over the generations; most score none (less developed "
+         "than RoboCup's); the best scored 10",
+         f"share scoring >= 1 goal {_along(np.nanmean(scorers, axis=0), percent=True)} (mean over trials); "
+         f"> 4 goals in the last generation {np.nanmean(many[:, -1]):.1%}; lowest best {np.nanmin(best):.3f}"],
+        ["Fig. 16 chromosome length", "rises in the first few generations, settles near 2/3 of the maximum",
+         f"length / maximum {_along(np.nanmedian(genes, axis=0))}"],
+        ["Fig. 17 valid rules per chromosome", "rise in every trial",
+         f"{_along(np.nanmedian(valid, axis=0))}; rose in {int(np.sum(valid[:, -1] > valid[:, 0]))} of {trials}"],
+    ]
+    if RANDOM in presets:
+        rows += _random_rows(table, presets[RANDOM])
+    return rows
+
+
+def _random_rows(table: StatisticsTable, random: object) -> list[list[str]]:
+    ga, search = (s.label for s in random.settings)  # type: ignore[attr-defined]
+    long_setting = random.settings[0]  # type: ignore[attr-defined]
+    ga_best = np.minimum.accumulate(table.curves(RANDOM, ga, "best"), axis=1)
+    search_best = np.minimum.accumulate(table.curves(RANDOM, search, "best"), axis=1)
+    ga_evaluations = table.evaluations(RANDOM, ga)
+    search_evaluations = table.evaluations(RANDOM, search)
+    marks = []
+    for share in (0.25, 0.5, 1.0):
+        budget = share * ga_evaluations[-1]
+        a = ga_best[:, _at(ga_evaluations, budget)]
+        b = search_best[:, _at(search_evaluations, budget)]
+        marks.append(f"{budget:.0f}: GA {np.median(a):.3f} (std {np.std(a):.3f}), random {np.median(b):.3f} "
+                     f"(std {np.std(b):.3f})")
+    found = int(np.sum(search_best[:, -1] <= GOAL_SCORING))
+    genes = table.curves(RANDOM, ga, "genes_mean") / long_setting.ga.max_length
+    rules = table.curves(RANDOM, ga, "rules_mean")
+    half = rules.shape[1] // 2
+    rising = int(np.sum(rules[:, -1] > rules[:, half]))
+    return [
+        ["Fig. 31 GA vs random search (run's best so far, median at equal evaluations)",
+         "random search finds scorers (<= 0.5) with some consistency; the GA finds better ones, more consistently",
+         "; ".join(marks) + f"; random search found a scorer in {found} of {len(search_best)} trials"],
+        ["Fig. 30 average fitness, GA vs random", "the GA improves its average; random search does not",
+         f"GA {_along(np.nanmedian(table.curves(RANDOM, ga, 'mean'), axis=0))}; random "
+         f"{_along(np.nanmedian(table.curves(RANDOM, search, 'mean'), axis=0))}"],
+        ["Fig. 28 length (100 generations)", "plateaus at about 2/3 of the maximum",
+         f"length / maximum {_along(np.nanmedian(genes, axis=0))}"],
+        ["Fig. 28 rules per chromosome (100 generations)", "grow steadily, still increasing after 100 generations",
+         f"{_along(np.nanmedian(rules, axis=0))}; rose over the second half in {rising} of {len(rules)}"],
+    ]
+
+
+def _at(evaluations: np.ndarray, budget: float) -> int:
+    """The first generation having spent `budget` evaluations (the last if none has)."""
+    return min(int(np.searchsorted(evaluations, budget)), len(evaluations) - 1)
+
+
+def _along(curve: np.ndarray, percent: bool = False) -> str:
+    """The curve at CHECKPOINTS of the run: "g0 0.92 -> g6 0.80 -> ..."."""
+    last = len(curve) - 1
+    points = sorted({round(share * last) for share in CHECKPOINTS})
+    return " -> ".join(f"g{g} {curve[g]:.0%}" if percent else f"g{g} {curve[g]:.2f}" for g in points)
+
+
+def _spread(values: np.ndarray) -> str:
+    low, high = np.nanpercentile(values, [25, 75])
+    return f"median {np.nanmedian(values):.3f}, quartiles {low:.3f}-{high:.3f}"
+
+
+def _first_at(best: np.ndarray, level: float, what: str) -> str:
+    firsts = [int(np.argmax(curve <= level)) for curve in best if np.any(curve <= level)]
+    text = f"{what} in {len(firsts)} of {len(best)} trials"
+    return text + (f", first at generation {np.median(firsts):.0f} (median; range {min(firsts)}-{max(firsts)})"
+                   if firsts else "")
+
+
+if __name__ == "__main__":
+    main()
