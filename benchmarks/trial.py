@@ -6,7 +6,7 @@ temporary run folder: checkpoint, statistics.csv, best rules, the rerun recordin
 best player's game), and the time spent replaying those games is reported too.
 
     python benchmarks/trial.py [--workers 2] [--seed 0] [--population-size 200] [--generations 25] [--full]
-                               [--outputs]
+                               [--outputs] [--skills strict|assisted] [--roulette-weighting linear|inverse]
 """
 
 from __future__ import annotations
@@ -19,7 +19,7 @@ from pathlib import Path
 from fuzzy.vocabulary import Vocabulary
 from ga.algorithms import evolve
 from ga.config import GAConfig
-from soccer.config import GameConfig
+from soccer.config import SKILL_SET_NAMES, GameConfig
 from soccer.demo import demo_rulebase
 from soccer.engine import play_games
 from soccer.evaluate import SimpleSoccerEvaluator
@@ -40,12 +40,15 @@ def main() -> None:
                         help="run every generation (target fitness 0): the worst case, a stable figure")
     parser.add_argument("--outputs", action="store_true",
                         help="play it as a run, with its folder's outputs and a replay of each generation's best")
+    parser.add_argument("--skills", choices=SKILL_SET_NAMES, default=GameConfig().skills)
+    parser.add_argument("--roulette-weighting", choices=("linear", "inverse"), default=TABLE_2.roulette_weighting)
     args = parser.parse_args()
     config = TABLE_2.model_copy(update={"workers": args.workers, "seed": args.seed,
                                         "population_size": args.population_size,
-                                        "max_generations": args.generations}
+                                        "max_generations": args.generations,
+                                        "roulette_weighting": args.roulette_weighting}
                                 | ({"target_fitness": 0.0} if args.full else {}))
-    game = GameConfig()
+    game = GameConfig(skills=args.skills)
     play_games([demo_rulebase()], [args.seed], game)  # load the compiled kernels before the clock starts
 
     started = time.perf_counter()
@@ -55,7 +58,8 @@ def main() -> None:
         result = evolve(config, SimpleSoccerEvaluator(game), VOCABULARY)
     seconds = time.perf_counter() - started
 
-    print(f"trial: population {config.population_size} x {len(result.history)} generations "
+    print(f"trial ({game.skills} skills, {config.roulette_weighting} roulette weighting): population "
+          f"{config.population_size} x {len(result.history)} generations "
           f"({result.stop_reason}), {result.evaluations} evaluations, workers {config.workers}")
     print(f"best fitness {result.best.fitness:.4f}")
     print(f"wall time {seconds:.2f} s (target < {TARGET_SECONDS:.0f} s: {'met' if seconds < TARGET_SECONDS else 'MISSED'})")

@@ -26,7 +26,7 @@ class GAConfig(BaseModel):
     mutation_rate: float = Field(0.10, ge=0, le=1, description="chance that each gene of a mutated child is hit")
     selection: Literal["roulette", "tournament", "elitist"] = "roulette"
     roulette_weighting: RouletteWeighting = Field(
-        "inverse", description="roulette weight of an individual: 1 - fitness (linear) or 1 / fitness (inverse); "
+        "linear", description="roulette weight of an individual: 1 - fitness (linear) or 1 / fitness (inverse); "
                                "roulette and elitist selection use it (ga/selection.py)")
     tournament_size: int = Field(2, ge=2, le=1_000)
     tournament_selector: float = Field(0.75, ge=0, le=1, description="chance that the better entrant wins")

@@ -20,7 +20,7 @@ def roulette_weights(fitness: np.ndarray, weighting: str) -> np.ndarray:
     raise ValueError(f"unknown roulette weighting {weighting!r}; expected linear or inverse")
 
 
-def roulette(fitness: np.ndarray, count: int, rng: np.random.Generator, weighting: str = "inverse") -> np.ndarray:
+def roulette(fitness: np.ndarray, count: int, rng: np.random.Generator, weighting: str) -> np.ndarray:
     """Draw `count` indices with probability proportional to their weight (`roulette_weights`); when
     every weight is 0 (nobody kicked, under `linear`) every individual is equally likely."""
     weights = roulette_weights(fitness, weighting)

@@ -155,5 +155,7 @@ class GameConfig(BaseModel):
     fitness: FitnessName = "simple-composite"
     games_per_evaluation: PositiveInt = 1
     noise: bool = False  # rcssserver-like velocity and turn noise
-    skills: SkillSet = "assisted"  # what the kicking skills do with the ball out of reach (soccer/skills.py)
+    # What the kicking skills do with the ball out of reach (soccer/skills.py). `strict` by calibration:
+    # with `assisted` the GA reaches the 10-goal cap within a few generations (README, "Calibration").
+    skills: SkillSet = "strict"
     world: WorldConfig = WorldConfig()

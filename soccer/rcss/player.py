@@ -16,7 +16,7 @@ from dataclasses import dataclass
 from fuzzy.engine import Engine, Inference
 from fuzzy.rule import Rulebase
 from fuzzy.vocabulary import Vocabulary
-from soccer.config import SOCCER_VOCABULARY, WorldConfig, WorldConstants
+from soccer.config import SOCCER_VOCABULARY, GameConfig, WorldConfig, WorldConstants
 from soccer.rcss.client import PlayerCycle
 from soccer.rcss.localisation import Pose, goal_relative, localise, normalise_angle
 from soccer.rcss.params import VIEW_HALF_ANGLE, ServerParams
@@ -130,7 +130,7 @@ class RcssPlayer:
     """One fuzzy player: `decide(cycle)` returns this cycle's body command(s) as text."""
 
     def __init__(self, rulebase: Rulebase, params: ServerParams, vocabulary: Vocabulary = SOCCER_VOCABULARY,
-                 skills: str = "assisted"):
+                 skills: str = GameConfig.model_fields["skills"].default):
         self.vocabulary = vocabulary
         self.skill_of_action = skill_table(vocabulary)
         self.assisted_skills = skills == "assisted"

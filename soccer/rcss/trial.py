@@ -18,6 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from fuzzy.rule import Rulebase
+from soccer.config import GameConfig
 from soccer.fitness import FITNESS_FUNCTIONS
 from soccer.fitness import fitness as fitness_of
 from soccer.rcss.client import PlayerCycle, Session, TrainerCycle
@@ -38,7 +39,7 @@ class TrialConfig:
     goal_cap: int = 10  # 10 goals = the target fitness 0.05
     restart_wait_cycles: int = 5  # after a goal, cycles before the trainer restarts play
     fitness: str = "robocup-composite"
-    skills: str = "assisted"  # the skill set, as GameConfig.skills (soccer/skills.py)
+    skills: str = GameConfig.model_fields["skills"].default  # the skill set, as GameConfig's (soccer/skills.py)
 
     def __post_init__(self) -> None:
         for name in ("max_cycles", "idle_cycles", "goal_cap", "restart_wait_cycles"):
