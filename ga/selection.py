@@ -1,4 +1,4 @@
-"""Parent selection (spec 3.2). Fitness is minimised; each function returns population indices."""
+"""Parent selection. Fitness is minimised; each function returns population indices."""
 
 from __future__ import annotations
 

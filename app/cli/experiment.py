@@ -1,4 +1,4 @@
-"""`soccer-lab experiment PRESET`: the chapter's SimpleSoccer study (spec 6) with one command."""
+"""`soccer-lab experiment PRESET`: the chapter's SimpleSoccer study (its section 6) with one command."""
 
 from __future__ import annotations
 

@@ -123,7 +123,7 @@ def rcss_servers(servers: list[str] | None) -> list[str]:
 
 def trial_config(fitness: str | None, max_ticks: int | None, goal_cap: int | None,
                  idle_ticks: int | None, skills: str | None = None) -> "TrialConfig":
-    """rcssserver trials (spec 5) from the game options; unset ones keep TrialConfig's (the chapter's)."""
+    """rcssserver trials (the chapter's, 5.3) from the game options; unset ones keep TrialConfig's (the chapter's)."""
     from soccer.rcss.trial import TrialConfig
 
     # the same checks and messages as SimpleSoccer
@@ -186,7 +186,7 @@ def play_command(
 
 
 def _play_on_rcss(player, seeds: list[int], servers: list[str], trial: "TrialConfig") -> list[Any]:
-    """Trials on real servers (spec 5), in parallel over the servers."""
+    """Trials on real servers, in parallel over the servers."""
     from soccer.rcss.errors import RcssError
     from soccer.rcss.evaluate import RcssEvaluator
 

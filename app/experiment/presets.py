@@ -1,4 +1,4 @@
-"""The chapter's SimpleSoccer study (section 6, spec 6) as presets: which settings each varies, at
+"""The chapter's SimpleSoccer study (its section 6) as presets: which settings each varies, at
 which size, and how the options shrink them.
 
 Control parameters. Table 2 (roulette selection, one-point crossover, 10% mutation rate, population

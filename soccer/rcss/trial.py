@@ -1,4 +1,4 @@
-"""Trials as the chapter ran them on rcssserver (spec 5), driven cycle by cycle in synch mode.
+"""Trials as the chapter ran them on rcssserver, driven cycle by cycle in synch mode.
 
 A trial: the trainer puts the player at a random point of its own half facing the goal it attacks
 and the ball at the centre spot, then `(change_mode play_on)`. It ends after `max_cycles` cycles,
