@@ -89,7 +89,7 @@ class EvolvePanel:
         with gui.add_folder("GA parameters (chapter's Table 2)", expand_by_default=False):
             for name, field in ga_fields().items():
                 self.inputs[name] = self._input(gui, name, field)
-        with gui.add_folder("Game", expand_by_default=False):
+        with gui.add_folder("Game options", expand_by_default=False):
             for name, field in game_fields().items():
                 self.game_inputs[name] = self._input(gui, name, field)
         buttons = gui.add_button_group("Evolution", ("Start", "Stop"))
