@@ -1,12 +1,14 @@
-"""The batched SimpleSoccer engine: every game of a population in one pymunk Space,
-one numba kernel per tick over all live games.
+"""The batched SimpleSoccer engine: every game of a population in one pymunk Space, one numba kernel
+per tick over all live games (docs/design.md explains the data layout).
 
-Per tick: read every body's position and velocity with `pymunk.batch`, run `tick_kernel` (the previous
-step's bookkeeping: player-ball collision, goal, restart, statistics, end conditions; then perception,
-the game's own fuzzy controller via `fuzzy.batched.decide`, the skill, the physics), write the bodies
-back, remove finished games, `space.step(tick_seconds)`. A single game is a batch of one: there is one
-code path. A game's result does not depend on its batch (soccer/world.py says how): games sharing a
-seed share a pitch slot and so play in separate spaces, one kernel call and one step each.
+Per tick: read every body's position and velocity with `pymunk.batch`, run `tick_kernel`, write the
+bodies back, remove finished games, `space.step(tick_seconds)`. The kernel's steps, each a numba
+function: `close_step` (the step just made: player-ball collision, goal and restart, statistics, end
+conditions), `perceive_step`, `decide_step` (the game's own fuzzy controller, `fuzzy.batched.decide`),
+`act_step` (the skill's body command) and `physics_step` (the command applied to velocities, noise).
+A single game is a batch of one: there is one code path. A game's result does not depend on its batch
+(soccer/world.py says how): games sharing a seed share a pitch slot and so play in separate spaces,
+one kernel call and one step each.
 """
 
 from __future__ import annotations
@@ -20,7 +22,7 @@ import numpy as np
 import pymunk
 import pymunk.batch
 
-from fuzzy.batched import NO_ACTION, compile_rulebases, decide
+from fuzzy.batched import NO_ACTION, CompiledRulebases, Scratch, VocabularyTables, compile_rulebases, decide
 from fuzzy.rule import POWER, Rulebase
 from fuzzy.rule import DIRECTION as DIRECTION_OUTPUT
 from fuzzy.vocabulary import Vocabulary, VocabularyError
@@ -30,7 +32,7 @@ from soccer.perception import BALL, DIRECTION, DISTANCE, GOAL, perceive
 from soccer.physics import cap_speed, dash, decay, is_kickable, kick, separate, turn
 from soccer.random_stream import seed_states, uniform
 from soccer.skills import DASH, HUNT, KICK, LEFT, RIGHT, TURN, skill_command, skill_table
-from soccer.world import World
+from soccer.world import Pitches, World
 
 RUNNING, MAX_TICKS, GOAL_CAP, IDLE = 0, 1, 2, 3
 END_REASONS = ("running", "max-ticks", "goal-cap", "idle")
@@ -89,6 +91,45 @@ class VocabularyLayout(NamedTuple):
         )
 
 
+class GameState(NamedTuple):
+    """Every game's own bookkeeping, one entry (row) per game g."""
+
+    done: np.ndarray  # bool[n]
+    facing: np.ndarray  # float64[n]: the player's facing in degrees (the engine keeps it; pymunk bodies never spin)
+    last_player: np.ndarray  # float64[n, 2]: the player's position when it last decided (to close the step)
+    last_ball: np.ndarray  # float64[n, 2]
+    min_distance: np.ndarray  # float64[n]: closest approach of the ball to the goal centre so far
+    ticks: np.ndarray  # int64[n]: ticks played (decisions made)
+    goals: np.ndarray  # int64[n]
+    kicks: np.ndarray  # int64[n]
+    idle: np.ndarray  # int64[n]: consecutive ticks without moving nor kicking
+    kicked: np.ndarray  # bool[n]: the last tick's command was a kick
+    last_side: np.ndarray  # int64[n]: LEFT or RIGHT, where the player last saw the ball (the hunt turns there)
+    end_reason: np.ndarray  # int64[n]: index into END_REASONS
+    streams: np.ndarray  # uint64[n]: each game's splitmix64 random stream (soccer/random_stream.py)
+
+
+class Observation(NamedTuple):
+    """What each game's player perceived for its latest decision (inputs NaN before the first).
+    Positions are in the game's own pitch coordinates (metres, centre origin)."""
+
+    player_x: np.ndarray  # float64[n]
+    player_y: np.ndarray  # float64[n]
+    facing: np.ndarray  # float64[n], degrees
+    ball_x: np.ndarray  # float64[n]
+    ball_y: np.ndarray  # float64[n]
+    inputs: np.ndarray  # float64[n, n_inputs], in the vocabulary's input order; NaN when the object is out of view
+    visible: np.ndarray  # bool[n, n_objects], in the vocabulary's object order
+
+
+class Decision(NamedTuple):
+    """Each game's latest decision (before the first tick: no rule fired, strengths 0)."""
+
+    action: np.ndarray  # int64[n]: the vocabulary's action index, NO_ACTION when no rule fired (the hunt)
+    values: np.ndarray  # float64[n, n_outputs]: the action's output values (the defaults where it uses none)
+    strengths: np.ndarray  # float64[n, max_rules]: every rule's strength (0 past the game's own rules)
+
+
 @dataclass(frozen=True)
 class GameResult:
     fitness: float
@@ -145,142 +186,237 @@ def _noisy(states, g, vx, vy, rand):
     return vx + uniform(states, g, -spread, spread), vy + uniform(states, g, -spread, spread)
 
 
-@numba.njit(cache=True)
-def tick_kernel(
-    bodies, layer, game_layer, player_slot, ball_slot, offsets, done, facing, last_player, last_ball, min_distance,
-    ticks, goals, kicks, idle, kicked, last_side, end_reason, states,
-    inputs, visible, action, values, strengths, observed,
-    rulebases, scratch, layout, constants, rules,
-):
-    """One tick for every live game in space `layer`; returns how many games finished now.
-    The step just made is first closed: player-ball collision (rcssserver's, see WorldConfig), goal
-    and restart, statistics, end conditions.
-    bodies[row] = (x, y, vx, vy) in pymunk units (global metres, metres per second); game g's rows are
-    player_slot[g] and ball_slot[g]. `scratch` = decide's work arrays (degrees, support, first_rule,
-    cut_lo, cut_hi)."""
+# The steps are inlined into tick_kernel (as separate calls, each copying the named tuples it is given,
+# the tick ran 20% slower), and each first binds the arrays it uses to locals, by name: reaching into
+# a named tuple again inside an expression or a call costs numba reference counting every time.
+
+
+@numba.njit(cache=True, inline="always")
+def local_positions(g, bodies, pitches):
+    """Game g's player and ball in its pitch's own coordinates (metres, centre origin)."""
+    player_slot, ball_slot, offsets = pitches.player_slot, pitches.ball_slot, pitches.offsets
+    ps, bs = player_slot[g], ball_slot[g]
+    ox, oy = offsets[g, 0], offsets[g, 1]
+    return bodies[ps, 0] - ox, bodies[ps, 1] - oy, bodies[bs, 0] - ox, bodies[bs, 1] - oy
+
+
+@numba.njit(cache=True, inline="always")
+def close_step(g, px, py, bx, by, bodies, pitches, state, constants, rules):
+    """The books of the step just made: rcssserver's player-ball collision (see WorldConfig), goal and
+    restart, closest approach, idleness, end conditions. Returns the positions after the collision
+    and restart, and whether the game ended now."""
+    c = constants
+    player_slot, ball_slot, offsets = pitches.player_slot, pitches.ball_slot, pitches.offsets
+    facing, last_player, last_ball, min_distance = state.facing, state.last_player, state.last_ball, state.min_distance
+    kicked, idle, goals, ticks = state.kicked, state.idle, state.goals, state.ticks
+    end_reason, done, streams = state.end_reason, state.done, state.streams
+    ps, bs = player_slot[g], ball_slot[g]
+    ox, oy = offsets[g, 0], offsets[g, 1]
+    px, py, bx, by, collided = separate(px, py, bx, by, facing[g], c)
+    if collided:
+        bodies[ps, 0] = ox + px
+        bodies[ps, 1] = oy + py
+        bodies[bs, 0] = ox + bx
+        bodies[bs, 1] = oy + by
+        for row in (ps, bs):
+            bodies[row, 2] *= c.collision_rebound
+            bodies[row, 3] *= c.collision_rebound
+    scored = False
+    if last_ball[g, 0] <= c.half_length < bx:
+        t = (c.half_length - last_ball[g, 0]) / (bx - last_ball[g, 0])
+        scored = abs(last_ball[g, 1] + t * (by - last_ball[g, 1])) < c.goal_half_width
+    dxg = bx - c.half_length
+    min_distance[g] = min(min_distance[g], math.sqrt(dxg * dxg + by * by))
+    dxp = px - last_player[g, 0]
+    dyp = py - last_player[g, 1]
+    if kicked[g] or math.sqrt(dxp * dxp + dyp * dyp) > rules.idle_distance:
+        idle[g] = 0
+    else:
+        idle[g] += 1
+    if scored:
+        goals[g] += 1
+        bx = 0.0
+        by = uniform(streams, g, -c.half_width, c.half_width)
+        bodies[bs, 0] = ox + bx
+        bodies[bs, 1] = oy + by
+        bodies[bs, 2] = 0.0
+        bodies[bs, 3] = 0.0
+    reason = RUNNING
+    if goals[g] >= rules.goal_cap:
+        reason = GOAL_CAP
+    elif ticks[g] >= rules.max_ticks:
+        reason = MAX_TICKS
+    elif idle[g] >= rules.idle_ticks:
+        reason = IDLE
+    if reason != RUNNING:
+        end_reason[g] = reason
+        done[g] = True
+        for row in (ps, bs):
+            bodies[row, 2] = 0.0
+            bodies[row, 3] = 0.0
+    return px, py, bx, by, reason != RUNNING
+
+
+@numba.njit(cache=True, inline="always")
+def perceive_step(g, px, py, bx, by, state, observation, layout, constants):
+    """What game g's player perceives from where it stands, into observation[g]; returns perception's
+    (ball distance, ball direction, ball visible, goal distance, goal direction, goal visible)."""
+    facing, inputs, visible = state.facing, observation.inputs, observation.visible
+    player_x, player_y, seen_facing = observation.player_x, observation.player_y, observation.facing
+    ball_x, ball_y = observation.ball_x, observation.ball_y
+    f = facing[g]
+    perceived = perceive(px, py, f, bx, by, constants)
+    ball_distance, ball_direction, ball_seen, goal_distance, goal_direction, goal_seen = perceived
+    inputs[g, layout.ball_distance] = ball_distance if ball_seen else np.nan
+    inputs[g, layout.ball_direction] = ball_direction if ball_seen else np.nan
+    inputs[g, layout.goal_distance] = goal_distance if goal_seen else np.nan
+    inputs[g, layout.goal_direction] = goal_direction if goal_seen else np.nan
+    visible[g, layout.ball] = ball_seen
+    visible[g, layout.goal] = goal_seen
+    player_x[g] = px
+    player_y[g] = py
+    seen_facing[g] = f
+    ball_x[g] = bx
+    ball_y[g] = by
+    return perceived
+
+
+@numba.njit(cache=True, inline="always")
+def decide_step(g, observation, decision, rulebases, scratch):
+    """Game g's fuzzy controller on its observation, into decision[g]; returns the action (NO_ACTION: hunt)."""
+    inputs, visible = observation.inputs, observation.visible
+    actions, values, strengths = decision.action, decision.values, decision.strengths
+    action, _ = decide(g, inputs[g], visible[g], rulebases, scratch, strengths[g], values[g])
+    actions[g] = action
+    return action
+
+
+@numba.njit(cache=True, inline="always")
+def act_step(g, action, perceived, speed, state, decision, layout, constants, rules):
+    """The body command (kind, value, direction) the action's skill gives, and whether the ball is kickable."""
+    last_side, values, skills = state.last_side, decision.values, layout.skills
+    ball_distance, ball_direction, ball_seen, _, goal_direction, _ = perceived
+    if ball_seen:
+        last_side[g] = LEFT if ball_direction < 0.0 else RIGHT
+    kickable = is_kickable(ball_distance, constants)
+    skill = HUNT if action == NO_ACTION else skills[action]
+    kind, value, direction = skill_command(
+        skill, values[g, layout.direction], values[g, layout.power], ball_seen, ball_distance, ball_direction,
+        goal_direction, kickable, last_side[g], speed, rules.assisted_skills, constants)
+    return kind, value, direction, kickable
+
+
+@numba.njit(cache=True, inline="always")
+def physics_step(g, command, perceived, velocities, positions, bodies, pitches, state, constants, rules):
+    """The command applied to game g's facing and (already decayed) velocities, noise, the velocities
+    written back for pymunk's step; the positions kept to close the step."""
     c = constants
     dt = c.tick_seconds
-    degrees, support, first_rule, cut_lo, cut_hi = scratch
+    player_slot, ball_slot = pitches.player_slot, pitches.ball_slot
+    facing, kicked, kicks, streams = state.facing, state.kicked, state.kicks, state.streams
+    last_player, last_ball, ticks = state.last_player, state.last_ball, state.ticks
+    kind, value, direction, kickable = command
+    ball_distance, ball_direction = perceived[0], perceived[1]
+    pvx, pvy, bvx, bvy = velocities
+    f = facing[g]
+    kicked[g] = False
+    if kind == TURN:
+        if rules.noise:
+            value *= 1.0 + uniform(streams, g, -c.player_rand, c.player_rand)
+        facing[g] = turn(f, value, math.sqrt(pvx * pvx + pvy * pvy), c)
+    elif kind == DASH:
+        pvx, pvy = dash(pvx, pvy, f, value, c)
+    elif kind == KICK and kickable:
+        bvx, bvy = kick(bvx, bvy, value, direction, f, ball_distance, ball_direction, c)
+        kicks[g] += 1
+        kicked[g] = True
+    if rules.noise:
+        pvx, pvy = cap_speed(*_noisy(streams, g, pvx, pvy, c.player_rand), c.player_speed_max)
+        bvx, bvy = cap_speed(*_noisy(streams, g, bvx, bvy, c.ball_rand), c.ball_speed_max)
+    ps, bs = player_slot[g], ball_slot[g]
+    bodies[ps, 2] = pvx / dt
+    bodies[ps, 3] = pvy / dt
+    bodies[bs, 2] = bvx / dt
+    bodies[bs, 3] = bvy / dt
+    px, py, bx, by = positions
+    last_player[g, 0] = px
+    last_player[g, 1] = py
+    last_ball[g, 0] = bx
+    last_ball[g, 1] = by
+    ticks[g] += 1
+
+
+@numba.njit(cache=True)
+def tick_kernel(bodies, layer, pitches, state, observation, decision, rulebases, scratch, layout, constants, rules):
+    """One tick for every live game in space `layer`; returns how many games finished now.
+    bodies[row] = (x, y, vx, vy) in pymunk units (global metres, metres per second); game g's rows are
+    pitches.player_slot[g] and pitches.ball_slot[g]. The named tuples arrive as plain ones (see
+    `plain`) and are named again here."""
+    pitches, state, observation, decision = Pitches(*pitches), GameState(*state), Observation(*observation), \
+        Decision(*decision)
+    rulebases = CompiledRulebases(*(rulebases[:-1] + (VocabularyTables(*rulebases[-1]),)))
+    scratch, layout = Scratch(*scratch), VocabularyLayout(*layout)
+    constants, rules = WorldConstants(*constants), GameRules(*rules)
+    dt = constants.tick_seconds
+    done, ticks, layers = state.done, state.ticks, pitches.layer
+    player_slot, ball_slot = pitches.player_slot, pitches.ball_slot
     finished = 0
     for g in range(done.shape[0]):
-        if done[g] or game_layer[g] != layer:
+        if done[g] or layers[g] != layer:
             continue
-        ps = player_slot[g]
-        bs = ball_slot[g]
-        ox = offsets[g, 0]
-        oy = offsets[g, 1]
-        px = bodies[ps, 0] - ox
-        py = bodies[ps, 1] - oy
-        bx = bodies[bs, 0] - ox
-        by = bodies[bs, 1] - oy
-
-        if ticks[g] > 0:  # bookkeeping of the step just made
-            px, py, bx, by, collided = separate(px, py, bx, by, facing[g], c)
-            if collided:
-                bodies[ps, 0] = ox + px
-                bodies[ps, 1] = oy + py
-                bodies[bs, 0] = ox + bx
-                bodies[bs, 1] = oy + by
-                for row in (ps, bs):
-                    bodies[row, 2] *= c.collision_rebound
-                    bodies[row, 3] *= c.collision_rebound
-            scored = False
-            if last_ball[g, 0] <= c.half_length < bx:
-                t = (c.half_length - last_ball[g, 0]) / (bx - last_ball[g, 0])
-                scored = abs(last_ball[g, 1] + t * (by - last_ball[g, 1])) < c.goal_half_width
-            dxg = bx - c.half_length
-            min_distance[g] = min(min_distance[g], math.sqrt(dxg * dxg + by * by))
-            dxp = px - last_player[g, 0]
-            dyp = py - last_player[g, 1]
-            if kicked[g] or math.sqrt(dxp * dxp + dyp * dyp) > rules.idle_distance:
-                idle[g] = 0
-            else:
-                idle[g] += 1
-            if scored:
-                goals[g] += 1
-                bx = 0.0
-                by = uniform(states, g, -c.half_width, c.half_width)
-                bodies[bs, 0] = ox + bx
-                bodies[bs, 1] = oy + by
-                bodies[bs, 2] = 0.0
-                bodies[bs, 3] = 0.0
-            reason = RUNNING
-            if goals[g] >= rules.goal_cap:
-                reason = GOAL_CAP
-            elif ticks[g] >= rules.max_ticks:
-                reason = MAX_TICKS
-            elif idle[g] >= rules.idle_ticks:
-                reason = IDLE
-            if reason != RUNNING:
-                end_reason[g] = reason
-                done[g] = True
+        px, py, bx, by = local_positions(g, bodies, pitches)
+        if ticks[g] > 0:
+            px, py, bx, by, ended = close_step(g, px, py, bx, by, bodies, pitches, state, constants, rules)
+            if ended:
                 finished += 1
-                for row in (ps, bs):
-                    bodies[row, 2] = 0.0
-                    bodies[row, 3] = 0.0
                 continue
-
-        # the tick: velocities decay (rcssserver does it at the end of the previous cycle), perceive, decide, act
-        pvx, pvy = decay(bodies[ps, 2] * dt, bodies[ps, 3] * dt, c.player_decay)
-        bvx, bvy = decay(bodies[bs, 2] * dt, bodies[bs, 3] * dt, c.ball_decay)
-        f = facing[g]
-        ball_distance, ball_direction, ball_seen, goal_distance, goal_direction, goal_seen = perceive(
-            px, py, f, bx, by, c)
-        x = inputs[g]
-        x[layout.ball_distance] = ball_distance if ball_seen else np.nan
-        x[layout.ball_direction] = ball_direction if ball_seen else np.nan
-        x[layout.goal_distance] = goal_distance if goal_seen else np.nan
-        x[layout.goal_direction] = goal_direction if goal_seen else np.nan
-        seen = visible[g]
-        seen[layout.ball] = ball_seen
-        seen[layout.goal] = goal_seen
-        chosen, _ = decide(g, x, seen, *rulebases, degrees, support, first_rule, strengths[g], cut_lo, cut_hi,
-                           values[g])
-        action[g] = chosen
-        observed[g, 0] = px
-        observed[g, 1] = py
-        observed[g, 2] = f
-        observed[g, 3] = bx
-        observed[g, 4] = by
-        if ball_seen:
-            last_side[g] = LEFT if ball_direction < 0.0 else RIGHT
-        speed = math.sqrt(pvx * pvx + pvy * pvy)
-        kickable = is_kickable(ball_distance, c)
-        skill = HUNT if chosen == NO_ACTION else layout.skills[chosen]
-        kind, value, direction = skill_command(
-            skill, values[g, layout.direction], values[g, layout.power], ball_seen, ball_distance, ball_direction,
-            goal_direction, kickable, last_side[g], speed, rules.assisted_skills, c)
-        kicked[g] = False
-        if kind == TURN:
-            if rules.noise:
-                value *= 1.0 + uniform(states, g, -c.player_rand, c.player_rand)
-            facing[g] = turn(f, value, speed, c)
-        elif kind == DASH:
-            pvx, pvy = dash(pvx, pvy, f, value, c)
-        elif kind == KICK and kickable:
-            bvx, bvy = kick(bvx, bvy, value, direction, f, ball_distance, ball_direction, c)
-            kicks[g] += 1
-            kicked[g] = True
-        if rules.noise:
-            pvx, pvy = cap_speed(*_noisy(states, g, pvx, pvy, c.player_rand), c.player_speed_max)
-            bvx, bvy = cap_speed(*_noisy(states, g, bvx, bvy, c.ball_rand), c.ball_speed_max)
-        bodies[ps, 2] = pvx / dt
-        bodies[ps, 3] = pvy / dt
-        bodies[bs, 2] = bvx / dt
-        bodies[bs, 3] = bvy / dt
-        last_player[g, 0] = px
-        last_player[g, 1] = py
-        last_ball[g, 0] = bx
-        last_ball[g, 1] = by
-        ticks[g] += 1
+        # velocities decay first (rcssserver does it at the end of the previous cycle)
+        ps, bs = player_slot[g], ball_slot[g]
+        pvx, pvy = decay(bodies[ps, 2] * dt, bodies[ps, 3] * dt, constants.player_decay)
+        bvx, bvy = decay(bodies[bs, 2] * dt, bodies[bs, 3] * dt, constants.ball_decay)
+        perceived = perceive_step(g, px, py, bx, by, state, observation, layout, constants)
+        action = decide_step(g, observation, decision, rulebases, scratch)
+        command = act_step(g, action, perceived, math.sqrt(pvx * pvx + pvy * pvy), state, decision, layout,
+                           constants, rules)
+        physics_step(g, command, perceived, (pvx, pvy, bvx, bvy), (px, py, bx, by), bodies, pitches, state,
+                     constants, rules)
     return finished
 
 
 # ---- the batch --------------------------------------------------------------------------------
 
 
+def plain(value: tuple) -> tuple:
+    """A named tuple, with the named tuples in it, as plain tuples. Numba's dispatcher types plain
+    tuples in C at every call but named ones in Python (measured: 4x slower per field), which cost
+    every tick tens of microseconds; the kernel names them again."""
+    return tuple(plain(v) if isinstance(v, tuple) else v for v in value)
+
+
+class KernelArguments(NamedTuple):
+    """A batch's named tuples in the plain form the kernels take, kept by name between ticks."""
+
+    pitches: tuple
+    state: tuple
+    observation: tuple
+    decision: tuple
+    rulebases: tuple
+    scratch: tuple
+    layout: tuple
+    constants: tuple
+    rules: tuple
+
+
+
 class GameBatch:
-    """Games of N players (each its own rulebase and seed) played together, tick by tick."""
+    """Games of N players (each its own rulebase and seed) played together, tick by tick.
+
+    What the outside reads (numpy arrays, row g = game g, updated in place by every `step`):
+    `state` (GameState: goals, kicks, ticks, done, end reasons, ...), `observation` (Observation: what
+    each player perceived for its latest decision) and `decision` (Decision: the selected action, its
+    output values and every rule's strength).
+    `compiled` holds the players' rulebases as the kernel reads them (fuzzy.batched), `layout` where
+    SimpleSoccer's quantities sit in the vocabulary, `world` the pymunk spaces."""
 
     def __init__(self, rulebases: Sequence[Rulebase], seeds: Sequence[int], config: GameConfig,
                  vocabulary: Vocabulary):
@@ -293,32 +429,37 @@ class GameBatch:
         self.layout = VocabularyLayout.from_vocabulary(vocabulary)
         n = len(rulebases)
         self.games = n
-        self.states = seed_states(seeds)
-        player, ball = start_positions(self.states, self.constants)
+        streams = seed_states(seeds)
+        player, ball = start_positions(streams, self.constants)
         self.world = World(config.world, seeds)
         for g in range(n):
             self.world.add_game(g, tuple(player[g]), tuple(ball[g]))
         self.world.index_bodies()
 
-        self.done = np.zeros(n, dtype=np.bool_)
-        self.facing = np.zeros(n)  # every player starts facing +x, the goal it attacks
-        self.last_player = player.copy()
-        self.last_ball = ball.copy()
         goal_dx = ball[:, 0] - self.constants.half_length
-        self.min_distance = np.sqrt(goal_dx * goal_dx + ball[:, 1] * ball[:, 1])
-        self.ticks = np.zeros(n, dtype=np.int64)
-        self.goals = np.zeros(n, dtype=np.int64)
-        self.kicks = np.zeros(n, dtype=np.int64)
-        self.idle = np.zeros(n, dtype=np.int64)
-        self.kicked = np.zeros(n, dtype=np.bool_)
-        self.last_side = np.full(n, LEFT, dtype=np.int64)
-        self.end_reason = np.zeros(n, dtype=np.int64)
-        self.inputs = np.full((n, len(vocabulary.input_names)), np.nan)
-        self.visible = np.zeros((n, len(vocabulary.object_names)), dtype=np.bool_)
-        self.action = np.full(n, NO_ACTION, dtype=np.int64)
-        self.values = np.zeros((n, len(vocabulary.output_names)))
+        self.state = GameState(
+            done=np.zeros(n, dtype=np.bool_),
+            facing=np.zeros(n),  # every player starts facing +x, the goal it attacks
+            last_player=player.copy(),
+            last_ball=ball.copy(),
+            min_distance=np.sqrt(goal_dx * goal_dx + ball[:, 1] * ball[:, 1]),
+            ticks=np.zeros(n, dtype=np.int64),
+            goals=np.zeros(n, dtype=np.int64),
+            kicks=np.zeros(n, dtype=np.int64),
+            idle=np.zeros(n, dtype=np.int64),
+            kicked=np.zeros(n, dtype=np.bool_),
+            last_side=np.full(n, LEFT, dtype=np.int64),
+            end_reason=np.zeros(n, dtype=np.int64),
+            streams=streams,
+        )
+        self.observation = Observation(
+            player_x=np.zeros(n), player_y=np.zeros(n), facing=np.zeros(n), ball_x=np.zeros(n), ball_y=np.zeros(n),
+            inputs=np.full((n, len(vocabulary.input_names)), np.nan),
+            visible=np.zeros((n, len(vocabulary.object_names)), dtype=np.bool_),
+        )
+        self.decision = Decision(action=np.full(n, NO_ACTION, dtype=np.int64),
+                                 values=np.zeros((n, len(vocabulary.output_names))), strengths=np.zeros((n, 1)))
         self.set_rulebases(rulebases)
-        self.observed = np.zeros((n, 5))  # player x, y, facing, ball x, y at the last decision
         self._buffers = [pymunk.batch.Buffer() for _ in self.world.spaces]
         self._live = n
 
@@ -326,14 +467,21 @@ class GameBatch:
         """Give the players (new) controllers; the games go on where they are."""
         if len(rulebases) != self.games:
             raise ValueError(f"need {self.games} rulebases, got {len(rulebases)}")
-        self.compiled = compile_rulebases(list(rulebases), self.vocabulary)
-        self._rulebase_args = self.compiled.kernel_args()
-        tables = self.compiled.tables
-        width = max(self.compiled.max_rules, 1)
-        n_actions = tables.action_uses.shape[0]
-        self._scratch = (np.empty(tables.term_input.size), np.empty(n_actions), np.empty(n_actions, dtype=np.int64),
-                         np.empty(width), np.empty(width))
-        self.strengths = np.zeros((self.games, width))
+        self.compiled: CompiledRulebases = compile_rulebases(list(rulebases), self.vocabulary)
+        self.decision = self.decision._replace(strengths=np.zeros((self.games, max(self.compiled.max_rules, 1))))
+        self._arguments = KernelArguments(
+            pitches=plain(self.world.pitches), state=plain(self.state), observation=plain(self.observation),
+            decision=plain(self.decision), rulebases=plain(self.compiled),
+            scratch=plain(Scratch.for_rulebases(self.compiled)), layout=plain(self.layout),
+            constants=plain(self.constants), rules=plain(self.rules))
+
+    def _bodies(self, layer: int) -> np.ndarray:
+        """Space `layer`'s bodies read into its buffer: bodies[row] = (x, y, vx, vy); written back by
+        `pymunk.batch.set_space_bodies` from the same buffer."""
+        buffer = self._buffers[layer]
+        buffer.clear()
+        pymunk.batch.get_space_bodies(self.world.spaces[layer], _FIELDS, buffer)
+        return np.frombuffer(buffer.float_buf(), dtype=np.float64).reshape(-1, 4)
 
     @property
     def finished(self) -> bool:
@@ -345,20 +493,15 @@ class GameBatch:
             return
         world = self.world
         finished = 0
-        for layer, (space, buffer) in enumerate(zip(world.spaces, self._buffers)):
-            buffer.clear()
-            pymunk.batch.get_space_bodies(space, _FIELDS, buffer)
-            bodies = np.frombuffer(buffer.float_buf(), dtype=np.float64).reshape(-1, 4)
-            finished += tick_kernel(
-                bodies, layer, world.layer, world.player_slot, world.ball_slot, world.offsets, self.done, self.facing,
-                self.last_player, self.last_ball, self.min_distance, self.ticks, self.goals, self.kicks, self.idle,
-                self.kicked, self.last_side, self.end_reason, self.states, self.inputs, self.visible, self.action,
-                self.values, self.strengths, self.observed, self._rulebase_args, self._scratch, self.layout,
-                self.constants, self.rules)
-            pymunk.batch.set_space_bodies(space, _FIELDS, buffer)
+        for layer, space in enumerate(world.spaces):
+            bodies = self._bodies(layer)
+            a = self._arguments
+            finished += tick_kernel(bodies, layer, a.pitches, a.state, a.observation, a.decision, a.rulebases,
+                                    a.scratch, a.layout, a.constants, a.rules)
+            pymunk.batch.set_space_bodies(space, _FIELDS, self._buffers[layer])
         if finished:
             self._live -= finished
-            for g in np.flatnonzero(self.done & (world.player_slot >= 0)):
+            for g in np.flatnonzero(self.state.done & (world.pitches.player_slot >= 0)):
                 world.remove_game(int(g))
             world.index_bodies()
         if self._live:
@@ -371,15 +514,16 @@ class GameBatch:
         return self.results()
 
     def result(self, g: int) -> GameResult:
-        goals, kicks, ticks = int(self.goals[g]), int(self.kicks[g]), int(self.ticks[g])
-        distance = float(self.min_distance[g])
+        s = self.state
+        goals, kicks, ticks = int(s.goals[g]), int(s.kicks[g]), int(s.ticks[g])
+        distance = float(s.min_distance[g])
         return GameResult(
             fitness=fitness(self.config.fitness, goals, kicks, ticks, distance),
             goals=goals,
             kicks=kicks,
             ticks=ticks,
             min_ball_goal_distance=distance,
-            end_reason=END_REASONS[self.end_reason[g]],
+            end_reason=END_REASONS[s.end_reason[g]],
         )
 
     def results(self) -> list[GameResult]:
@@ -400,35 +544,35 @@ def play_game(rulebase: Rulebase, seed: int, config: GameConfig = GameConfig(), 
     batch = GameBatch([rulebase], [seed], config, vocabulary)
     rows: list[tuple] = []
     while not batch.finished:
-        before = int(batch.ticks[0])
+        before = int(batch.state.ticks[0])
         batch.step()
-        if trace and batch.ticks[0] > before:
-            goals = int(batch.goals[0])
-            rows.append((batch.observed[0].copy(), batch.visible[0].copy(), batch.inputs[0].copy(),
-                         batch.strengths[0, : len(rulebase)].copy(), int(batch.action[0]), batch.values[0].copy(),
-                         goals))
+        if trace and batch.state.ticks[0] > before:
+            seen, decided = batch.observation, batch.decision
+            rows.append((seen.player_x[0], seen.player_y[0], seen.facing[0], seen.ball_x[0], seen.ball_y[0],
+                         seen.visible[0].copy(), seen.inputs[0].copy(), decided.strengths[0, : len(rulebase)].copy(),
+                         int(decided.action[0]), decided.values[0].copy(), int(batch.state.goals[0])))
     result = batch.result(0)
     if not trace:
         return result, None
-    return result, _trace(rows, batch.layout, len(rulebase), batch.vocabulary)
+    return result, _trace(rows, batch.layout, len(rulebase), vocabulary)
 
 
 def _trace(rows: list[tuple], layout: VocabularyLayout, rules: int, vocabulary: Vocabulary) -> GameTrace:
-    inputs = len(vocabulary.input_names)
-    observed = np.array([r[0] for r in rows]).reshape(-1, 5)
-    values = np.array([r[5] for r in rows]).reshape(len(rows), -1)
+    columns = list(zip(*rows)) if rows else [()] * 11
+    player_x, player_y, facing, ball_x, ball_y, visible, inputs, strengths, action, values, goals = columns
+    values = np.array(values).reshape(len(rows), len(vocabulary.output_names))
     return GameTrace(
-        player_x=observed[:, 0],
-        player_y=observed[:, 1],
-        facing=observed[:, 2],
-        ball_x=observed[:, 3],
-        ball_y=observed[:, 4],
-        visible=np.array([r[1] for r in rows], dtype=np.bool_).reshape(len(rows), -1),
-        inputs=np.array([r[2] for r in rows]).reshape(len(rows), inputs),
-        strengths=np.array([r[3] for r in rows]).reshape(len(rows), rules),
-        action=np.array([r[4] for r in rows], dtype=np.int64),
-        direction=values[:, layout.direction] if len(rows) else np.zeros(0),
-        power=values[:, layout.power] if len(rows) else np.zeros(0),
-        goals=np.array([r[6] for r in rows], dtype=np.int64),
+        player_x=np.array(player_x, dtype=np.float64),
+        player_y=np.array(player_y, dtype=np.float64),
+        facing=np.array(facing, dtype=np.float64),
+        ball_x=np.array(ball_x, dtype=np.float64),
+        ball_y=np.array(ball_y, dtype=np.float64),
+        visible=np.array(visible, dtype=np.bool_).reshape(len(rows), len(vocabulary.object_names)),
+        inputs=np.array(inputs, dtype=np.float64).reshape(len(rows), len(vocabulary.input_names)),
+        strengths=np.array(strengths, dtype=np.float64).reshape(len(rows), rules),
+        action=np.array(action, dtype=np.int64),
+        direction=values[:, layout.direction],
+        power=values[:, layout.power],
+        goals=np.array(goals, dtype=np.int64),
         vocabulary=vocabulary,
     )

@@ -1,5 +1,5 @@
-"""`SoccerEnv`: one game, Gymnasium-style, for the UI (spec 4.5, 7). It is a batch of one through the
-same engine as evolution, so what the UI shows is exactly what the GA scored. No rendering here."""
+"""`SoccerEnv`: one game, Gymnasium-style, for the UI. It is a batch of one through the same engine as
+evolution, so what the UI shows is exactly what the GA scored. No rendering here."""
 
 from __future__ import annotations
 
@@ -8,6 +8,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from fuzzy.batched import NO_ACTION
 from fuzzy.rule import Rulebase
 from fuzzy.vocabulary import Vocabulary
 from soccer.config import SOCCER_VOCABULARY, GameConfig
@@ -25,7 +26,7 @@ class SoccerState:
     ball_trail: tuple[tuple[float, float], ...]  # oldest first, ending with the ball's position
     visible: dict[str, bool]  # object -> in view at the last decision
     inputs: dict[str, float | None]  # input -> crisp value at the last decision (None: out of view)
-    strengths: tuple[float, ...]  # every rule's strength at the last decision
+    strengths: tuple[float, ...]  # every rule's strength at the last decision (0 before the first)
     action: str | None  # the last selected action (None: no rule fired, the player hunted)
     parameters: dict[str, float]  # the selected action's outputs it uses
     goals: int
@@ -72,40 +73,38 @@ class SoccerEnv:
         batch = self._batch
         if batch is None:
             raise RuntimeError("call reset(seed) first")
-        vocabulary = batch.vocabulary
+        vocabulary, game, seen, decided = batch.vocabulary, batch.state, batch.observation, batch.decision
         player, ball = self._positions()
         if not self._trail or self._trail[-1] != ball:
             self._trail.append(ball)
-        decided = batch.ticks[0] > 0
-        action_index = int(batch.action[0])
-        action = vocabulary.action_names[action_index] if decided and action_index >= 0 else None
+        action_index = int(decided.action[0])
+        action = vocabulary.action_names[action_index] if action_index != NO_ACTION else None
         uses = vocabulary.actions[action] if action else ()
-        done = bool(batch.done[0])
+        done = bool(game.done[0])
         return SoccerState(
-            tick=int(batch.ticks[0]),
+            tick=int(game.ticks[0]),
             player=player,
-            facing=float(batch.facing[0]),
+            facing=float(game.facing[0]),
             ball=ball,
             ball_trail=tuple(self._trail),
-            visible={o: bool(batch.visible[0, i]) for i, o in enumerate(vocabulary.object_names)},
-            inputs={n: None if np.isnan(v) else float(v) for n, v in zip(vocabulary.input_names, batch.inputs[0])},
-            strengths=tuple(float(s) for s in batch.strengths[0, : len(self.rulebase)]) if decided
-            else (0.0,) * len(self.rulebase),
+            visible={o: bool(seen.visible[0, i]) for i, o in enumerate(vocabulary.object_names)},
+            inputs={n: None if np.isnan(v) else float(v) for n, v in zip(vocabulary.input_names, seen.inputs[0])},
+            strengths=tuple(float(s) for s in decided.strengths[0, : len(self.rulebase)]),
             action=action,
-            parameters={o: float(batch.values[0, vocabulary.output_names.index(o)]) for o in uses},
-            goals=int(batch.goals[0]),
-            kicks=int(batch.kicks[0]),
+            parameters={o: float(decided.values[0, vocabulary.output_names.index(o)]) for o in uses},
+            goals=int(game.goals[0]),
+            kicks=int(game.kicks[0]),
             done=done,
-            end_reason=END_REASONS[batch.end_reason[0]],
+            end_reason=END_REASONS[game.end_reason[0]],
             fitness=batch.result(0).fitness if done else None,
         )
 
     def _positions(self) -> tuple[tuple[float, float], tuple[float, float]]:
         """Current local positions (from pymunk, or the last known ones once the game left the space)."""
         batch = self._batch
-        ox, oy = batch.world.offsets[0]
-        if batch.world.player_slot[0] < 0:
-            o = batch.observed[0]
-            return (float(o[0]), float(o[1])), (float(o[3]), float(o[4]))
+        ox, oy = batch.world.pitches.offsets[0]
+        if batch.world.pitches.player_slot[0] < 0:
+            seen = batch.observation
+            return (float(seen.player_x[0]), float(seen.player_y[0])), (float(seen.ball_x[0]), float(seen.ball_y[0]))
         player, _, ball, _ = batch.world.objects(0)
         return ((player.position.x - ox, player.position.y - oy), (ball.position.x - ox, ball.position.y - oy))

@@ -1,4 +1,4 @@
-"""The pymunk Space holding many SimpleSoccer pitches (spec 4.1, 4.5).
+"""The pymunk Space holding many SimpleSoccer pitches.
 
 Each game sits on its own pitch far from the others, at a slot drawn from the game's seed, so a game
 has the same coordinates, and pymunk does the same arithmetic for it, whichever batch it is played in
@@ -22,7 +22,7 @@ hash table size, which is therefore a constant, not scaled with the batch.
 
 from __future__ import annotations
 
-from typing import Sequence
+from typing import NamedTuple, Sequence
 
 import numpy as np
 import pymunk
@@ -99,6 +99,15 @@ def _new_space() -> pymunk.Space:
     return space
 
 
+class Pitches(NamedTuple):
+    """Where each game g is, as the engine's kernel reads it (arrays updated in place)."""
+
+    layer: np.ndarray  # int64[n]: which space the game is in
+    player_slot: np.ndarray  # int64[n]: row of its player in its space's batch order (-1: left the space)
+    ball_slot: np.ndarray  # int64[n]
+    offsets: np.ndarray  # float64[n, 2]: its pitch's centre in the shared space
+
+
 class World:
     """The shared space(s): games added at their seed's slot, removed when they finish, and the
     mapping from pymunk's body order (which removal permutes) to (game, player or ball)."""
@@ -107,28 +116,28 @@ class World:
         self.config = config
         games = len(seeds)
         slots = [pitch_slot(seed) for seed in seeds]
-        self.offsets = np.array([pitch_offset(s) for s in slots], dtype=np.float64).reshape(games, 2)
-        self.layer = np.zeros(games, dtype=np.int64)  # which space each game is in
+        offsets = np.array([pitch_offset(s) for s in slots], dtype=np.float64).reshape(games, 2)
+        layers = np.zeros(games, dtype=np.int64)
         taken: list[set[int]] = []
         for g, slot in enumerate(slots):
             layer = next((k for k, used in enumerate(taken) if slot not in used), len(taken))
             if layer == len(taken):
                 taken.append(set())
             taken[layer].add(slot)
-            self.layer[g] = layer
+            layers[g] = layer
+        unplaced = np.full(games, -1, dtype=np.int64)  # index_bodies fills the slots in
+        self.pitches = Pitches(layer=layers, player_slot=unplaced.copy(), ball_slot=unplaced.copy(), offsets=offsets)
         self.spaces = [_new_space() for _ in range(max(len(taken), 1))]
         self._objects: list[tuple[pymunk.Body, ...]] = [()] * games
         self._static: list[list[pymunk.Shape]] = [[] for _ in range(games)]
         self._body_ids = np.zeros(2 * games, dtype=np.uintp)  # pymunk body id of game g's player [g], ball [games + g]
         self._id_order: np.ndarray | None = None  # argsort of _body_ids, refreshed after games are added
-        self.player_slot = np.full(games, -1, dtype=np.int64)  # row of the game's bodies in its space's batch order
-        self.ball_slot = np.full(games, -1, dtype=np.int64)
         self._id_buffer = pymunk.batch.Buffer()
 
     def add_game(self, game: int, player_xy: tuple[float, float], ball_xy: tuple[float, float]) -> None:
         c = self.config
-        ox, oy = self.offsets[game]
-        space = self.spaces[self.layer[game]]
+        ox, oy = self.pitches.offsets[game]
+        space = self.spaces[self.pitches.layer[game]]
         player, player_shape = _round_body(c.player_mass, c.player_size, c.elasticity, ox + player_xy[0], oy + player_xy[1])
         ball, ball_shape = _round_body(c.ball_mass, c.ball_size, c.elasticity, ox + ball_xy[0], oy + ball_xy[1])
         static = pitch_shapes(c, space.static_body, ox, oy)
@@ -141,17 +150,17 @@ class World:
 
     def remove_game(self, game: int) -> None:
         if self._objects[game]:
-            self.spaces[self.layer[game]].remove(*self._objects[game], *self._static[game])
+            self.spaces[self.pitches.layer[game]].remove(*self._objects[game], *self._static[game])
             self._objects[game] = ()
             self._static[game] = []
-            self.player_slot[game] = self.ball_slot[game] = -1
+            self.pitches.player_slot[game] = self.pitches.ball_slot[game] = -1
 
     def objects(self, game: int) -> tuple[pymunk.Body, pymunk.Shape, pymunk.Body, pymunk.Shape]:
         """(player body, player shape, ball body, ball shape) of a game still in the space."""
         return self._objects[game]
 
     def index_bodies(self) -> None:
-        """Refresh player_slot/ball_slot: each game's bodies' rows in its space's batch order."""
+        """Refresh pitches.player_slot/ball_slot: each game's bodies' rows in its space's batch order."""
         games = len(self._objects)
         if games == 0:
             return
@@ -166,5 +175,5 @@ class World:
             rows = np.flatnonzero(known[where] == ids)  # all but the space's static body
             which = self._id_order[where[rows]]
             player = which < games
-            self.player_slot[which[player]] = rows[player]
-            self.ball_slot[which[~player] - games] = rows[~player]
+            self.pitches.player_slot[which[player]] = rows[player]
+            self.pitches.ball_slot[which[~player] - games] = rows[~player]

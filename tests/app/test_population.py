@@ -105,8 +105,9 @@ def test_panel_plays_the_published_players_in_one_batch_from_one_start(monkeypat
     reference = GameBatch(rulebases, [SEED] * 3, GAME, VOCABULARY)
     for _ in range(30):
         reference.step()
-    np.testing.assert_array_equal(panel.batch.observed, reference.observed)
-    np.testing.assert_array_equal(panel.batch.kicks, reference.kicks)
+    for seen, expected in zip(panel.batch.observation, reference.observation):
+        np.testing.assert_array_equal(seen, expected)
+    np.testing.assert_array_equal(panel.batch.state.kicks, reference.state.kicks)
 
 
 def test_panel_shows_at_most_the_grid_and_ignores_an_empty_generation():

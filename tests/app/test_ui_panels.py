@@ -119,9 +119,12 @@ def test_pitch_is_drawn_in_scene_coordinates_with_y_flipped():
 
 def test_population_grid_draws_one_small_pitch_per_game():
     from app.ui.panels.population import population_html
+    from soccer.engine import Observation
 
     geometry = PitchGeometry.from_world(WorldConfig())
-    observed = np.array([[-10.0, 5.0, 30.0, 0.0, -3.0], [20.0, -4.0, -90.0, 25.0, 0.0]])
-    html = population_html(geometry, observed, [0, 3], [False, True], ["gen 0", "gen 1"])
+    observation = Observation(player_x=np.array([-10.0, 20.0]), player_y=np.array([5.0, -4.0]),
+                              facing=np.array([30.0, -90.0]), ball_x=np.array([0.0, 25.0]), ball_y=np.array([-3.0, 0.0]),
+                              inputs=np.zeros((2, 4)), visible=np.zeros((2, 2), dtype=bool))
+    html = population_html(geometry, observation, [0, 3], [False, True], ["gen 0", "gen 1"])
     assert html.count('class="mini-pitch"') == 2
     assert 'data-goals="3" data-done="true"' in html and "gen 1" in html

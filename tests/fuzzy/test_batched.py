@@ -4,7 +4,7 @@ import numpy as np
 from hypothesis import given
 from hypothesis import strategies as st
 
-from fuzzy.batched import NO_ACTION, compile_rulebases, decide, decide_batch, infer_batch
+from fuzzy.batched import NO_ACTION, Scratch, compile_rulebases, decide, decide_batch, infer_batch
 from fuzzy.engine import Engine
 from fuzzy.random_rulebase import random_rulebase
 from fuzzy.vocabulary import Vocabulary
@@ -66,15 +66,13 @@ def test_infer_batch_equals_scalar_exactly(seed):
 def test_decide_kernel_equals_scalar_exactly(seed):
     rulebases, inputs, visible, owner = scenario(seed)
     compiled = compile_rulebases(rulebases, VOCABULARY)
-    n_actions, n_outputs = compiled.tables.action_uses.shape
-    scratch = max(compiled.max_rules, 1)
-    degrees = np.empty(compiled.tables.term_input.size)
-    support, first_rule = np.empty(n_actions), np.empty(n_actions, dtype=np.int64)
-    strengths, cut_lo, cut_hi = np.empty(scratch), np.empty(scratch), np.empty(scratch)
-    outputs = np.empty(n_outputs)
+    scratch = Scratch.for_rulebases(compiled)
+    strengths = np.empty(max(compiled.max_rules, 1))
+    outputs = np.empty(compiled.tables.outputs)
     for i in range(len(inputs)):
-        action, value = decide(owner[i], inputs[i], visible[i], *compiled.kernel_args(), degrees, support,
-                               first_rule, strengths, cut_lo, cut_hi, outputs)
+        action, value = decide(owner[i], inputs[i], visible[i], compiled, scratch, strengths, outputs)
+        assert strengths[: len(rulebases[owner[i]])].tolist() == Engine(rulebases[owner[i]], VOCABULARY).infer(
+            scalar_inputs(inputs[i], visible[i])).strengths
         expected = Engine(rulebases[owner[i]], VOCABULARY).infer(scalar_inputs(inputs[i], visible[i])).selected
         if expected is None:
             assert (action, value) == (NO_ACTION, 0.0)

@@ -31,11 +31,13 @@ def play_recorded(rulebases, seeds, config=SHORT):
     """Results and, per game, every tick's (observed pose and ball, action, direction, power, goals)."""
     batch = GameBatch(rulebases, seeds, config, VOCABULARY)
     rows = [[] for _ in rulebases]
+    seen, decided = batch.observation, batch.decision
     while not batch.finished:
-        before = batch.ticks.copy()
+        before = batch.state.ticks.copy()
         batch.step()
-        for g in np.flatnonzero(batch.ticks > before):
-            rows[g].append(np.concatenate([batch.observed[g], [batch.action[g], batch.goals[g]], batch.values[g]]))
+        for g in np.flatnonzero(batch.state.ticks > before):
+            pose = [seen.player_x[g], seen.player_y[g], seen.facing[g], seen.ball_x[g], seen.ball_y[g]]
+            rows[g].append(np.concatenate([pose, [decided.action[g], batch.state.goals[g]], decided.values[g]]))
     return batch.results(), [np.array(r) for r in rows]
 
 
@@ -88,7 +90,7 @@ def test_games_sharing_a_slot_play_in_separate_spaces_with_the_same_result():
     seeds = [41, 41, 41, 42]
     assert pitch_slot(41) != pitch_slot(42)
     batch = GameBatch([demo] * 4, seeds, SHORT, VOCABULARY)
-    assert len(batch.world.spaces) == 3 and batch.world.layer.tolist() == [0, 1, 2, 0]
+    assert len(batch.world.spaces) == 3 and batch.world.pitches.layer.tolist() == [0, 1, 2, 0]
     results = batch.run()
     alone = play_game(demo, 41, SHORT, trace=False)[0]
     assert results[:3] == [alone] * 3

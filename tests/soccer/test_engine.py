@@ -22,18 +22,18 @@ EMPTY = Rulebase(())
 def scripted(ball, velocity, player=(-40.0, 0.0), rulebase=STILL, config=GameConfig()):
     """A batch of one with the ball placed by hand (metres; velocity in metres per tick)."""
     batch = GameBatch([rulebase], [1], config, VOCABULARY)
-    ox, oy = batch.world.offsets[0]
+    ox, oy = batch.world.pitches.offsets[0]
     p, _, b, _ = batch.world.objects(0)
     p.position = (ox + player[0], oy + player[1])
     b.position = (ox + ball[0], oy + ball[1])
     b.velocity = (velocity[0] / C.tick_seconds, velocity[1] / C.tick_seconds)
-    batch.last_ball[0] = ball
-    batch.last_player[0] = player
+    batch.state.last_ball[0] = ball
+    batch.state.last_player[0] = player
     return batch
 
 
 def ball_position(batch):
-    ox, oy = batch.world.offsets[0]
+    ox, oy = batch.world.pitches.offsets[0]
     b = batch.world.objects(0)[2]
     return b.position.x - ox, b.position.y - oy, b.velocity.x * C.tick_seconds, b.velocity.y * C.tick_seconds
 
@@ -53,7 +53,7 @@ def test_ball_rebounds_from_end_line_beside_goal_and_does_not_score():
     for _ in range(5):
         batch.step()
     x, y, vx, _ = ball_position(batch)
-    assert x < 52.5 and vx < 0.0 and batch.goals[0] == 0
+    assert x < 52.5 and vx < 0.0 and batch.state.goals[0] == 0
 
 
 def test_ball_rebounds_from_post():
@@ -61,7 +61,7 @@ def test_ball_rebounds_from_post():
     for _ in range(15):
         batch.step()
     x, _, vx, _ = ball_position(batch)
-    assert x < 52.5 and vx < 0.0 and batch.goals[0] == 0
+    assert x < 52.5 and vx < 0.0 and batch.state.goals[0] == 0
 
 
 def test_player_running_into_the_ball_collides_as_in_rcssserver():
@@ -70,10 +70,10 @@ def test_player_running_into_the_ball_collides_as_in_rcssserver():
     batch = scripted((0.5, 0.0), (0.0, 0.0), player=(0.0, 0.0))
     p = batch.world.objects(0)[0]
     p.velocity = (1.0 / C.tick_seconds, 0.0)
-    batch.last_player[0] = (0.0, 0.0)
+    batch.state.last_player[0] = (0.0, 0.0)
     batch.step()  # decides and moves: the player's velocity decays to 0.4 m/tick first
     batch.step()  # closes the step: the player at 0.4 overlaps the ball at 0.5
-    ox, oy = batch.world.offsets[0]
+    ox, oy = batch.world.pitches.offsets[0]
     x, y, vx, vy = ball_position(batch)
     half = (C.player_size + C.ball_size) / 2 + COLLISION_GAP
     assert x == pytest.approx(0.45 + half, abs=1e-9) and vx == 0.0  # parted from the midpoint 0.45, at rest
@@ -84,11 +84,11 @@ def test_player_running_into_the_ball_collides_as_in_rcssserver():
 
 def test_ball_through_mouth_scores_and_restarts_on_centre_line():
     batch = scripted((50.0, 3.0), (2.0, 0.0), player=(-30.0, 5.0))
-    ox, oy = batch.world.offsets[0]
+    ox, oy = batch.world.pitches.offsets[0]
     player_before = batch.world.objects(0)[0].position
     for _ in range(3):
         batch.step()
-    assert batch.goals[0] == 1
+    assert batch.state.goals[0] == 1
     x, y, vx, vy = ball_position(batch)
     assert x == 0.0 and -34.0 <= y <= 34.0 and (vx, vy) == (0.0, 0.0)
     assert batch.world.objects(0)[0].position == player_before  # the player stays
@@ -96,7 +96,7 @@ def test_ball_through_mouth_scores_and_restarts_on_centre_line():
 
 def test_ball_in_net_cannot_leave_through_the_back():
     batch = scripted((53.0, 0.0), (1.0, 0.0))
-    batch.last_ball[0] = (53.0, 0.0)  # already in: not a new crossing
+    batch.state.last_ball[0] = (53.0, 0.0)  # already in: not a new crossing
     for _ in range(10):
         batch.step()
     assert ball_position(batch)[0] < 54.5

@@ -17,23 +17,23 @@ from app.ui.panels.svg import escape, svg_open
 from app.ui.pitch import PitchGeometry
 from fuzzy.vocabulary import Vocabulary
 from soccer.config import GameConfig
-from soccer.engine import GameBatch
+from soccer.engine import GameBatch, Observation
 
 if TYPE_CHECKING:
     from app.runs import SampledPlayer
 
-OBSERVED_PLAYER, OBSERVED_FACING, OBSERVED_BALL = slice(0, 2), 2, slice(3, 5)  # GameBatch.observed columns
 EMPTY_TEXT = ("Start an evolution in the Evolve tab: the best players of each generation will play here, "
               "side by side, while the next generation is evaluated.")
 
 
 def population_html(
-    geometry: PitchGeometry, observed: np.ndarray, goals: Sequence[int], done: Sequence[bool], labels: Sequence[str]
+    geometry: PitchGeometry, observation: Observation, goals: Sequence[int], done: Sequence[bool],
+    labels: Sequence[str],
 ) -> str:
-    """Small pitches in a grid; observed[g] = player x, y, facing (degrees), ball x, y."""
+    """Small pitches in a grid, game g where observation[g] saw it."""
     columns = style.POPULATION_GRID[0]
     cells = "".join(
-        _mini_pitch(geometry, observed[g], goals[g], done[g], labels[g]) for g in range(len(labels))
+        _mini_pitch(geometry, observation, g, goals[g], done[g], labels[g]) for g in range(len(labels))
     )
     return (
         f'<div class="population" data-games="{len(labels)}" style="{style.FONT}; display:grid; '
@@ -41,7 +41,7 @@ def population_html(
     )
 
 
-def _mini_pitch(geometry: PitchGeometry, observed: np.ndarray, goals: int, done: bool, label: str) -> str:
+def _mini_pitch(geometry: PitchGeometry, observation: Observation, g: int, goals: int, done: bool, label: str) -> str:
     margin = style.MINI_PITCH_MARGIN
     width = 2 * (geometry.half_length + margin) + geometry.goal_depth
     height = 2 * (geometry.half_width + margin)
@@ -55,9 +55,9 @@ def _mini_pitch(geometry: PitchGeometry, observed: np.ndarray, goals: int, done:
         return (value + geometry.half_width + margin) * scale  # +y (the player's right) is down, as on the pitch
 
     hl, hw, goal = geometry.half_length, geometry.half_width, geometry.goal_half_width
-    px, py = observed[OBSERVED_PLAYER]
-    facing = np.radians(observed[OBSERVED_FACING])
-    bx, by = observed[OBSERVED_BALL]
+    px, py = observation.player_x[g], observation.player_y[g]
+    facing = np.radians(observation.facing[g])
+    bx, by = observation.ball_x[g], observation.ball_y[g]
     grass = style.MINI_PITCH_DONE if done else style.MINI_PITCH_GRASS
     return (
         f'<div class="mini-pitch" data-goals="{goals}" data-done="{str(bool(done)).lower()}">'
@@ -130,7 +130,7 @@ class PopulationPanel:
         if now - self._last_render >= style.POPULATION_REFRESH_SECONDS:
             self._last_render = now
             self.grid.content = population_html(
-                self.geometry, self.batch.observed, self.batch.goals, self.batch.done, self.labels
+                self.geometry, self.batch.observation, self.batch.state.goals, self.batch.state.done, self.labels
             )
 
     def _rebuild(self, run_id: int, generation: int, players: Sequence["SampledPlayer"]) -> None:
