@@ -110,8 +110,9 @@ class GameState(NamedTuple):
 
 
 class Observation(NamedTuple):
-    """What each game's player perceived for its latest decision (inputs NaN before the first).
-    Positions are in the game's own pitch coordinates (metres, centre origin)."""
+    """What each game's player perceived for its latest decision; a new batch has already perceived
+    for the first one (as Gymnasium's reset returns the first observation). Positions are in the
+    game's own pitch coordinates (metres, centre origin)."""
 
     player_x: np.ndarray  # float64[n]
     player_y: np.ndarray  # float64[n]
@@ -383,6 +384,19 @@ def tick_kernel(bodies, layer, pitches, state, observation, decision, rulebases,
     return finished
 
 
+@numba.njit(cache=True)
+def observe_kernel(bodies, layer, pitches, state, observation, layout, constants):
+    """Perception alone for every live game in space `layer`: the first observation of a new batch,
+    the very one its first tick perceives again. The named tuples arrive as plain ones (see `plain`)."""
+    pitches, state, observation = Pitches(*pitches), GameState(*state), Observation(*observation)
+    layout, constants = VocabularyLayout(*layout), WorldConstants(*constants)
+    done, layers = state.done, pitches.layer
+    for g in range(done.shape[0]):
+        if not done[g] and layers[g] == layer:
+            px, py, bx, by = local_positions(g, bodies, pitches)
+            perceive_step(g, px, py, bx, by, state, observation, layout, constants)
+
+
 # ---- the batch --------------------------------------------------------------------------------
 
 
@@ -413,8 +427,8 @@ class GameBatch:
 
     What the outside reads (numpy arrays, row g = game g, updated in place by every `step`):
     `state` (GameState: goals, kicks, ticks, done, end reasons, ...), `observation` (Observation: what
-    each player perceived for its latest decision) and `decision` (Decision: the selected action, its
-    output values and every rule's strength).
+    each player perceived for its latest decision, already filled for the first one when the batch is
+    built) and `decision` (Decision: the selected action, its output values and every rule's strength).
     `compiled` holds the players' rulebases as the kernel reads them (fuzzy.batched), `layout` where
     SimpleSoccer's quantities sit in the vocabulary, `world` the pymunk spaces."""
 
@@ -462,6 +476,9 @@ class GameBatch:
         self.set_rulebases(rulebases)
         self._buffers = [pymunk.batch.Buffer() for _ in self.world.spaces]
         self._live = n
+        a = self._arguments
+        for layer in range(len(self.world.spaces)):
+            observe_kernel(self._bodies(layer), layer, a.pitches, a.state, a.observation, a.layout, a.constants)
 
     def set_rulebases(self, rulebases: Sequence[Rulebase]) -> None:
         """Give the players (new) controllers; the games go on where they are."""

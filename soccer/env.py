@@ -24,8 +24,9 @@ class SoccerState:
     facing: float  # degrees; 0 = +x (toward the goal), positive = turned to the right
     ball: tuple[float, float]
     ball_trail: tuple[tuple[float, float], ...]  # oldest first, ending with the ball's position
-    visible: dict[str, bool]  # object -> in view at the last decision
-    inputs: dict[str, float | None]  # input -> crisp value at the last decision (None: out of view)
+    # What the player perceived for its latest decision; after reset, for the first one, about to be made.
+    visible: dict[str, bool]  # object -> in view
+    inputs: dict[str, float | None]  # input -> crisp value (None: out of view)
     strengths: tuple[float, ...]  # every rule's strength at the last decision (0 before the first)
     action: str | None  # the last selected action (None: no rule fired, the player hunted)
     parameters: dict[str, float]  # the selected action's outputs it uses
@@ -37,7 +38,8 @@ class SoccerState:
 
 
 class SoccerEnv:
-    """reset(seed) -> state; step() -> state plays one tick with the player's own controller."""
+    """reset(seed) -> state, with the first observation; step() -> state plays one tick with the
+    player's own controller."""
 
     def __init__(self, rulebase: Rulebase, config: GameConfig = GameConfig(),
                  vocabulary: Vocabulary = SOCCER_VOCABULARY):

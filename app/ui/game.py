@@ -13,9 +13,7 @@ from fuzzy.engine import Engine, Inference
 from fuzzy.printer import format_rule
 from fuzzy.rule import Rulebase
 from soccer.env import SoccerEnv
-from soccer.perception import perceive
-
-BALL, GOAL = "BALL", "GOAL"  # the ball's visibility colours the view cone
+from soccer.perception import BALL  # the ball's visibility colours the view cone
 
 
 class Game:
@@ -24,7 +22,6 @@ class Game:
         self.vocabulary = context.vocabulary
         self.env = SoccerEnv(rulebase, context.game, context.vocabulary)
         self.view_half_angle = context.game.world.view_width / 2
-        self.constants = context.game.world.constants()
         self.set_rulebase(rulebase, name)
         self.restart(seed)
 
@@ -57,26 +54,10 @@ class Game:
     def inputs(self) -> dict[str, float | None]:
         """The crisp inputs of the player's decision (None for an object out of view): the last one
         made, or at a fresh start (no decision yet) the one it is about to make."""
-        if self.state.tick == 0:
-            return self._perceived_now()[0]
         return dict(self.state.inputs)
 
     def visible(self) -> dict[str, bool]:
-        return self._perceived_now()[1] if self.state.tick == 0 else dict(self.state.visible)
-
-    def _perceived_now(self) -> tuple[dict[str, float | None], dict[str, bool]]:
-        """What the player sees from where it stands, exactly as the engine perceives at its next tick."""
-        s = self.state
-        ball_distance, ball_direction, ball_seen, goal_distance, goal_direction, goal_seen = perceive(
-            s.player[0], s.player[1], s.facing, s.ball[0], s.ball[1], self.constants)
-        perceived = {BALL: (ball_distance, ball_direction, ball_seen), GOAL: (goal_distance, goal_direction, goal_seen)}
-        inputs: dict[str, float | None] = {}
-        for obj, (distance, direction, seen) in perceived.items():
-            reads = self.vocabulary.objects[obj]
-            inputs[reads["distance"]] = float(distance) if seen else None
-            inputs[reads["direction"]] = float(direction) if seen else None
-        return ({name: inputs[name] for name in self.vocabulary.input_names},
-                {obj: bool(perceived[obj][2]) for obj in self.vocabulary.object_names})
+        return dict(self.state.visible)
 
     def inference(self) -> Inference:
         if self._inference is None:

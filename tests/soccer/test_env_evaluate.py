@@ -37,6 +37,8 @@ def test_env_state_shows_what_the_player_sees():
     env = SoccerEnv(demo_rulebase())
     start = env.reset(3)
     assert start.tick == 0 and start.facing == 0.0 and start.ball[0] == 0.0 and not start.done
+    # reset returns the first observation: the goal is always in view from the start
+    assert start.visible["GOAL"] and start.inputs["goal_distance"] > 50.0 and start.action is None
     state = env.step()
     assert state.visible["GOAL"] and state.inputs["goal_distance"] > 50.0
     assert (state.inputs["ball_distance"] is None) == (not state.visible["BALL"])
