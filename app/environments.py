@@ -10,7 +10,7 @@ for the recording when it can.
 from __future__ import annotations
 
 from contextlib import contextmanager
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, ClassVar, Iterator, Literal, NamedTuple, Sequence
 
 from soccer.config import GameConfig, WorldConfig
@@ -114,7 +114,7 @@ class RcssTrials:
         return (RcssError,)
 
     def settings(self) -> dict[str, Any]:
-        return {"servers": list(self.servers), "trial": asdict(self.trial)}
+        return {"servers": list(self.servers), "trial": self.trial.model_dump()}
 
     @property
     def world(self) -> None:

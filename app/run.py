@@ -72,8 +72,8 @@ class RunSettings:
             raise ValueError(f"invalid game parameters: {describe_problems(exc.errors())}") from None
         try:
             trial = trial if isinstance(trial, TrialConfig) else TrialConfig(**(trial or {}))
-        except (TypeError, ValueError) as exc:
-            raise ValueError(f"invalid trial parameters: {exc}") from None
+        except ValidationError as exc:
+            raise ValueError(f"invalid trial parameters: {describe_problems(exc.errors())}") from None
         for where, check in (("env", lambda: checked_env(env)), ("servers", lambda: checked_servers(env, servers)),
                              ("ga.workers", lambda: checked_workers(env, ga.workers))):
             try:

@@ -143,8 +143,9 @@ class WorldConfig(BaseModel):
         )
 
 
-class GameConfig(BaseModel):
-    """The rules of one SimpleSoccer game: when it ends, its fitness (the chapter, 5.1 and 5.2), its skill set."""
+class EvaluationRules(BaseModel):
+    """How one evaluation ends, its fitness (the chapter, 5.1 and 5.2) and the player's skill set: the rules
+    SimpleSoccer games (GameConfig) and rcssserver trials (soccer.rcss.trial.TrialConfig) share."""
 
     model_config = ConfigDict(frozen=True, extra="forbid")
 
@@ -153,9 +154,14 @@ class GameConfig(BaseModel):
     idle_ticks: PositiveInt = 100  # consecutive ticks without moving more than idle_distance nor kicking
     idle_distance: float = Field(0.01, ge=0.0)
     fitness: FitnessName = "simple-composite"
-    games_per_evaluation: PositiveInt = 1
-    noise: bool = False  # rcssserver-like velocity and turn noise
     # What the kicking skills do with the ball out of reach (soccer/skills.py). `strict` by calibration:
     # with `assisted` the GA reaches the 10-goal cap within a few generations (README, "Calibration").
     skills: SkillSet = "strict"
+
+
+class GameConfig(EvaluationRules):
+    """The rules of one SimpleSoccer game, and its world."""
+
+    games_per_evaluation: PositiveInt = 1
+    noise: bool = False  # rcssserver-like velocity and turn noise
     world: WorldConfig = WorldConfig()

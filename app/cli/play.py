@@ -126,11 +126,8 @@ def trial_config(fitness: str | None, max_ticks: int | None, goal_cap: int | Non
     """rcssserver trials (the chapter's, 5.3) from the game options; unset ones keep TrialConfig's (the chapter's)."""
     from soccer.rcss.trial import TrialConfig
 
-    # the same checks and messages as SimpleSoccer
-    game_config(fitness, max_ticks, goal_cap, idle_ticks, None, skills=skills)
-    chosen = {"fitness": fitness, "max_cycles": max_ticks, "goal_cap": goal_cap, "idle_cycles": idle_ticks,
-              "skills": skills}
-    return TrialConfig(**{name: value for name, value in chosen.items() if value is not None})
+    return config_from_options(TrialConfig, {"fitness": fitness, "max_ticks": max_ticks, "goal_cap": goal_cap,
+                                             "idle_ticks": idle_ticks, "skills": skills})
 
 
 def consecutive_seeds(seed: int, games: int) -> list[int]:

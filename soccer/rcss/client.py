@@ -9,6 +9,7 @@ RcssError within seconds instead of a hang.
 
 from __future__ import annotations
 
+import select
 import socket
 import time
 from collections import deque
@@ -95,6 +96,10 @@ class Endpoint:
         self.address = source  # after init, talk to the port the replies come from
         return parse_message(data)
 
+    def more_waiting(self) -> bool:
+        """A datagram is already queued (the server has moved on to another cycle)."""
+        return bool(select.select([self.socket], [], [], 0)[0])
+
     def initialise(self, text: str) -> Message:
         """Send init and return the first reply; RcssNoServerError when nobody answers in time."""
         try:
@@ -151,17 +156,21 @@ class PlayerClient:
         return self.read_cycle()
 
     def read_cycle(self) -> PlayerCycle:
-        """Messages up to the next (think). A server_param on the way sets `params` (and is checked)."""
+        """Messages up to the newest (think). A server_param on the way sets `params` (and is checked).
+        A client that fell behind (the server stops waiting for (done) after 1.25 s and steps on) finds
+        later cycles queued behind a (think): it reads on to the newest one instead of answering old ones."""
         deadline = time.monotonic() + self.timeouts.cycle
         sense_body, see, hears = None, None, []
         while True:
             message = self.endpoint.receive(max(deadline - time.monotonic(), 0.001), "(think)")
             if isinstance(message, Think):
+                if self.endpoint.more_waiting():
+                    continue
                 if sense_body is None:
                     raise RcssConfigError("player: (think) without sense_body; is the server in synch mode?")
                 return PlayerCycle(sense_body, see, hears)
             if isinstance(message, SenseBody):
-                sense_body = message
+                sense_body, see = message, None  # a see follows its cycle's sense_body
             elif isinstance(message, See):
                 see = message
             elif isinstance(message, Hear):
@@ -209,7 +218,8 @@ class TrainerClient:
         self.endpoint.send(text)
 
     def move_ball(self, x: float, y: float) -> None:
-        self.command(f"(move (ball) {x:.4f} {y:.4f} 0 0)")
+        """The ball at rest at (x, y): rcssserver's coach takes 2 numbers (velocity 0) or 5 for the ball."""
+        self.command(f"(move (ball) {x:.4f} {y:.4f})")
 
     def move_player(self, team: str, unum: int, x: float, y: float, body: float) -> None:
         self.command(f"(move (player {team} {unum}) {x:.4f} {y:.4f} {body:.2f} 0 0)")
@@ -221,12 +231,15 @@ class TrainerClient:
         self.endpoint.send("(done)")
 
     def read_cycle(self) -> TrainerCycle:
-        """Messages up to the next (think); every pending command must have been acknowledged."""
+        """Messages up to the newest (think) (as the player's); every pending command must have been
+        acknowledged."""
         deadline = time.monotonic() + self.timeouts.cycle
         cycle = TrainerCycle()
         while True:
             message = self.endpoint.receive(max(deadline - time.monotonic(), 0.001), "(think)")
             if isinstance(message, Think):
+                if self.endpoint.more_waiting():
+                    continue
                 if self.pending:
                     raise RcssCommandError(f"trainer: no reply from rcssserver to {self.pending[0]}")
                 return cycle

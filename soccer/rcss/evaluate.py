@@ -14,6 +14,7 @@ from typing import Sequence
 
 from fuzzy.rule import Rulebase
 from soccer.rcss.client import DEFAULT_SERVER, DEFAULT_TEAM, Session, Timeouts, parse_server
+from soccer.rcss.player import load_compiled_skills
 from soccer.rcss.trial import TrialConfig, TrialResult, run_trial
 
 
@@ -40,6 +41,7 @@ class RcssEvaluator:
     def _session(self, index: int) -> Session:
         session = self._sessions.get(index)
         if session is None:
+            load_compiled_skills()  # before the server waits for the player
             session = Session(self.servers[index], self.trainer_ports[index], self.team, self.timeouts)
             session.open()
             self._sessions[index] = session

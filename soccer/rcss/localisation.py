@@ -13,12 +13,16 @@ import math
 from dataclasses import dataclass
 
 from soccer.rcss.messages import See
+from soccer.rcss.params import DEFAULT_WORLD
 
-PITCH_HALF_LENGTH = 52.5
-PITCH_HALF_WIDTH = 34.0
-GOAL_HALF_WIDTH = 7.01
-PENALTY_AREA_X = 36.0  # 52.5 - penalty_area_length 16.5
+# rcssserver's pitch is WorldConfig's default one (soccer/config.py); the penalty areas and the flags
+# beyond the lines are rcssserver's too, and only localisation needs them.
+PITCH_HALF_LENGTH = DEFAULT_WORLD.pitch_length / 2
+PITCH_HALF_WIDTH = DEFAULT_WORLD.pitch_width / 2
+GOAL_HALF_WIDTH = DEFAULT_WORLD.goal_width / 2
+PENALTY_AREA_LENGTH = 16.5
 PENALTY_AREA_HALF_WIDTH = 20.16
+PENALTY_AREA_X = PITCH_HALF_LENGTH - PENALTY_AREA_LENGTH
 OUTER_FLAG_OFFSET = 5.0  # the flags beyond the touch and goal lines
 OUR_GOAL = (PITCH_HALF_LENGTH, 0.0)  # side l attacks (g r)
 

@@ -16,31 +16,17 @@ from dataclasses import dataclass
 from fuzzy.engine import Engine, Inference
 from fuzzy.rule import Rulebase
 from fuzzy.vocabulary import Vocabulary
-from soccer.config import SOCCER_VOCABULARY, GameConfig, WorldConfig, WorldConstants
+from soccer.config import SOCCER_VOCABULARY, GameConfig, WorldConstants
 from soccer.rcss.client import PlayerCycle
 from soccer.rcss.localisation import Pose, goal_relative, localise, normalise_angle
+from soccer.rcss.messages import See, SeenObject, SenseBody
 from soccer.rcss.params import VIEW_HALF_ANGLE, ServerParams
 from soccer.skills import DASH, HUNT, KICK, LEFT, RIGHT, TURN, skill_command, skill_table
 
 
 def world_constants(params: ServerParams, view_width: str = "normal") -> WorldConstants:
-    """The skills' constants with the server's own physics (and our skill tunables from WorldConfig)."""
-    return WorldConfig(
-        ball_size=params.ball_size,
-        ball_decay=params.ball_decay,
-        ball_speed_max=params.ball_speed_max,
-        ball_accel_max=params.ball_accel_max,
-        player_size=params.player_size,
-        player_decay=params.player_decay,
-        player_speed_max=params.player_speed_max,
-        inertia_moment=params.inertia_moment,
-        dash_power_rate=params.dash_power_rate,
-        kick_power_rate=params.kick_power_rate,
-        kickable_margin=params.kickable_margin,
-        max_power=params.maxpower,
-        max_moment=params.maxmoment,
-        view_width=2 * VIEW_HALF_ANGLE[view_width],
-    ).constants()
+    """The skills' constants: the server's own physics (our skill tunables keep WorldConfig's values)."""
+    return params.world.model_copy(update={"view_width": 2 * VIEW_HALF_ANGLE[view_width]}).constants()
 
 
 @dataclass(frozen=True)
@@ -99,9 +85,9 @@ class WorldModel:
 
     def _predicted(self, pose: Pose, body) -> Pose:
         """The pose one step on: the turn actually made, and the move the player's velocity made."""
-        turned = self.pending_turn / (1.0 + self.params.inertia_moment * self.previous_speed)
+        turned = self.pending_turn / (1.0 + self.params.world.inertia_moment * self.previous_speed)
         facing = normalise_angle(pose.body + turned)
-        moved = body.speed / self.params.player_decay  # sense_body reports the velocity after decay
+        moved = body.speed / self.params.world.player_decay  # sense_body reports the velocity after decay
         angle = math.radians(facing + body.head_angle + body.speed_direction)
         return Pose(pose.x + moved * math.cos(angle), pose.y + moved * math.sin(angle), facing)
 
@@ -113,7 +99,8 @@ class WorldModel:
     def perceive(self, speed: float, view_half_angle: float) -> Perception:
         ball_distance = ball_direction = goal_distance = goal_direction = None
         goal_known = 0.0
-        kickable = self.near_ball_distance is not None and self.near_ball_distance <= self.params.kickable_distance
+        reach = self.params.world.kickable_distance
+        kickable = self.near_ball_distance is not None and self.near_ball_distance <= reach
         if self.pose is not None:
             distance, goal_known = goal_relative(self.pose)
             if abs(goal_known) <= view_half_angle:
@@ -122,7 +109,7 @@ class WorldModel:
                 distance, direction = self.pose.relative(*self.ball)
                 if abs(direction) <= view_half_angle:
                     ball_distance, ball_direction = distance, direction
-                    kickable = kickable or distance <= self.params.kickable_distance
+                    kickable = kickable or distance <= reach
         return Perception(ball_distance, ball_direction, goal_distance, goal_direction, goal_known, kickable, speed)
 
 
@@ -177,13 +164,21 @@ class RcssPlayer:
         return [command_text(kind, value, kick_direction, self.params)]
 
 
+def load_compiled_skills() -> None:
+    """One decision on a made-up view, so that numba loads the compiled skills now: the first call takes
+    seconds, and a server waits only 1.25 s for a cycle's (done) before it steps on without the player."""
+    view = See(0, (SeenObject(("f", "c"), 10.0, 0.0), SeenObject(("g", "r"), 60.0, 5.0)))
+    body = SenseBody(0, "high", "normal", 0.0, 0.0, 0.0)
+    RcssPlayer(Rulebase(()), ServerParams()).decide(PlayerCycle(body, view))
+
+
 def command_text(kind: int, value: float, direction: float, params: ServerParams) -> str:
     """A skill's body command as rcssserver text, clamped to the server's own limits."""
     if kind == TURN:
-        return f"(turn {min(max(value, params.minmoment), params.maxmoment):.2f})"
+        return f"(turn {min(max(value, params.min_moment), params.world.max_moment):.2f})"
     if kind == DASH:
-        return f"(dash {min(max(value, params.minpower), params.maxpower):.2f})"
+        return f"(dash {min(max(value, params.min_power), params.world.max_power):.2f})"
     if kind == KICK:
-        power = min(max(value, params.minpower), params.maxpower)
+        power = min(max(value, params.min_power), params.world.max_power)
         return f"(kick {power:.2f} {normalise_angle(direction):.2f})"
     raise ValueError(f"not a body command: {kind}")

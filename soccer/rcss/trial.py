@@ -1,8 +1,8 @@
-"""Trials as the chapter ran them on rcssserver, driven cycle by cycle in synch mode.
+"""Trials as the chapter ran them on rcssserver (the chapter, 5.2-5.3), driven cycle by cycle in synch mode.
 
 A trial: the trainer puts the player at a random point of its own half facing the goal it attacks
-and the ball at the centre spot, then `(change_mode play_on)`. It ends after `max_cycles` cycles,
-at the goal cap, after `idle_cycles` cycles in which the player neither moved more than
+and the ball at the centre spot, then `(change_mode play_on)`. It ends after `max_ticks` cycles,
+at the goal cap, after `idle_ticks` cycles in which the player neither moved more than
 `idle_distance` (from the trainer's see_global) nor kicked, or when the referee takes the ball out of
 play (kick-in, goal kick, corner, own goal, ...). After a goal the server freezes time; the trainer
 waits `restart_wait_cycles` cycles, then puts the ball on a random point of the centre line and sets
@@ -14,41 +14,39 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
+from pydantic import PositiveInt, model_validator
 
 from fuzzy.rule import Rulebase
-from soccer.config import GameConfig
-from soccer.fitness import FITNESS_FUNCTIONS
+from soccer.config import EvaluationRules, FitnessName
 from soccer.fitness import fitness as fitness_of
 from soccer.rcss.client import PlayerCycle, Session, TrainerCycle
 from soccer.rcss.localisation import PITCH_HALF_LENGTH, PITCH_HALF_WIDTH
 from soccer.rcss.player import RcssPlayer
-from soccer.skills import SKILL_SETS
 
 PLAY_ON = "play_on"
 CONTINUING_MODES = frozenset({PLAY_ON, "drop_ball"})  # the ball stays in play
 OUR_SIDE = "l"  # the player is the left team's only player: it attacks (g r)
+RENAMED_FIELDS = {"max_cycles": "max_ticks", "idle_cycles": "idle_ticks"}
 
 
-@dataclass(frozen=True)
-class TrialConfig:
-    max_cycles: int = 1200  # 120 s of server time at 100 ms per cycle, as the chapter
-    idle_cycles: int = 100  # the chapter's 10 s without movement or action
-    idle_distance: float = 0.01  # metres: less than this is "not moved"
-    goal_cap: int = 10  # 10 goals = the target fitness 0.05
-    restart_wait_cycles: int = 5  # after a goal, cycles before the trainer restarts play
-    fitness: str = "robocup-composite"
-    skills: str = GameConfig.model_fields["skills"].default  # the skill set, as GameConfig's (soccer/skills.py)
+class TrialConfig(EvaluationRules):
+    """The rules of one trial: a SimpleSoccer game's (EvaluationRules, counted in server cycles) with the
+    chapter's RoboCup values where they differ, and the trainer's wait after a goal."""
 
-    def __post_init__(self) -> None:
-        for name in ("max_cycles", "idle_cycles", "goal_cap", "restart_wait_cycles"):
-            if getattr(self, name) < 1:
-                raise ValueError(f"{name} must be at least 1, got {getattr(self, name)}")
-        if self.skills not in SKILL_SETS:
-            raise ValueError(f"unknown skills {self.skills!r}; expected one of {', '.join(SKILL_SETS)}")
-        if self.fitness not in FITNESS_FUNCTIONS:
-            raise ValueError(f"unknown fitness {self.fitness!r}; expected one of {', '.join(FITNESS_FUNCTIONS)}")
+    max_ticks: PositiveInt = 1200  # 120 s of server time at 100 ms per cycle, as the chapter
+    fitness: FitnessName = "robocup-composite"
+    restart_wait_cycles: PositiveInt = 5  # after a goal, cycles before the trainer restarts play
+
+    @model_validator(mode="before")
+    @classmethod
+    def _earlier_names(cls, values: Any) -> Any:
+        """Runs stored before the shared rules named the limits max_cycles and idle_cycles."""
+        if isinstance(values, dict):
+            values = {RENAMED_FIELDS.get(name, name): value for name, value in values.items()}
+        return values
 
 
 @dataclass(frozen=True)
@@ -120,9 +118,9 @@ class Trial:
             return
         if self.goals >= config.goal_cap:
             self.end = "goal cap"
-        elif self.idle >= config.idle_cycles:
+        elif self.idle >= config.idle_ticks:
             self.end = "idle"
-        elif self.ticks >= config.max_cycles:
+        elif self.ticks >= config.max_ticks:
             self.end = "time"
 
     def _note_movement(self, trainer_cycle: TrainerCycle, kicked: bool) -> None:

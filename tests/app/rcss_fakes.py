@@ -8,7 +8,7 @@ import socket
 from contextlib import ExitStack, contextmanager
 from typing import Iterator
 
-from soccer.rcss.transcript import Line, ReplayServer, read_transcript
+from tests.rcss.replay import Line, ReplayServer, read_transcript
 from tests.rcss.conftest import GOALS, OUT_OF_PLAY, TRANSCRIPTS, player_thinks, without_error_probes
 
 # The recorded trials: 3 goals in 451 cycles (fitness 1/6), and a kick-in after 12 cycles with one kick

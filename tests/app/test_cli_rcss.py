@@ -62,7 +62,7 @@ def test_the_run_folder_records_where_it_played(evolved_on_rcss):
     manifest = json.loads((folder / "run.json").read_text())
     assert manifest["env"] == "rcss" and manifest["servers"] == servers and "game" not in manifest
     # Unset game options take the chapter's RoboCup trial settings; --max-ticks sets the trial's cycles.
-    assert manifest["trial"]["max_cycles"] == GOALS_CYCLES and manifest["trial"]["fitness"] == "robocup-composite"
+    assert manifest["trial"]["max_ticks"] == GOALS_CYCLES and manifest["trial"]["fitness"] == "robocup-composite"
     assert manifest["ga"]["workers"] == 1
     for name in ("best.rules", "best.json", "checkpoint", "run.rrd"):
         assert (folder / name).is_file(), name

@@ -9,7 +9,7 @@ import pytest
 
 from fuzzy.parser import parse_rulebase
 from fuzzy.vocabulary import Vocabulary
-from soccer.rcss.transcript import Line, read_transcript
+from tests.rcss.replay import Line, read_transcript
 
 VOCABULARY = Vocabulary.default()
 

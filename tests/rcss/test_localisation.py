@@ -5,7 +5,7 @@ import pytest
 
 from soccer.rcss.localisation import LANDMARKS, Pose, goal_relative, localise
 from soccer.rcss.messages import See, SeenObject, parse_message
-from soccer.rcss.transcript import read_transcript
+from tests.rcss.replay import read_transcript
 
 from .conftest import GOALS, OUT_OF_PLAY
 

@@ -19,7 +19,7 @@ from soccer.rcss.messages import (
     parse_message,
 )
 from soccer.rcss.sexp import Quoted, parse
-from soccer.rcss.transcript import read_transcript
+from tests.rcss.replay import read_transcript
 
 from .conftest import ALL_TRANSCRIPTS
 

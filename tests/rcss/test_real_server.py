@@ -1,54 +1,131 @@
-"""Against a real rcssserver, when one is installed (it is on no package registry; see README)."""
+"""The client, the trials and the evaluator against real rcssservers (started by soccer-lab's launcher,
+noise at the server's defaults): what the recorded transcripts cannot show, such as whether the server
+accepts our commands at all."""
 
-import shutil
-import socket
-import subprocess
+from __future__ import annotations
+
+import math
+import statistics
+import threading
 import time
 
 import pytest
 
-from soccer.rcss.client import Timeouts
+from soccer.config import WorldConfig
+from soccer.rcss.client import Session
+from soccer.rcss.errors import RcssConfigError, RcssError
 from soccer.rcss.evaluate import RcssEvaluator
-from soccer.rcss.trial import TrialConfig
+from soccer.rcss.player import RcssPlayer
+from soccer.rcss.trial import TrialConfig, run_trial
 
-SERVER = shutil.which("rcssserver")
-pytestmark = pytest.mark.skipif(
-    SERVER is None, reason="no rcssserver executable on PATH (build it from the RoboCup project to run this test)"
-)
+from .real_server import connected_players, kill
 
-
-def free_port_triple() -> int:
-    """A port P with P, P+1, P+2 free (player, trainer, online coach)."""
-    for _ in range(50):
-        with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as probe:
-            probe.bind(("127.0.0.1", 0))
-            port = probe.getsockname()[1]
-        if port + 2 < 65535:
-            return port
-    raise RuntimeError("no free ports")
+SHORT = TrialConfig(max_ticks=250)  # the striker scores within 250 cycles from any start
 
 
-@pytest.fixture
-def rcssserver(tmp_path):
-    port = free_port_triple()
-    process = subprocess.Popen(
-        [SERVER, f"server::port={port}", f"server::coach_port={port + 1}", f"server::olcoach_port={port + 2}",
-         "server::synch_mode=true", "server::auto_mode=false", "server::coach=true",
-         "server::coach_w_referee=true", "server::game_logging=false", "server::text_logging=false",
-         "server::use_offside=false", "server::free_kick_faults=false", "server::nr_extra_halfs=0",
-         "server::penalty_shoot_outs=false"],
-        cwd=tmp_path, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
-    )
-    time.sleep(1.0)
-    yield f"127.0.0.1:{port}"
-    process.terminate()
-    process.wait(timeout=10)
+def test_the_striker_scores_on_a_real_server_with_default_noise(start_servers, chaser):
+    pool = start_servers()
+    with Session(pool.addresses[0]) as session:
+        session.open()
+        world = session.params.world
+        assert (world.player_rand, world.ball_rand) == (WorldConfig().player_rand, WorldConfig().ball_rand) != (0, 0)
+        first = run_trial(session, chaser, 1, SHORT)
+        second = run_trial(session, chaser, 2, SHORT)  # the same session: the trainer resets for each trial
+    for result in (first, second):
+        assert result.goals >= 1 and result.kicks >= result.goals, result
+        assert result.fitness == pytest.approx(1 / (2 * result.goals))
+        assert (result.ticks, result.end) == (SHORT.max_ticks, "time")
 
 
-def test_two_short_trials_on_a_real_server(rcssserver, chaser):
-    with RcssEvaluator([rcssserver], TrialConfig(max_cycles=200), timeouts=Timeouts(connect=5.0)) as evaluate:
-        results = evaluate([chaser, chaser], [1, 2])
-    for result in results:
-        assert 0 < result.ticks <= 200
-        assert 0.0 < result.fitness <= 1.0
-        assert result.kicks >= 0 and result.goals >= 0
+def test_localisation_on_a_live_server_with_default_noise(start_servers, chaser):
+    """The player's pose from the flags it sees against the trainer's see_global, cycle by cycle."""
+    pool = start_servers()
+    errors, facing = [], []
+    with Session(pool.addresses[0]) as session:
+        session.open()
+        player = RcssPlayer(chaser, session.params)
+        trainer = session.trainer
+        trainer.move_ball(0.0, 0.0)
+        trainer.move_player(session.player.team, session.player.unum, -20.0, 10.0, 30.0)
+        trainer.change_mode("play_on")
+        commands: list[str] = []
+        for _ in range(150):
+            player_cycle, trainer_cycle = session.step(commands)
+            commands = player.decide(player_cycle)
+            truth = trainer_cycle.see_global.player(session.player.team, session.player.unum)
+            if player_cycle.see is not None and player.world.pose is not None:
+                pose = player.world.pose
+                errors.append(math.hypot(pose.x - truth.x, pose.y - truth.y))
+                facing.append(abs((pose.body - truth.body + 180) % 360 - 180))
+    assert len(errors) > 50
+    assert statistics.median(errors) < 0.3 and max(errors) < 2.0
+    assert statistics.median(facing) < 2.0  # see_global reports whole degrees
+
+
+def test_two_servers_share_the_trials_and_keep_their_order(start_servers, chaser):
+    pool = start_servers(2)
+    with RcssEvaluator(pool.addresses, TrialConfig(max_ticks=60)) as evaluate:
+        results = evaluate([chaser] * 4, [21, 22, 23, 24])
+        clocks = [session.time for session in evaluate._sessions.values()]
+    assert [result.seed for result in results] == [21, 22, 23, 24]
+    assert all(result.ticks == 60 for result in results)
+    assert len(clocks) == 2 and all(clock > 0 for clock in clocks)  # both servers played
+    assert [connected_players(server) for server in pool.servers] == [1, 1]  # one session each, kept
+
+
+def test_a_server_killed_mid_trial_is_one_clear_error_within_seconds(start_servers, chaser):
+    pool = start_servers()
+    server = pool.servers[0]
+    killed_at: list[float] = []
+
+    def crash() -> None:
+        kill(server)
+        killed_at.append(time.monotonic())
+
+    with Session(server.address) as session:
+        session.open()
+        run_trial(session, chaser, 3, TrialConfig(max_ticks=5))  # the player's skills loaded
+        threading.Timer(0.5, crash).start()
+        with pytest.raises(RcssError) as raised:
+            run_trial(session, chaser, 3, TrialConfig(max_ticks=1_000_000, idle_ticks=1_000_000))
+    assert time.monotonic() - killed_at[0] < 5.0  # the client's cycle deadline (3 s), not a hang
+    message = str(raised.value)
+    assert "\n" not in message and server.address in message and "rcssserver" in message
+
+
+def test_a_client_that_falls_behind_catches_up_with_the_server(start_servers, chaser, monkeypatch):
+    """The server waits 1.25 s for a (done), then steps on: a player that stalls for longer reads on to the
+    newest cycle and the trial (and the next one on the session) goes on."""
+    pool = start_servers()
+    stalled = []
+    decide = RcssPlayer.decide
+
+    def stall_once(self, cycle):
+        if cycle.sense_body.time == 20 and not stalled:
+            stalled.append(cycle.sense_body.time)
+            time.sleep(2.0)
+        return decide(self, cycle)
+
+    monkeypatch.setattr(RcssPlayer, "decide", stall_once)
+    with Session(pool.addresses[0]) as session:
+        session.open()
+        behind = run_trial(session, chaser, 4, TrialConfig(max_ticks=60))
+        clock_after_stall = session.time
+        after = run_trial(session, chaser, 5, TrialConfig(max_ticks=30))
+    assert stalled == [20]
+    assert behind.end == "time" and behind.ticks == 60
+    assert clock_after_stall > 60  # the server stepped on while the player stalled; it skipped those cycles
+    assert after.ticks == 30 and after.end == "time"
+
+
+@pytest.mark.parametrize("option, value, fragment", [
+    ("server::synch_mode", "false", "not in synch mode: start it with server::synch_mode=true"),
+    ("server::coach_w_referee", "false", "add server::coach_w_referee=true"),
+    ("server::coach", "false", "start it with server::coach=true"),
+])
+def test_a_server_started_without_a_required_option_is_named(start_servers, option, value, fragment):
+    pool = start_servers(options={option: value})
+    started = time.monotonic()
+    with pytest.raises(RcssConfigError, match=fragment):
+        Session(pool.addresses[0]).open()
+    assert time.monotonic() - started < 3.0

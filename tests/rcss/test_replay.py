@@ -13,7 +13,7 @@ from soccer.rcss.errors import (
     RcssTimeoutError,
 )
 from soccer.rcss.evaluate import RcssEvaluator
-from soccer.rcss.transcript import Line, ReplayServer, read_transcript
+from tests.rcss.replay import Line, ReplayServer, read_transcript
 from soccer.rcss.trial import TrialConfig, run_trial
 
 from .conftest import GOALS, player_thinks
@@ -39,7 +39,7 @@ def replaced(lines, old, new):
 
 def test_goals_transcript_counts_three_goals_and_six_kicks(goals_lines, chaser):
     trial_cycles = player_thinks(goals_lines) - 1  # the first (think) comes at connection, before the trial
-    result, log = play(goals_lines, chaser, TrialConfig(max_cycles=trial_cycles))
+    result, log = play(goals_lines, chaser, TrialConfig(max_ticks=trial_cycles))
     assert log.error is None and log.finished and not log.init_port_misuse
     assert (result.goals, result.kicks, result.ticks, result.end) == (3, 6, trial_cycles, "time")
     assert result.fitness == pytest.approx(1 / 6)
@@ -69,7 +69,7 @@ def test_out_of_play_transcript_ends_the_trial_on_kick_in(out_of_play_lines, cha
 
 def test_trial_ends_when_the_player_stands_still(goals_lines, chaser):
     # The recorded player's first command was a turn: see_global 1 and 2 both put it at (-15, 0).
-    result, log = play(goals_lines, chaser, TrialConfig(idle_cycles=1))
+    result, log = play(goals_lines, chaser, TrialConfig(idle_ticks=1))
     assert log.error is None
     assert (result.end, result.ticks, result.goals) == ("idle", 2, 0)
     second = next(l.number for l in goals_lines if l.text.startswith("(see_global 2 "))
@@ -110,7 +110,7 @@ def test_server_silent_mid_trial(goals_lines, chaser):
 
 
 def test_evaluator_runs_servers_in_parallel_and_keeps_order(goals_lines, out_of_play_lines, chaser):
-    config = TrialConfig(max_cycles=player_thinks(goals_lines) - 1)
+    config = TrialConfig(max_ticks=player_thinks(goals_lines) - 1)
     with ReplayServer(goals_lines) as first, ReplayServer(out_of_play_lines) as second:
         with RcssEvaluator(
             [first.server, second.server], config, team=RECORDED_TEAM, timeouts=FAST, trainer_ports=[first.trainer_port, second.trainer_port]
