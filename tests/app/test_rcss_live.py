@@ -1,0 +1,153 @@
+"""`play`, `evolve`, `random-search`, `evolve --resume` and the API's rcss runs against real rcssservers:
+servers the user runs (`--server HOST:PORT`; here started by the tests), a server killed in the middle of
+a run, and a run whose soccer-lab process is killed and then resumed."""
+
+from __future__ import annotations
+
+import csv
+import json
+import signal
+import subprocess
+import sys
+import threading
+import time
+from pathlib import Path
+
+import pytest
+from typer.testing import CliRunner
+
+from app.cli import _register, app
+from soccer.rcss.servers import ServerPool
+from tests.app.api_client import api_client, wait_for
+from tests.rcss.conftest import CHASER
+from tests.rcss.real_server import kill
+
+_register()
+SMALL_RUN = ["--population-size", "4", "--generations", "2", "--max-length", "16", "--max-ticks", "80", "--seed", "3"]
+SOCCER_LAB = Path(sys.executable).with_name("soccer-lab")  # the installed script, run as a user would
+
+
+def run(*args: object):
+    return CliRunner().invoke(app, [str(a) for a in args])
+
+
+def generations(folder: Path) -> list[int]:
+    with (folder / "statistics.csv").open(newline="") as handle:
+        return [int(row["generation"]) for row in csv.DictReader(handle)]
+
+
+def servers_option(pool: ServerPool) -> list[str]:
+    return [part for address in pool.addresses for part in ("--server", address)]
+
+
+@pytest.fixture
+def striker(tmp_path) -> Path:
+    path = tmp_path / "striker.rules"
+    path.write_text(CHASER)
+    return path
+
+
+def test_play_on_two_servers_the_user_runs(start_servers, striker):
+    pool = start_servers(2)
+    result = run("play", striker, "--env", "rcss", *servers_option(pool), "--games", "2", "--max-ticks", "250")
+    assert result.exit_code == 0, result.output
+    rows = [line.split() for line in result.output.splitlines()[1:3]]
+    assert [row[:2] for row in rows] == [["1", "0"], ["2", "1"]]
+    assert all(int(row[2]) >= 1 and int(row[4]) == 250 for row in rows)  # goals, ticks
+
+
+@pytest.fixture(scope="module")
+def evolved(rcssserver, tmp_path_factory) -> tuple[Path, object, list[str]]:
+    folder = tmp_path_factory.mktemp("live") / "run"
+    with ServerPool(rcssserver, 2) as pool:
+        result = run("evolve", "--env", "rcss", *servers_option(pool), *SMALL_RUN, "--out", folder)
+        return folder, result, pool.addresses
+
+
+def test_evolve_on_two_servers(evolved):
+    folder, result, addresses = evolved
+    assert result.exit_code == 0, result.output
+    assert generations(folder) == [0, 1]
+    manifest = json.loads((folder / "run.json").read_text())
+    assert manifest["env"] == "rcss" and manifest["servers"] == addresses and manifest["trial"]["max_ticks"] == 80
+    with (folder / "statistics.csv").open(newline="") as handle:
+        rows = list(csv.DictReader(handle))
+    assert all(0.0 < float(row["best"]) <= float(row["mean"]) <= 1.0 for row in rows)
+    assert "best fitness" in result.output and (folder / "best.rules").is_file()
+
+
+def test_random_search_on_a_server(start_servers, tmp_path):
+    pool = start_servers()
+    folder = tmp_path / "random"
+    result = run("random-search", "--env", "rcss", *servers_option(pool), "--population-size", "3",
+                 "--generations", "1", "--max-ticks", "60", "--out", folder)
+    assert result.exit_code == 0, result.output
+    assert generations(folder) == [0]
+    assert json.loads((folder / "run.json").read_text())["algorithm"] == "random-search"
+
+
+def test_a_server_killed_mid_run_is_one_line_and_the_finished_generations_stay(start_servers, tmp_path):
+    pool = start_servers()
+    folder = tmp_path / "run"
+
+    def kill_after_first_generation() -> None:
+        wait_for(lambda: (folder / "checkpoint").exists(), timeout=120, what="generation 0")
+        kill(pool.servers[0])
+
+    threading.Thread(target=kill_after_first_generation, daemon=True).start()
+    result = run("evolve", "--env", "rcss", *servers_option(pool), *SMALL_RUN[:2], "--generations", "20",
+                 *SMALL_RUN[4:], "--out", folder)
+    assert result.exit_code == 2 and "Traceback" not in result.output, result.output
+    error = result.output.strip().splitlines()[-1]  # after the progress bar: one line
+    assert error.startswith("error: player: rcssserver at " + pool.addresses[0]), error
+    assert error.endswith(f"(did the server quit?); continue with: soccer-lab evolve --resume {folder}")
+    kept = generations(folder)
+    assert kept and kept == list(range(len(kept))) and len(kept) < 20
+
+    again = start_servers()  # resume on another server
+    resumed = run("evolve", "--resume", folder, *servers_option(again))
+    assert resumed.exit_code == 0, resumed.output
+    assert generations(folder) == list(range(20))
+
+
+def test_a_killed_run_resumes_to_its_end(start_servers, tmp_path):
+    pool = start_servers()
+    folder = tmp_path / "run"
+    process = subprocess.Popen([str(SOCCER_LAB), "evolve", "--env", "rcss", *servers_option(pool), *SMALL_RUN[:2],
+                                "--generations", "4", *SMALL_RUN[4:], "--out", str(folder)],
+                               stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    try:
+        wait_for(lambda: (folder / "checkpoint").exists() or process.poll() is not None, timeout=120,
+                 what="generation 0")
+        process.send_signal(signal.SIGKILL)
+    finally:
+        process.wait(30)
+    assert process.returncode == -signal.SIGKILL, process.stderr.read()
+    kept = generations(folder)
+    assert 1 <= len(kept) < 4
+    # The killed player left the server waiting for it; a resumed run starts on a fresh one.
+    again = start_servers()
+    resumed = run("evolve", "--resume", folder, *servers_option(again))
+    assert resumed.exit_code == 0, resumed.output
+    assert f"resuming {folder} after generation {kept[-1]}" in resumed.output
+    assert generations(folder) == [0, 1, 2, 3]
+
+
+def ended(client, run_id: int) -> dict | None:
+    record = client.get(f"/api/runs/{run_id}").json()
+    return record if record["status"] != "running" else None
+
+
+def test_an_api_run_on_two_servers_finishes(start_servers, tmp_path):
+    pool = start_servers(2)
+    with api_client(tmp_path) as client:
+        response = client.post("/api/runs", json={
+            "env": "rcss", "servers": pool.addresses, "trial": {"max_ticks": 80},
+            "ga": {"population_size": 4, "max_generations": 2, "max_length": 16, "seed": 3, "workers": 1}})
+        assert response.status_code == 201, response.json()
+        done = wait_for(lambda: ended(client, response.json()["id"]), timeout=180, what="the run to end")
+        assert done["status"] == "finished" and done["error"] is None and done["generations"] == 2
+        assert 0.0 < done["best_fitness"] <= 1.0
+        statistics = client.get(f"/api/runs/{done['id']}/statistics").json()
+        assert [row["generation"] for row in statistics] == [0, 1]
+
