@@ -22,6 +22,7 @@ from typing import Sequence
 from fuzzy.parser import parse_rulebase
 from ga.algorithms import evolve
 from ga.config import GAConfig
+from soccer.config import SOCCER_VOCABULARY
 from soccer.rcss.evaluate import RcssEvaluator
 from soccer.rcss.servers import ServerPool
 from soccer.rcss.trial import TrialConfig, TrialResult
@@ -31,7 +32,7 @@ from soccer.rcss.trial import TrialConfig, TrialResult
 STRIKER = parse_rulebase("""
 if Ball is not At then GoToBall High
 if Ball is At then KickTowardGoal VeryHigh
-""")
+""", SOCCER_VOCABULARY)
 TARGET_PER_SERVER = 1000.0  # cycles/s
 NEARLY_TWICE = 1.8
 
@@ -70,7 +71,7 @@ def evolution(pool: ServerPool, population: int, generations: int) -> tuple[floa
         rcss.connect()
         counting = CountingEvaluator(rcss)
         started = time.perf_counter()
-        result = evolve(config, counting)
+        result = evolve(config, counting, SOCCER_VOCABULARY)
         seconds = time.perf_counter() - started
     return result.evaluations / seconds, counting.cycles / seconds, result.evaluations
 
