@@ -1,7 +1,9 @@
-"""`soccer-lab experiment PRESET`: the chapter's SimpleSoccer study (its section 6) with one command."""
+"""`soccer-lab experiment PRESET`: the chapter's study (its section 6) with one command: the SimpleSoccer
+presets on local processes or Ray, `robocup` on rcssservers."""
 
 from __future__ import annotations
 
+from contextlib import ExitStack
 from pathlib import Path
 from typing import Annotated, Optional
 
@@ -10,12 +12,14 @@ from rich.console import Console
 from rich.progress import BarColumn, Progress, TaskProgressColumn, TextColumn, TimeElapsedColumn, TimeRemainingColumn
 
 from app.cli.common import fail
-from app.cli.play import config_from_options, option_help
-from app.experiment.executors import EXECUTOR_NAMES, LOCAL, ExecutorError, make_executor
+from app.cli.play import (RcssserverOption, ServerOption, ServersOption, config_from_options, option_help,
+                          rcss_addresses)
+from app.experiment.executors import EXECUTOR_NAMES, LOCAL, ExecutorError, RcssExecutor, make_executor
 from app.experiment.presets import (CHAPTER_GENERATIONS, CHOICES, DEFAULT_TRIALS, INITIAL_TRIALS, LONG_GENERATIONS,
-                                    ExperimentOptions)
+                                    ROBOCUP, ExperimentOptions)
 from app.experiment.runner import ExperimentError, ExperimentOutcome, run_experiment
 from soccer.config import SKILL_SET_NAMES
+from soccer.rcss.errors import RcssError
 
 DEFAULT_OUT_FOLDER = "experiments"
 
@@ -24,7 +28,7 @@ def experiment_command(
     preset: Annotated[str, typer.Argument(help=f"One of: {', '.join(CHOICES)}.", show_default=False)],
     trials: Annotated[Optional[int], typer.Option(
         "--trials", help=f"Trials per setting. (default: the chapter's, {DEFAULT_TRIALS}; {INITIAL_TRIALS} for "
-        "initial)", show_default=False)] = None,
+        f"initial and {ROBOCUP})", show_default=False)] = None,
     population: Annotated[Optional[int], typer.Option(
         "--population", help=option_help(ExperimentOptions, "population",
                                          "Table 2's population size; every setting scales with it."),
@@ -35,7 +39,8 @@ def experiment_command(
             f"Table 2's generations; every setting scales with it (long: {LONG_GENERATIONS // CHAPTER_GENERATIONS}x)."),
         show_default=False)] = None,
     max_ticks: Annotated[Optional[int], typer.Option(
-        "--max-ticks", help=option_help(ExperimentOptions, "max_ticks", "Ticks a game lasts at most."),
+        "--max-ticks", help=option_help(ExperimentOptions, "max_ticks", "Ticks a game lasts at most "
+                                        f"({ROBOCUP}: server cycles, default the chapter's 1200)."),
         show_default=False)] = None,
     seed: Annotated[Optional[int], typer.Option(
         "--seed", help=option_help(ExperimentOptions, "seed", "Experiment seed; each trial's seed derives from it."),
@@ -54,9 +59,11 @@ def experiment_command(
         "--out", help="Output folder; running again into it resumes. (default: experiments/PRESET-seedN)",
         show_default=False)] = None,
     workers: Annotated[Optional[int], typer.Option(
-        "--workers", min=1, help="Trials run at once. (default: all cores)", show_default=False)] = None,
-    executor: Annotated[str, typer.Option(
-        "--executor", help=f"Where trials run: {' or '.join(EXECUTOR_NAMES)}.")] = LOCAL,
+        "--workers", min=1, help=f"Trials run at once. (default: all cores; not for {ROBOCUP})",
+        show_default=False)] = None,
+    executor: Annotated[Optional[str], typer.Option(
+        "--executor", help=f"Where trials run: {' or '.join(EXECUTOR_NAMES)}. (default: {LOCAL}; {ROBOCUP} plays "
+        "on rcssservers)", show_default=False)] = None,
     address: Annotated[Optional[str], typer.Option(
         "--address", help="Ray cluster address (with --executor ray); default: start Ray here.",
         show_default=False)] = None,
@@ -65,26 +72,50 @@ def experiment_command(
     data_dir: Annotated[Optional[Path], typer.Option(
         "--data-dir", help="The app's data folder whose library records the experiment (as for serve). "
         "(default: $SOCCER_LAB_DATA, else the per-user data folder)", show_default=False)] = None,
+    server: ServerOption = None,
+    rcssserver: RcssserverOption = None,
+    servers: ServersOption = None,
 ) -> None:
-    """Reproduce the chapter's SimpleSoccer experiments: statistics.csv, figures, report.md and report.html."""
+    """Reproduce the chapter's experiments: statistics.csv, figures, report.md and report.html."""
     if preset not in CHOICES:
         fail(f"unknown preset {preset!r}; choose one of {', '.join(CHOICES)}")
     options: ExperimentOptions = config_from_options(ExperimentOptions, {
         "trials": trials, "population": population, "generations": generations, "max_ticks": max_ticks,
         "seed": seed, "skills": skills, "noise": noise, "roulette_weighting": roulette_weighting})
     folder = out or Path(DEFAULT_OUT_FOLDER) / f"{preset}-seed{options.seed}"
+    _check_where_trials_run(preset, {"--server": server, "--rcssserver": rcssserver, "--servers": servers},
+                            {"--executor": executor, "--workers": workers, "--address": address, "--noise": noise})
     try:
-        runner = make_executor(executor, workers=workers, address=address)
-        with ExperimentProgress(preset) as progress:
+        with ExitStack() as stack:
+            if preset == ROBOCUP:
+                runner = RcssExecutor(stack.enter_context(rcss_addresses(server, rcssserver, servers)))
+            else:
+                runner = make_executor(executor or LOCAL, workers=workers, address=address)
+            progress = stack.enter_context(ExperimentProgress(preset))
             outcome = run_experiment(preset, options, folder, runner, progress=progress)
     except (ExecutorError, ExperimentError) as exc:
         fail(str(exc))
+    except RcssError as exc:
+        fail(f"{exc}; finished trials and generations are kept: run the same command again to resume")
     except KeyboardInterrupt:
-        typer.echo("\ninterrupted; finished trials are kept: run the same command again to resume", err=True)
+        kept = "finished trials (and the generations of the trial under way)" if preset == ROBOCUP else "finished trials"
+        typer.echo(f"\ninterrupted; {kept} are kept: run the same command again to resume", err=True)
         raise typer.Exit(130)
     if library:
         _record(preset, options, outcome, data_dir)
     _summary(outcome)
+
+
+def _check_where_trials_run(preset: str, rcss_options: dict[str, object], local_options: dict[str, object]) -> None:
+    """robocup plays on rcssservers (the rcss options), every other preset SimpleSoccer on the executor (the
+    local options)."""
+    given = [option for option, value in (local_options if preset == ROBOCUP else rcss_options).items()
+             if value is not None]
+    if given and preset == ROBOCUP:
+        fail(f"{', '.join(given)}: {ROBOCUP} plays its trials on rcssservers (--servers sets how many, the noise is "
+             "the server's), not SimpleSoccer on an executor")
+    if given:
+        fail(f"{', '.join(given)}: for the {ROBOCUP} preset only (the others play SimpleSoccer)")
 
 
 class ExperimentProgress:

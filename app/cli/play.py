@@ -6,8 +6,9 @@ Also home of the game options (`--fitness`, `--max-ticks`, ...) that `evolve` sh
 
 from __future__ import annotations
 
+from contextlib import ExitStack, contextmanager
 from pathlib import Path
-from typing import TYPE_CHECKING, Annotated, Any, Optional
+from typing import TYPE_CHECKING, Annotated, Any, Iterator, Optional
 
 import typer
 from pydantic import BaseModel, ValidationError
@@ -18,7 +19,7 @@ from app.recording import log_replay, open_stream
 from app.rulebase_files import RulebaseFileError, load_rulebase
 from app.validation import describe_problems
 from soccer.config import FITNESS_NAMES, SKILL_SET_NAMES, GameConfig
-from soccer.rcss.client import DEFAULT_SERVER
+from soccer.rcss.servers import EXECUTABLE_VARIABLE, MAX_SERVERS
 
 if TYPE_CHECKING:  # soccer.rcss.trial compiles the player's kernels: imported only when rcss is used
     from soccer.rcss.trial import TrialConfig
@@ -92,25 +93,59 @@ EnvOption = Annotated[Optional[str], typer.Option(
     f"(default: {SIMPLE})",
     show_default=False, rich_help_panel=ENV_PANEL)]
 ServerOption = Annotated[Optional[list[str]], typer.Option(
-    "--server", help="With --env rcss: rcssserver's HOST:PORT (its player port; run it with server::synch_mode=true "
-    "server::coach_w_referee=true). Repeat for several servers: trials run on them in parallel, one at a time "
-    f"on each. (default: {DEFAULT_SERVER})", show_default=False, rich_help_panel=ENV_PANEL)]
+    "--server", help="With --env rcss: an rcssserver you run, as HOST:PORT (its player port; run it with "
+    "server::synch_mode=true server::coach_w_referee=true). Repeat for several servers: trials run on them in "
+    "parallel, one at a time on each. (default: soccer-lab starts --servers servers itself)",
+    show_default=False, rich_help_panel=ENV_PANEL)]
+RcssserverOption = Annotated[Optional[Path], typer.Option(
+    "--rcssserver", help="With --env rcss: the rcssserver executable soccer-lab starts its servers from (each on "
+    "free ports, in a scratch folder, with the options trials need; all stopped when the command ends). "
+    f"(default: ${EXECUTABLE_VARIABLE}, else rcssserver on PATH)", show_default=False, rich_help_panel=ENV_PANEL)]
+ServersOption = Annotated[Optional[int], typer.Option(
+    "--servers", min=1, max=MAX_SERVERS, help="With --env rcss: how many rcssservers soccer-lab starts; trials run "
+    "on them in parallel. (default: 1)", show_default=False, rich_help_panel=ENV_PANEL)]
 
 
-def chosen_env(env: str | None, servers: list[str] | None, simple_only: dict[str, Any]) -> str:
-    """--env checked against the other options: --server needs rcss; `simple_only` ({"--noise": value},
-    None = not given) are refused with rcss rather than silently ignored."""
+def chosen_env(env: str | None, servers: list[str] | None, simple_only: dict[str, Any],
+               rcss_only: dict[str, Any] | None = None) -> str:
+    """--env checked against the other options: --server and `rcss_only` ({"--servers": value}, None = not
+    given) need rcss; `simple_only` ({"--noise": value}) are refused with rcss rather than silently ignored."""
     env = SIMPLE if env is None else env
     try:
         checked_env(env)
     except ValueError as exc:
         fail(f"--env: {exc}")
-    if env == SIMPLE and servers:
-        fail(f"--server needs --env {RCSS}")
+    needing_rcss = (["--server"] if servers else []) + [o for o, value in (rcss_only or {}).items() if value is not None]
+    if env == SIMPLE and needing_rcss:
+        fail(f"{', '.join(needing_rcss)} need{'s' if len(needing_rcss) == 1 else ''} --env {RCSS}")
     given = [option for option, value in simple_only.items() if value is not None]
     if env == RCSS and given:
         fail(f"{', '.join(given)}: SimpleSoccer only, not with --env {RCSS}")
     return env
+
+
+@contextmanager
+def rcss_addresses(servers: list[str] | None, rcssserver: Path | None, count: int | None) -> Iterator[list[str]]:
+    """The HOST:PORTs trials play on: the --server's the user runs, or `count` (default 1) servers soccer-lab
+    starts from `rcssserver` (default $RCSSSERVER, else PATH) and stops when the block ends."""
+    if servers:
+        if rcssserver is not None or count is not None:
+            fail("--server names servers you run; --rcssserver and --servers start servers: give one or the other")
+        yield rcss_servers(servers)
+        return
+    from soccer.rcss.servers import RcssLaunchError, ServerPool, describe, find_rcssserver
+
+    try:
+        executable = find_rcssserver(rcssserver)
+    except RcssLaunchError as exc:
+        fail(f"{exc}: give --rcssserver PATH (see README), or --server HOST:PORT for a server you run")
+    with ExitStack() as stack:
+        try:
+            pool = stack.enter_context(ServerPool(executable, count or 1))
+        except RcssLaunchError as exc:
+            fail(str(exc))
+        typer.echo(describe(pool.servers), err=True)
+        yield pool.addresses
 
 
 def rcss_servers(servers: list[str] | None) -> list[str]:
@@ -151,11 +186,13 @@ def play_command(
     skills: SkillsOption = None,
     env: EnvOption = None,
     server: ServerOption = None,
+    rcssserver: RcssserverOption = None,
+    servers: ServersOption = None,
 ) -> None:
     """Play RULEBASE in SimpleSoccer (or on rcssserver) from seeded random starts; print goals, kicks, ticks and fitness."""
     from soccer.engine import play_game, play_games
 
-    env = chosen_env(env, server, {"--noise": noise, "--rrd": rrd})
+    env = chosen_env(env, server, {"--noise": noise, "--rrd": rrd}, {"--rcssserver": rcssserver, "--servers": servers})
     config = game_config(fitness, max_ticks, goal_cap, idle_ticks, noise, skills=skills)
     try:
         player = load_rulebase(rulebase)
@@ -164,7 +201,9 @@ def play_command(
     seeds = consecutive_seeds(seed, games)
     if env == RCSS:
         trial = trial_config(fitness, max_ticks, goal_cap, idle_ticks, skills)
-        _print_table(seeds, _play_on_rcss(player, seeds, rcss_servers(server), trial))
+        with rcss_addresses(server, rcssserver, servers) as addresses:
+            results = _play_on_rcss(player, seeds, addresses, trial)
+        _print_table(seeds, results)
         return
     if rrd is None:
         results = play_games([player] * games, seeds, config)

@@ -1,13 +1,18 @@
 """Where trials run: local worker processes (default) or Ray tasks. Both hand results back as each
 trial finishes, in whatever order; a trial's result depends only on its spec, so the executor never
-changes the outcome."""
+changes the outcome. Trials on rcssserver (the robocup preset) run on RcssExecutor instead: one after
+another in this process, each GA's evaluations spread over the servers."""
 
 from __future__ import annotations
 
 import multiprocessing
 import os
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
-from typing import Any, Callable, Iterable, Iterator
+from typing import TYPE_CHECKING, Any, Callable, Iterable, Iterator, Sequence
+
+if TYPE_CHECKING:
+    from soccer.rcss.evaluate import RcssEvaluator
+    from soccer.rcss.trial import TrialConfig
 
 LOCAL, RAY = "local", "ray"
 EXECUTOR_NAMES = (LOCAL, RAY)
@@ -96,6 +101,45 @@ class RayExecutor:
         finally:
             for ref in pending:  # interrupted: do not leave the cluster busy with our trials
                 self.ray.cancel(ref, force=True)
+
+
+class RcssExecutor:
+    """Trials on the rcssservers at `servers` (HOST:PORT), one trial at a time, its evaluations in parallel
+    over the servers. Each server keeps one player and trainer for the whole experiment (a server takes
+    only 11 players of a team in its lifetime)."""
+
+    def __init__(self, servers: Sequence[str]):
+        self.servers = list(servers)
+        self._trial: TrialConfig | None = None
+        self._evaluate: RcssEvaluator | None = None
+
+    def __enter__(self) -> "RcssExecutor":
+        return self
+
+    def __exit__(self, *exc_info: object) -> None:
+        self._close()
+
+    def evaluator(self, trial: TrialConfig) -> RcssEvaluator:
+        """The evaluator playing `trial` rules, connected to every server on first use."""
+        if self._evaluate is None or trial != self._trial:
+            from soccer.rcss.evaluate import RcssEvaluator
+
+            self._close()
+            self._evaluate, self._trial = RcssEvaluator(self.servers, trial), trial
+            self._evaluate.connect()
+        return self._evaluate
+
+    def map_unordered(self, function: Callable[..., Any], items: Iterable[Any]) -> Iterator[tuple[Any, Any]]:
+        """`function(item, evaluator)` for each item (a TrialSpec of rcssserver trials), in order."""
+        for item in items:
+            if item.setting.trial is None:
+                raise ExecutorError("SimpleSoccer trials run on the local or ray executor, not on rcssservers")
+            yield item, function(item, self.evaluator(item.setting.trial))
+
+    def _close(self) -> None:
+        if self._evaluate is not None:
+            self._evaluate.close()
+        self._evaluate = self._trial = None
 
 
 def make_executor(name: str, *, workers: int | None = None, address: str | None = None) -> LocalExecutor | RayExecutor:

@@ -1,5 +1,7 @@
-"""The chapter's SimpleSoccer study (its section 6) as presets: which settings each varies, at
-which size, and how the options shrink them.
+"""The chapter's study (section 6) as presets: which settings each varies, at which size, and how the
+options shrink them. `robocup` is the chapter's RoboCup initial trials (6.1): Table 2 on rcssserver,
+its trials played on servers (soccer/rcss/); every other preset plays SimpleSoccer games, and `all`
+is those.
 
 Control parameters. Table 2 (roulette selection, one-point crossover, 10% mutation rate, population
 200, 25 generations, max length 64) is the control for `initial`, `max-length`, `population` and
@@ -19,7 +21,7 @@ from __future__ import annotations
 import hashlib
 import json
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
@@ -28,7 +30,11 @@ from ga.config import SEED_BOUND, GAConfig, RouletteWeighting
 from ga.state import GA, RANDOM_SEARCH
 from soccer.config import GameConfig, SkillSet
 
+if TYPE_CHECKING:  # soccer.rcss.trial loads the player's compiled skills: imported when robocup runs
+    from soccer.rcss.trial import TrialConfig
+
 ALL = "all"
+ROBOCUP = "robocup"
 EXPERIMENT_TARGET_FITNESS = 0.0  # fitness is always > 0, so no trial stops early (see above)
 
 TABLE_2 = GAConfig()  # the chapter's control values are GAConfig's defaults
@@ -83,6 +89,14 @@ class ExperimentOptions(BaseModel):
     def game(self) -> GameConfig:
         return GameConfig(max_ticks=self.max_ticks, skills=self.skills, noise=self.noise)
 
+    def trial(self) -> TrialConfig:
+        """The rcssserver trials: the chapter's (1200 cycles) unless max_ticks was given, with the skill set
+        (noise is the server's own)."""
+        from soccer.rcss.trial import TrialConfig
+
+        length = {"max_ticks": self.max_ticks} if "max_ticks" in self.model_fields_set else {}
+        return TrialConfig(skills=self.skills, **length)
+
     def identity(self) -> dict[str, Any]:
         """What makes two experiment folders' finished trials interchangeable (trials count excluded:
         more trials only add files)."""
@@ -96,13 +110,17 @@ class Setting:
     label: str
     algorithm: str  # ga.state.GA or RANDOM_SEARCH
     ga: GAConfig  # seed 0: each trial gets its own
+    trial: TrialConfig | None = None  # rcssserver trials; None: SimpleSoccer games (the options' game)
 
     @property
     def key(self) -> str:
         """A stable, readable file-name stem identifying the configuration (shared across presets)."""
-        digest = hashlib.sha256(json.dumps([self.algorithm, self.ga.model_dump(exclude={"seed", "workers"})],
-                                           sort_keys=True).encode()).hexdigest()
-        return f"{self.algorithm}-p{self.ga.population_size}-g{self.ga.max_generations}-{digest[:10]}"
+        identity: list[Any] = [self.algorithm, self.ga.model_dump(exclude={"seed", "workers"})]
+        if self.trial is not None:
+            identity.append(self.trial.model_dump())
+        digest = hashlib.sha256(json.dumps(identity, sort_keys=True).encode()).hexdigest()
+        where = "-rcss" if self.trial is not None else ""
+        return f"{self.algorithm}{where}-p{self.ga.population_size}-g{self.ga.max_generations}-{digest[:10]}"
 
     @property
     def evaluations(self) -> int:
@@ -131,6 +149,8 @@ def _config(options: ExperimentOptions, base: dict[str, Any], **changes: Any) ->
 def _preset_settings(name: str, options: ExperimentOptions) -> tuple[Setting, ...]:
     if name == "initial":
         return (Setting("Table 2", GA, _config(options, {})),)
+    if name == ROBOCUP:
+        return (Setting("Table 2", GA, _config(options, {}), options.trial()),)
     if name == "max-length":
         return tuple(Setting(str(length), GA, _config(options, {}, max_length=length)) for length in MAX_LENGTHS)
     if name == "population":
@@ -178,9 +198,11 @@ PRESET_TABLE: dict[str, tuple[str, str, int, bool, tuple[str, ...]]] = {
     "long": ("100 generations", "trial", DEFAULT_TRIALS, True,
              ("mean_fitness", "best_fitness", "goal_histogram", "composition", "gene_pools")),
     "random": ("GA against random search", "search", DEFAULT_TRIALS, False, ("mean_fitness", "best_fitness")),
+    ROBOCUP: ("RoboCup initial trials (Table 2 on rcssserver)", "trial", INITIAL_TRIALS, True,
+              ("mean_fitness", "best_fitness", "goal_histogram")),
 }
-PRESET_NAMES: tuple[str, ...] = tuple(PRESET_TABLE)
-CHOICES: tuple[str, ...] = (*PRESET_NAMES, ALL)
+PRESET_NAMES: tuple[str, ...] = tuple(name for name in PRESET_TABLE if name != ROBOCUP)  # SimpleSoccer's: `all`
+CHOICES: tuple[str, ...] = (*PRESET_NAMES, ROBOCUP, ALL)
 
 
 def preset(name: str, options: ExperimentOptions) -> Preset:
@@ -192,7 +214,7 @@ def preset(name: str, options: ExperimentOptions) -> Preset:
 
 
 def presets(name: str, options: ExperimentOptions) -> list[Preset]:
-    """`all` expands to every preset, in the chapter's order."""
+    """`all` expands to every SimpleSoccer preset, in the chapter's order."""
     return [preset(n, options) for n in (PRESET_NAMES if name == ALL else (name,))]
 
 

@@ -1,5 +1,6 @@
-"""The report: for each SimpleSoccer finding of the chapter's section 6, our measured figure and a verdict
-computed from the statistics table, with the statistical test named (report.md and report.html).
+"""The report: for each finding of the chapter's section 6 (RoboCupSoccer 6.1, SimpleSoccer 6.2-6.5), our
+measured figure and a verdict computed from the statistics table, with the statistical test named
+(report.md and report.html).
 
 Tests (scipy.stats), at significance level ALPHA, on per-trial values (one value per trial, so the
 trials are the independent samples):
@@ -42,6 +43,10 @@ FLAT_IMPROVEMENT = 0.02  # fitness units: a smaller improvement of the average i
 EQUAL_BEST = 0.01  # fitness units: two best fitnesses this close are "equal" (6.4.4)
 CONSTANT_CHANGE = 0.15  # relative change under which a gene pool is "reasonably constant" (6.4.5)
 POOL_INITIAL, POOL_PLATEAU_END = 0.05, 0.40  # 6.4.5: constant "for close to 40 [of 100] generations after an initial decrease"
+ROBOCUP_PLATEAU_TOLERANCE = 0.10  # 6.1: the average "plateaus towards a fitness of 0.5" in some trials
+ROBOCUP_MOST_GOALS, MOST_GOALS_TOLERANCE = 3, 1  # 6.1: "the maximum number of goals scored by any individual was 3"
+SEVERAL_GOALS = ("goals_2", "goals_3", "goals_4", "goals_more")  # statistics columns: shares scoring 2 or more
+GOAL_CLASSES = (("goals_1", 1), ("goals_2", 2), ("goals_3", 3), ("goals_4", 4), ("goals_more", 5))
 REPORT_MD, REPORT_HTML = "report.md", "report.html"
 
 
@@ -136,13 +141,16 @@ def no_difference(*measures: tuple[str, Callable]) -> Callable[[StatisticsTable,
     return assess
 
 
-def improves(column: str, what: str, increase: bool) -> Callable[[StatisticsTable, Preset], Assessment]:
-    """The chapter claims `column` rises (or falls) from the first to the last generation, in every setting."""
+def improves(column: str | tuple[str, ...], what: str, increase: bool) -> Callable[[StatisticsTable, Preset], Assessment]:
+    """The chapter claims `column` (or the sum of several) rises (or falls) from the first to the last
+    generation, in every setting."""
+    columns = (column,) if isinstance(column, str) else column
+
     def assess(table: StatisticsTable, preset: Preset) -> Assessment:
         measured, tests, verdicts = [], [], []
         for setting in table.settings(preset.name):
-            curves = table.curves(preset.name, setting, column)
-            start, end = curves[:, 0], table.final(preset.name, setting, column)
+            curves = sum(table.curves(preset.name, setting, c) for c in columns)
+            start, end = curves[:, 0], np.array([row[~np.isnan(row)][-1] for row in curves])
             change = end - start if increase else start - end
             try:
                 p = float(stats.wilcoxon(change, alternative="greater").pvalue)
@@ -213,6 +221,27 @@ def _few_scorers(table: StatisticsTable, preset: Preset) -> Assessment:
     share = float(np.median(final))
     return Assessment(f"share scoring no goal in the last generation {share:.1%} (median over trials)",
                       AGREES if share > 0.5 else DISAGREES, "no test: agreement if most of the population scores none")
+
+
+def _towards_goal_scoring(table: StatisticsTable, preset: Preset) -> Assessment:
+    final = np.concatenate([table.final(preset.name, s, "mean") for s in table.settings(preset.name)])
+    near = int(np.sum(final <= GOAL_SCORING + ROBOCUP_PLATEAU_TOLERANCE))
+    return Assessment(f"{near} of {len(final)} trials end with an average fitness within {ROBOCUP_PLATEAU_TOLERANCE} "
+                      f"of {GOAL_SCORING} (lowest {np.min(final):.3f}, median {np.median(final):.3f})",
+                      AGREES if near >= 1 else DISAGREES,
+                      f"no test (a level): agreement if at least one trial ends at or below "
+                      f"{GOAL_SCORING + ROBOCUP_PLATEAU_TOLERANCE:.2f}")
+
+
+def _most_goals(table: StatisticsTable, preset: Preset) -> Assessment:
+    settings = table.settings(preset.name)
+    scored = [goals for column, goals in GOAL_CLASSES
+              if any(np.nanmax(table.curves(preset.name, s, column)) > 0 for s in settings)]
+    most = max(scored, default=0)
+    shown = "more than 4" if most > 4 else str(most)
+    agrees = abs(most - ROBOCUP_MOST_GOALS) <= MOST_GOALS_TOLERANCE
+    return Assessment(f"the most goals any individual scored: {shown}", AGREES if agrees else DISAGREES,
+                      f"no test: agreement within {ROBOCUP_MOST_GOALS} +- {MOST_GOALS_TOLERANCE} goals")
 
 
 def _length_share(table: StatisticsTable, preset: Preset) -> Assessment:
@@ -334,6 +363,18 @@ def _random_finds_scorers(table: StatisticsTable, preset: Preset) -> Assessment:
 
 
 FINDINGS: tuple[Finding, ...] = (
+    Finding("robocup", "6.1, Fig. 8", "The population average fitness improves steadily.",
+            trend("mean", "average fitness (mean over trials)", rising=False)),
+    Finding("robocup", "6.1, Fig. 8", "In some trials the average fitness plateaus towards 0.5 (goal scoring).",
+            _towards_goal_scoring),
+    Finding("robocup", "6.1, Fig. 9", "Good (goal-scoring) individuals are found after very few generations.",
+            _early_goal_scorers),
+    Finding("robocup", "6.1, Fig. 10", "More players learn to score goals over the generations.",
+            improves("goals_0", "share of the population scoring no goal", increase=False)),
+    Finding("robocup", "6.1, Fig. 10", "Players learn to score more goals: the share scoring 2 or more rises.",
+            improves(SEVERAL_GOALS, "share of the population scoring 2 or more goals", increase=True)),
+    Finding("robocup", "6.1, Fig. 10", "No individual scores many goals: the most by any individual was 3.",
+            _most_goals),
     Finding("initial", "6.2, Fig. 11", "The population average fitness improves steadily, then plateaus.",
             improves("mean", "average fitness", increase=False)),
     Finding("initial", "6.2, Fig. 11", "The average fitness plateaus around 0.75 (ball kicking), not near 0.5 "
@@ -421,7 +462,7 @@ def write_report(table: StatisticsTable, presets: list[Preset], folder: Path) ->
 
 def _blocks(table: StatisticsTable, presets: list[Preset], figures: dict[str, list[Figure]], report: Report) -> list:
     counts = report.verdicts()
-    blocks: list = [("h1", "soccer-lab: the chapter's SimpleSoccer study"),
+    blocks: list = [("h1", "soccer-lab: the chapter's experiments"),
                     ("p", "Verdicts: " + ", ".join(f"{n} {v}" for v, n in counts.items() if n)),
                     ("p", METHOD)]
     for preset in presets:

@@ -4,7 +4,9 @@ assemble statistics.csv, the figures and the report.
 
 Resuming is running again into the same folder: finished trial files are read, not recomputed. The
 folder's manifest.json records the options that fix the trials' results; another experiment with
-the same options (say `all` after `selection`) reuses the trials they share.
+the same options (say `all` after `selection`) reuses the trials they share. A trial on rcssserver
+(hours at the chapter's size) also checkpoints its GA after every generation into
+trials/<setting key>-<trial>.checkpoint and continues from there.
 """
 
 from __future__ import annotations
@@ -12,13 +14,14 @@ from __future__ import annotations
 import csv
 import json
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any, Protocol
 
 from app.experiment.presets import ExperimentOptions, Preset, Setting, presets, trial_seed
 from app.experiment.table import ALGORITHM, PRESET, SEED, SETTING, TRIAL, StatisticsTable
 from ga.config import GAConfig
+from ga.evaluation import Evaluator
 from ga.state import GA
 from soccer.config import GameConfig
 
@@ -39,6 +42,7 @@ class TrialSpec:
     trial: int
     seed: int
     game: GameConfig
+    checkpoint: Path | None = None  # where the GA checkpoints each generation (trials on rcssserver)
 
     @property
     def name(self) -> str:
@@ -49,15 +53,21 @@ class TrialSpec:
         return self.setting.ga.model_copy(update={"seed": self.seed})
 
 
-def run_trial(spec: TrialSpec) -> list[dict[str, Any]]:
-    """One whole GA (or random search) run; its statistics rows. Runs in a worker process or Ray task."""
-    from ga.algorithms import evolve, random_search
+def run_trial(spec: TrialSpec, evaluate: Evaluator | None = None) -> list[dict[str, Any]]:
+    """One whole GA (or random search) run; its statistics rows. Runs in a worker process or Ray task
+    with SimpleSoccer games, or with `evaluate` (trials on rcssservers) in this process; continues from
+    the spec's checkpoint when there is one."""
+    from ga.algorithms import evolve, random_search, resume
     from soccer.config import SOCCER_VOCABULARY
     from soccer.evaluate import SimpleSoccerEvaluator
 
-    run = evolve if spec.setting.algorithm == GA else random_search
-    evaluate = SimpleSoccerEvaluator(spec.game, SOCCER_VOCABULARY)
-    return [stats.to_dict() for stats in run(spec.config, evaluate, SOCCER_VOCABULARY).history]
+    evaluate = evaluate or SimpleSoccerEvaluator(spec.game, SOCCER_VOCABULARY)
+    if spec.checkpoint is not None and spec.checkpoint.is_file():
+        result = resume(spec.checkpoint, evaluate)
+    else:
+        run = evolve if spec.setting.algorithm == GA else random_search
+        result = run(spec.config, evaluate, SOCCER_VOCABULARY, checkpoint=spec.checkpoint)
+    return [stats.to_dict() for stats in result.history]
 
 
 @dataclass(frozen=True)
@@ -101,6 +111,9 @@ class TrialFolder:
     def recording(self, spec: TrialSpec) -> Path:
         return self.path / f"{spec.name}.rrd"
 
+    def checkpoint(self, spec: TrialSpec) -> Path:
+        return self.path / f"{spec.name}.checkpoint"
+
     def finished(self, spec: TrialSpec) -> bool:
         return self.statistics(spec).is_file()
 
@@ -115,6 +128,7 @@ class TrialFolder:
             writer.writeheader()
             writer.writerows(rows)
         temporary.replace(self.statistics(spec))  # the file exists only once whole: it marks the trial done
+        self.checkpoint(spec).unlink(missing_ok=True)
 
     def read(self, spec: TrialSpec) -> list[dict[str, str]]:
         with self.statistics(spec).open(newline="") as handle:
@@ -163,7 +177,8 @@ def run_trials(experiment: Plan, folder: Path, executor: Any, progress: Progress
     """Run every unfinished trial; (ran, skipped). Progress counts evaluations over the whole experiment."""
     trials = TrialFolder(folder)
     specs = experiment.specs
-    pending = [spec for spec in specs if not trials.finished(spec)]
+    pending = [spec if spec.setting.trial is None else replace(spec, checkpoint=trials.checkpoint(spec))
+               for spec in specs if not trials.finished(spec)]
     # Longest first, so no long trial is left alone at the end while other cores idle.
     pending.sort(key=lambda spec: -spec.setting.evaluations)
     total = sum(spec.setting.evaluations for spec in specs)

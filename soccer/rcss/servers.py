@@ -53,6 +53,7 @@ TRIAL_OPTIONS: dict[str, str] = {
     "server::penalty_shoot_outs": "false",
 }
 LOG_FILE = "rcssserver.log"
+MAX_SERVERS = 32  # each server wants about a core while it plays
 START_ATTEMPTS = 5  # another program may take the free ports between our choice and the server's bind
 READY_SECONDS = 10.0
 STOP_SECONDS = 5.0  # after SIGTERM (the server saves its results and exits), before SIGKILL
@@ -71,8 +72,7 @@ def find_rcssserver(explicit: str | os.PathLike | None = None) -> Path:
     if found is None:
         path = Path(wanted)
         problem = "is not executable" if path.is_file() else "does not exist" if os.sep in str(wanted) else "is not on PATH"
-        raise RcssLaunchError(f"rcssserver {str(wanted)!r}{where} {problem}: give its path with --rcssserver "
-                              "(build it from the RoboCup project; see README)")
+        raise RcssLaunchError(f"no rcssserver: {str(wanted)!r}{where} {problem}")
     return Path(found).resolve()
 
 
@@ -269,8 +269,8 @@ class ServerPool:
 
     def __init__(self, executable: str | os.PathLike | None = None, count: int = 1,
                  options: Mapping[str, str] | None = None, host: str = DEFAULT_HOST):
-        if count < 1:
-            raise ValueError(f"at least one server is needed, got {count}")
+        if not 1 <= count <= MAX_SERVERS:
+            raise ValueError(f"between 1 and {MAX_SERVERS} servers, not {count}")
         self.executable = find_rcssserver(executable)
         self.count = count
         self.options = {**TRIAL_OPTIONS, **(options or {})}

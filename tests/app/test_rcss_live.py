@@ -20,7 +20,7 @@ from app.cli import _register, app
 from soccer.rcss.servers import ServerPool
 from tests.app.api_client import api_client, wait_for
 from tests.rcss.conftest import CHASER
-from tests.rcss.real_server import kill
+from tests.rcss.real_server import kill, wait_until_gone
 
 _register()
 SMALL_RUN = ["--population-size", "4", "--generations", "2", "--max-length", "16", "--max-ticks", "80", "--seed", "3"]
@@ -45,6 +45,32 @@ def striker(tmp_path) -> Path:
     path = tmp_path / "striker.rules"
     path.write_text(CHASER)
     return path
+
+
+def started_pids(output: str) -> list[int]:
+    """The PIDs in the command's "started N rcssservers: HOST:PORT (pid P), ..." line."""
+    (line,) = [line for line in output.splitlines() if line.startswith("started ")]
+    return [int(part.split(")")[0]) for part in line.split("(pid ")[1:]]
+
+
+def test_play_on_two_servers_soccer_lab_starts_and_stops(rcssserver, striker):
+    result = run("play", striker, "--env", "rcss", "--rcssserver", rcssserver, "--servers", "2", "--games", "2",
+                 "--max-ticks", "250")
+    assert result.exit_code == 0, result.output
+    pids = started_pids(result.output)
+    assert len(pids) == 2 and wait_until_gone(pids, seconds=0.5) == []  # stopped before the command returned
+    rows = [line.split() for line in result.output.splitlines() if line.split()[:1] in (["1"], ["2"])]
+    assert [row[:2] for row in rows] == [["1", "0"], ["2", "1"]]
+    assert all(int(row[2]) >= 1 and int(row[4]) == 250 for row in rows)  # goals, ticks
+
+
+def test_without_a_server_or_an_executable_says_how_to_give_one(striker, monkeypatch, tmp_path):
+    monkeypatch.delenv("RCSSSERVER", raising=False)
+    monkeypatch.setenv("PATH", str(tmp_path))
+    result = run("play", striker, "--env", "rcss")
+    assert result.exit_code == 2
+    assert result.output.strip() == ("error: no rcssserver: 'rcssserver' is not on PATH: give --rcssserver PATH "
+                                     "(see README), or --server HOST:PORT for a server you run")
 
 
 def test_play_on_two_servers_the_user_runs(start_servers, striker):

@@ -100,10 +100,10 @@ def test_a_killed_program_leaves_no_server_running(rcssserver):
 
 def test_an_executable_that_is_not_there_is_one_clear_line(tmp_path, monkeypatch):
     monkeypatch.delenv("RCSSSERVER", raising=False)
-    with pytest.raises(RcssLaunchError, match=f"rcssserver '{tmp_path / 'nothing'}' does not exist: give its path"):
+    with pytest.raises(RcssLaunchError, match=f"no rcssserver: '{tmp_path / 'nothing'}' does not exist"):
         find_rcssserver(tmp_path / "nothing")
     monkeypatch.setenv("RCSSSERVER", "no-such-rcssserver")
-    with pytest.raises(RcssLaunchError, match=r"'no-such-rcssserver' \(from \$RCSSSERVER\) is not on PATH"):
+    with pytest.raises(RcssLaunchError, match=r"no rcssserver: 'no-such-rcssserver' \(from \$RCSSSERVER\) is not on PATH"):
         find_rcssserver()
 
 

@@ -1,0 +1,93 @@
+"""The `robocup` preset: the chapter's RoboCup initial trials (Table 2 on rcssserver, Figs. 8-10) at the
+chapter's size, and shrunken on real servers that soccer-lab starts: statistics, figures, the RoboCup
+findings in the report, and resuming within a trial."""
+
+from __future__ import annotations
+
+import csv
+
+import pytest
+from typer.testing import CliRunner
+
+from app.cli import _register, app
+from app.experiment.figures import FIGURES_FOLDER
+from app.experiment.presets import ExperimentOptions, preset, presets
+from app.experiment.report import NOT_RUN, REPORT_MD
+from app.experiment.runner import STATISTICS_FILE
+from ga.checkpoint import load_checkpoint
+from soccer.rcss.evaluate import RcssEvaluator
+
+_register()
+# 2 trials of Table 2 shrunk to 4 x 5 (5 generations: the fewest a trend test takes), 60-cycle trials.
+SHRUNK = ["--trials", "2", "--population", "4", "--generations", "5", "--max-ticks", "60", "--seed", "1"]
+
+
+def run(*args: object):
+    return CliRunner().invoke(app, [str(a) for a in args])
+
+
+def test_the_preset_is_table_2_on_rcssserver_at_the_chapters_size():
+    robocup = preset("robocup", ExperimentOptions())
+    assert robocup.trials == 20 and robocup.per_trial
+    (setting,) = robocup.settings
+    assert setting.ga == preset("initial", ExperimentOptions()).settings[0].ga  # Table 2
+    assert (setting.trial.max_ticks, setting.trial.idle_ticks, setting.trial.fitness) == (1200, 100, "robocup-composite")
+    assert setting.key != preset("initial", ExperimentOptions()).settings[0].key  # never shared with SimpleSoccer
+    assert robocup.figures == ("mean_fitness", "best_fitness", "goal_histogram")
+    assert "robocup" not in [p.name for p in presets("all", ExperimentOptions())]
+    assert preset("robocup", ExperimentOptions(max_ticks=300)).settings[0].trial.max_ticks == 300
+
+
+@pytest.mark.parametrize("arguments, message", [
+    (["robocup", "--workers", "2"], "--workers: robocup plays its trials on rcssservers"),
+    (["robocup", "--executor", "ray"], "--executor: robocup plays its trials on rcssservers"),
+    (["initial", "--servers", "2"], "--servers: for the robocup preset only"),
+    (["robocup", "--server", "127.0.0.1:6000", "--servers", "2"], "--server names servers you run"),
+    (["robocup", "--rcssserver", "/no/such/rcssserver"], "no rcssserver: '/no/such/rcssserver' does not exist"),
+])
+def test_bad_options_are_one_line(arguments, message, tmp_path):
+    result = run("experiment", *arguments, "--out", tmp_path / "x", "--no-library")
+    assert result.exit_code == 2, result.output
+    (line,) = result.output.strip().splitlines()
+    assert line.startswith("error: ") and message in line
+
+
+def test_a_shrunken_robocup_on_two_servers_resumes_inside_a_trial(rcssserver, tmp_path, monkeypatch):
+    folder = tmp_path / "robocup"
+    trials = folder / "trials"
+    evaluate = RcssEvaluator.__call__
+
+    def interrupted_after_two_generations(self, rulebases, seeds):
+        checkpoints = list(trials.glob("*.checkpoint"))
+        if checkpoints and len(load_checkpoint(checkpoints[0]).history) == 2:
+            raise KeyboardInterrupt
+        return evaluate(self, rulebases, seeds)
+
+    command = ["experiment", "robocup", *SHRUNK, "--rcssserver", rcssserver, "--servers", "2", "--out", folder,
+               "--no-library"]
+    monkeypatch.setattr(RcssEvaluator, "__call__", interrupted_after_two_generations)
+    stopped = run(*command)
+    assert stopped.exit_code == 130, stopped.output
+    assert "started 2 rcssservers: 127.0.0.1:" in stopped.output
+    (checkpoint,) = trials.glob("*.checkpoint")
+    assert not list(trials.glob("*.csv"))
+    kept = [stats.to_dict() for stats in load_checkpoint(checkpoint).history]
+
+    monkeypatch.setattr(RcssEvaluator, "__call__", evaluate)
+    result = run(*command)
+    assert result.exit_code == 0, result.output
+    assert not checkpoint.exists()
+    with (folder / STATISTICS_FILE).open(newline="") as handle:
+        rows = list(csv.DictReader(handle))
+    assert len(rows) == 2 * 5 and {row["preset"] for row in rows} == {"robocup"}
+    assert all(0.0 < float(row["best"]) <= float(row["mean"]) <= 1.0 for row in rows)
+    resumed = [row for row in rows if row["trial"] == checkpoint.stem.rsplit("-", 1)[1]]
+    for row, before in zip(resumed[:2], kept):  # the trial went on from its checkpoint, not from the start
+        assert (float(row["mean"]), float(row["best"]), int(row["evaluations"])) == (
+            before["mean"], before["best"], before["evaluations"])
+    for kind in ("mean_fitness", "best_fitness", "goal_histogram"):
+        assert (folder / FIGURES_FOLDER / f"robocup-{kind}.png").read_bytes().startswith(b"\x89PNG")
+    report = (folder / REPORT_MD).read_text()
+    assert "RoboCup initial trials" in report and "(chapter Fig. 8)" in report and "(chapter Fig. 10)" in report
+    robocup_findings = [line for line in report.splitlines() if line.startswith("| 6.1")]
+    assert len(robocup_findings) == 6 and not any(f"| {NOT_RUN} |" in line for line in robocup_findings)
