@@ -232,16 +232,20 @@ class TrainerClient:
 
     def read_cycle(self) -> TrainerCycle:
         """Messages up to the newest (think) (as the player's); every pending command must have been
-        acknowledged."""
+        acknowledged. The server acknowledges a command before the (think) that follows it: a (think)
+        with commands pending is an older cycle's (the client fell behind), so reading goes on."""
         deadline = time.monotonic() + self.timeouts.cycle
         cycle = TrainerCycle()
         while True:
-            message = self.endpoint.receive(max(deadline - time.monotonic(), 0.001), "(think)")
-            if isinstance(message, Think):
-                if self.endpoint.more_waiting():
-                    continue
+            try:
+                message = self.endpoint.receive(max(deadline - time.monotonic(), 0.001), "(think)")
+            except RcssTimeoutError:
                 if self.pending:
-                    raise RcssCommandError(f"trainer: no reply from rcssserver to {self.pending[0]}")
+                    raise RcssCommandError(f"trainer: no reply from rcssserver to {self.pending[0]}") from None
+                raise
+            if isinstance(message, Think):
+                if self.pending or self.endpoint.more_waiting():
+                    continue
                 return cycle
             if isinstance(message, SeeGlobal):
                 cycle.see_global = message

@@ -2,6 +2,7 @@ import pytest
 
 from soccer.rcss.errors import RcssParseError
 from soccer.rcss.messages import (
+    COUNTERS,
     ErrorReply,
     Hear,
     Ok,
@@ -54,6 +55,49 @@ def test_every_received_message_in_every_transcript_parses_to_a_known_kind():
         PlayerInit, TrainerInit, ServerParamMessage, PlayerParamMessage, PlayerTypeMessage, Think, Ok,
         ErrorReply, WarningReply, Hear, SenseBody, See, SeeGlobal,
     }
+
+
+def test_the_per_cycle_messages_read_as_the_s_expression_reader_reads_them():
+    """sense_body, see and see_global are read with regular expressions: every recorded one holds the
+    values the s-expression reader finds in it."""
+    checked = 0
+    for path in ALL_TRANSCRIPTS:
+        for line in read_transcript(path):
+            if line.sent or not line.text.startswith(("(sense_body ", "(see ", "(see_global ")):
+                continue
+            message, tree = parse_message(line.text), parse(line.text)
+            items = {tuple(str(p) for p in item[0]) if isinstance(item[0], list) else item[0]: item[1:]
+                     for item in tree[2:]}
+            assert message.time == tree[1]
+            if isinstance(message, SenseBody):
+                assert (message.view_quality, message.view_width) == tuple(items["view_mode"])
+                assert (message.speed, message.speed_direction, message.head_angle) == (*items["speed"],
+                                                                                      *items["head_angle"])
+                assert message.counters == {name: values[0] for name, values in items.items() if name in COUNTERS}
+                assert {"kick", "dash", "turn"} <= set(message.counters)
+            elif isinstance(message, See):
+                assert len(message.objects) == len(items)
+                for seen in message.objects:
+                    numbers = [v for v in items[seen.name] if not isinstance(v, str)]
+                    values = (seen.direction,) if len(numbers) == 1 else (seen.distance, seen.direction)
+                    changes = (seen.distance_change, seen.direction_change) if len(numbers) >= 4 else ()
+                    assert [*values, *changes] == numbers[:len(values) + len(changes)]
+            else:
+                ball = items[("b",)]
+                assert (message.ball.x, message.ball.y, message.ball.vx, message.ball.vy) == tuple(ball[:4])
+                for player in message.players:
+                    values = items[("p", player.team, str(player.unum))]
+                    assert (player.x, player.y, player.vx, player.vy, player.body, player.neck) == tuple(values[:6])
+                    assert player.kicked == ("k" in values[6:])
+            checked += 1
+    assert checked > 1500
+
+
+@pytest.mark.parametrize("text", ["(see 12 ((f c) 10 0) ((b) 3", "(sense_body 3 (view_mode high normal)",
+                                  "(see_global x ((b) 1 2 0 0))", "(see 4 ((g r) far -3))"])
+def test_a_malformed_per_cycle_message_is_a_parse_error(text):
+    with pytest.raises(RcssParseError):
+        parse_message(text)
 
 
 def test_hear_player_and_trainer_formats_give_the_same_goal():
