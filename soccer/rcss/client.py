@@ -5,6 +5,12 @@ trainer); every later message goes to the address the replies came from; every d
 In synch mode each cycle ends with `(think)`; the server then waits for `(done)` from the player and,
 while its eye is on, from the trainer. Every wait has a deadline, so a silent server gives an
 RcssError within seconds instead of a hang.
+
+The server waits SERVER_WAIT for a cycle's (done), then steps on without it. A (done) sent later would
+count for whichever cycle the server is in by then, and every answer after it would be one cycle late.
+So a session answers a cycle only within ANSWER_WITHIN of reading it; a client that took longer (a
+stall, or the pause between two evaluations) answers nothing, reads what the server sent meanwhile,
+and takes up the next cycle that arrives.
 """
 
 from __future__ import annotations
@@ -44,6 +50,8 @@ DEFAULT_PLAYER_PORT = 6000
 DEFAULT_SERVER = f"{DEFAULT_HOST}:{DEFAULT_PLAYER_PORT}"
 DEFAULT_TEAM = "SoccerLab"
 DATAGRAM_SIZE = 8192
+SERVER_WAIT = 1.25  # seconds rcssserver waits for a cycle's (done) (stadium.cpp: 25 x 50 ms)
+ANSWER_WITHIN = SERVER_WAIT - 0.15  # to answer a cycle in time, with room for the datagram's trip
 
 
 @dataclass(frozen=True)
@@ -144,6 +152,10 @@ class PlayerClient:
         self.side = ""
         self.unum = 0
         self.params: ServerParams | None = None
+        self.answer_by = 0.0  # time.monotonic() by which the cycle last read must be answered
+        self._sense_body: SenseBody | None = None  # the cycle being read
+        self._see: See | None = None
+        self._hears: list[Hear] = []
 
     def connect(self) -> PlayerCycle:
         """Init, read the server's parameters, and return the first cycle (time 0, before kick-off)."""
@@ -157,29 +169,44 @@ class PlayerClient:
 
     def read_cycle(self) -> PlayerCycle:
         """Messages up to the newest (think). A server_param on the way sets `params` (and is checked).
-        A client that fell behind (the server stops waiting for (done) after 1.25 s and steps on) finds
-        later cycles queued behind a (think): it reads on to the newest one instead of answering old ones."""
+        Later cycles queued behind a (think) (the server stepped on without us) are read on to the
+        newest; its age is then unknown, so `answer_by` says it cannot be answered."""
         deadline = time.monotonic() + self.timeouts.cycle
-        sense_body, see, hears = None, None, []
+        skipped = False
         while True:
             message = self.endpoint.receive(max(deadline - time.monotonic(), 0.001), "(think)")
-            if isinstance(message, Think):
-                if self.endpoint.more_waiting():
-                    continue
-                if sense_body is None:
-                    raise RcssConfigError("player: (think) without sense_body; is the server in synch mode?")
-                return PlayerCycle(sense_body, see, hears)
-            if isinstance(message, SenseBody):
-                sense_body, see = message, None  # a see follows its cycle's sense_body
-            elif isinstance(message, See):
-                see = message
-            elif isinstance(message, Hear):
-                hears.append(message)
-            elif isinstance(message, ServerParamMessage):
-                self.params = ServerParams.from_message(message.values)
-                self.params.check_usable()
-            elif isinstance(message, ErrorReply):
-                raise RcssCommandError(f"player: rcssserver rejected a command: {message.reason}")
+            if not isinstance(message, Think):
+                self._take(message)
+            elif self.endpoint.more_waiting():
+                skipped = True
+            elif self._sense_body is None:
+                raise RcssConfigError("player: (think) without sense_body; is the server in synch mode?")
+            else:
+                cycle = PlayerCycle(self._sense_body, self._see, self._hears)
+                self._sense_body, self._see, self._hears = None, None, []
+                self.answer_by = 0.0 if skipped else time.monotonic() + ANSWER_WITHIN
+                return cycle
+
+    def read_backlog(self) -> None:
+        """Read what is queued (cycles the server went through without us); their hears go with the next
+        cycle read."""
+        while self.endpoint.more_waiting():
+            message = self.endpoint.receive(self.timeouts.cycle, "queued messages")
+            if not isinstance(message, Think):
+                self._take(message)
+
+    def _take(self, message: Message) -> None:
+        if isinstance(message, SenseBody):
+            self._sense_body, self._see = message, None  # a see follows its cycle's sense_body
+        elif isinstance(message, See):
+            self._see = message
+        elif isinstance(message, Hear):
+            self._hears.append(message)
+        elif isinstance(message, ServerParamMessage):
+            self.params = ServerParams.from_message(message.values)
+            self.params.check_usable()
+        elif isinstance(message, ErrorReply):
+            raise RcssCommandError(f"player: rcssserver rejected a command: {message.reason}")
 
     def act(self, commands: list[str]) -> None:
         """This cycle's body commands, then (done)."""
@@ -201,6 +228,7 @@ class TrainerClient:
         self.endpoint = Endpoint("trainer", host, port, timeouts)
         self.timeouts = timeouts
         self.pending: deque[str] = deque()  # commands awaiting (ok ...), oldest first
+        self._cycle = TrainerCycle()  # the cycle being read
 
     def connect(self) -> None:
         reply = self.endpoint.initialise(f"(init (version {PROTOCOL_VERSION}))")
@@ -235,7 +263,6 @@ class TrainerClient:
         acknowledged. The server acknowledges a command before the (think) that follows it: a (think)
         with commands pending is an older cycle's (the client fell behind), so reading goes on."""
         deadline = time.monotonic() + self.timeouts.cycle
-        cycle = TrainerCycle()
         while True:
             try:
                 message = self.endpoint.receive(max(deadline - time.monotonic(), 0.001), "(think)")
@@ -243,19 +270,29 @@ class TrainerClient:
                 if self.pending:
                     raise RcssCommandError(f"trainer: no reply from rcssserver to {self.pending[0]}") from None
                 raise
-            if isinstance(message, Think):
-                if self.pending or self.endpoint.more_waiting():
-                    continue
+            if not isinstance(message, Think):
+                self._take(message)
+            elif not self.pending and not self.endpoint.more_waiting():
+                cycle, self._cycle = self._cycle, TrainerCycle()
                 return cycle
-            if isinstance(message, SeeGlobal):
-                cycle.see_global = message
-            elif isinstance(message, Hear):
-                cycle.hears.append(message)
-            elif isinstance(message, Ok):
-                self._acknowledge(message.command)
-            elif isinstance(message, ErrorReply):
-                command = self.pending[0] if self.pending else "a command"
-                raise RcssCommandError(f"trainer: rcssserver rejected {command}: {message.reason}")
+
+    def read_backlog(self) -> None:
+        """Read what is queued (as the player's); hears and acknowledgements are kept."""
+        while self.endpoint.more_waiting():
+            message = self.endpoint.receive(self.timeouts.cycle, "queued messages")
+            if not isinstance(message, Think):
+                self._take(message)
+
+    def _take(self, message: Message) -> None:
+        if isinstance(message, SeeGlobal):
+            self._cycle.see_global = message
+        elif isinstance(message, Hear):
+            self._cycle.hears.append(message)
+        elif isinstance(message, Ok):
+            self._acknowledge(message.command)
+        elif isinstance(message, ErrorReply):
+            command = self.pending[0] if self.pending else "a command"
+            raise RcssCommandError(f"trainer: rcssserver rejected {command}: {message.reason}")
 
     def _acknowledge(self, name: str) -> None:
         for index, command in enumerate(self.pending):
@@ -309,10 +346,16 @@ class Session:
         return first
 
     def step(self, player_commands: list[str]) -> tuple[PlayerCycle, TrainerCycle]:
-        """Send this cycle's commands and both (done)s; return what arrived by the next (think)."""
+        """Send this cycle's commands and both (done)s; return what arrived by the next (think). Past
+        `answer_by` the commands are dropped: the server has stepped on (or is about to), and the next
+        cycle it sends on its own is returned instead."""
         assert self.trainer is not None, "open() the session first"
-        self.player.act(player_commands)
-        self.trainer.done()
+        if time.monotonic() <= self.player.answer_by:
+            self.player.act(player_commands)
+            self.trainer.done()
+        else:
+            self.player.read_backlog()
+            self.trainer.read_backlog()
         player_cycle = self.player.read_cycle()
         trainer_cycle = self.trainer.read_cycle()
         self.last_player_cycle = player_cycle
