@@ -133,7 +133,7 @@ class SeenObject(NamedTuple):
 
     @property
     def key(self) -> str:
-        return " ".join(str(part) for part in self.name)
+        return " ".join(self.name)
 
     @property
     def in_view(self) -> bool:
@@ -219,7 +219,10 @@ def _checked_balance(text: str, kind: str) -> None:
 def _numbers_and_flags(values: str, what: str) -> tuple[list[float], list[str]]:
     """An item's numbers, and the flags after them (see_global's `k` for a player who just kicked)."""
     tokens = values.split()
-    split = next((i for i, token in enumerate(tokens) if token[0].isalpha()), len(tokens))
+    try:
+        return [float(token) for token in tokens], []
+    except ValueError:  # flags (only players have them)
+        split = next((i for i, token in enumerate(tokens) if token[0].isalpha()), len(tokens))
     try:
         return [float(token) for token in tokens[:split]], tokens[split:]
     except ValueError:
@@ -249,7 +252,7 @@ def _sense_body(text: str) -> SenseBody:
 
 def _seen_objects(text: str) -> list[tuple[tuple[str, ...], list[float], list[str]]]:
     """(name parts, numbers, flags) of every ((NAME) VALUES) item; quoted team names lose their quotes."""
-    return [(tuple(part.strip('"') for part in name.split()), *_numbers_and_flags(values, f"({name})"))
+    return [(tuple(name.replace('"', "").split()), *_numbers_and_flags(values, f"({name})"))
             for name, values in _OBJECT.findall(text)]
 
 
