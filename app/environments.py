@@ -9,12 +9,13 @@ for the recording when it can.
 
 from __future__ import annotations
 
-from contextlib import contextmanager
-from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any, ClassVar, Iterator, Literal, NamedTuple, Sequence
+from contextlib import ExitStack, contextmanager
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any, Callable, ClassVar, Iterator, Literal, NamedTuple, Sequence
 
 from soccer.config import GameConfig, WorldConfig
-from soccer.rcss.client import DEFAULT_SERVER, parse_server
+from soccer.rcss.client import parse_server
+from soccer.rcss.servers import MAX_SERVERS
 
 if TYPE_CHECKING:
     from fuzzy.rule import Rulebase
@@ -29,6 +30,7 @@ EnvName = Literal["simple", "rcss"]
 # On rcss the GA evaluates in one process: trials run in parallel over the servers (threads), and a
 # worker process per server would open a second player and trainer on each.
 RCSS_WORKERS = 1
+Announce = Callable[[str], None]  # where an environment says what it started (the CLI's stderr, the app's log)
 
 
 class Replay(NamedTuple):
@@ -46,17 +48,34 @@ def checked_env(env: str) -> str:
 
 
 def checked_servers(env: str, servers: Sequence[str] | None) -> list[str]:
-    """The servers an rcss run plays on (each HOST:PORT checked; none given: the default server);
-    [] for SimpleSoccer, which takes none. ValueError with one line otherwise."""
+    """The servers the user runs that an rcss run plays on (each HOST:PORT checked); [] for
+    SimpleSoccer, which takes none. ValueError with one line otherwise."""
     if checked_env(env) == SIMPLE:
         if servers:
             raise ValueError(f"servers are for env {RCSS} only")
         return []
-    chosen = list(servers or [DEFAULT_SERVER])
+    chosen = list(servers or [])
     addresses = [parse_server(server) for server in chosen]
     if len(set(addresses)) < len(addresses):
         raise ValueError(f"a server is listed twice in {', '.join(chosen)}: each needs its own port")
     return chosen
+
+
+def checked_start_servers(env: str, servers: Sequence[str] | None, start_servers: int | None) -> int:
+    """How many rcssservers a run starts itself: `start_servers`, or 1 when neither they nor servers the
+    user runs are given; 0 with servers (or for SimpleSoccer). ValueError with one line otherwise."""
+    if checked_env(env) == SIMPLE:
+        if start_servers:
+            raise ValueError(f"started servers are for env {RCSS} only")
+        return 0
+    if servers and start_servers:
+        raise ValueError("give the servers you run or how many soccer-lab starts, not both")
+    if servers:
+        return 0
+    count = 1 if start_servers is None else start_servers
+    if not 1 <= count <= MAX_SERVERS:
+        raise ValueError(f"between 1 and {MAX_SERVERS} servers, not {count}")
+    return count
 
 
 def checked_workers(env: str, workers: int) -> int:
@@ -83,7 +102,7 @@ class SimpleSoccerGames:
         return self.game.world
 
     @contextmanager
-    def evaluator(self) -> Iterator["Evaluator"]:
+    def evaluator(self, announce: Announce | None = None) -> Iterator["Evaluator"]:
         from soccer.evaluate import SimpleSoccerEvaluator
 
         yield SimpleSoccerEvaluator(self.game)
@@ -101,10 +120,14 @@ class SimpleSoccerGames:
 @dataclass(frozen=True)
 class RcssTrials:
     """Evaluations are trials on real rcssservers, one at a time per server, in parallel over the servers
-    (threads in this process: the GA itself runs with one worker)."""
+    (threads in this process: the GA itself runs with one worker): the `servers` the user runs, or
+    `start_servers` servers the run starts itself from the `rcssserver` executable (default
+    $RCSSSERVER, else PATH; not stored with the settings: it is wherever the run is played)."""
 
     servers: tuple[str, ...]
     trial: "TrialConfig"
+    start_servers: int = 0
+    rcssserver: str | None = field(default=None, compare=False)
     env: ClassVar[str] = RCSS
 
     @property
@@ -114,7 +137,7 @@ class RcssTrials:
         return (RcssError,)
 
     def settings(self) -> dict[str, Any]:
-        return {"servers": list(self.servers), "trial": self.trial.model_dump()}
+        return {"servers": list(self.servers), "start_servers": self.start_servers, "trial": self.trial.model_dump()}
 
     @property
     def world(self) -> None:
@@ -122,11 +145,20 @@ class RcssTrials:
         return None
 
     @contextmanager
-    def evaluator(self) -> Iterator["Evaluator"]:
-        """Connected to every server up front: a missing server fails here, within seconds, before the run."""
+    def evaluator(self, announce: Announce | None = None) -> Iterator["Evaluator"]:
+        """Connected to every server up front: a missing server fails here, within seconds, before the run.
+        Servers the run starts live as long as the evaluator (they are stopped when it closes)."""
         from soccer.rcss.evaluate import RcssEvaluator
+        from soccer.rcss.servers import ServerPool, describe
 
-        with RcssEvaluator(self.servers, self.trial) as evaluate:
+        with ExitStack() as stack:
+            servers = list(self.servers)
+            if self.start_servers:
+                pool = stack.enter_context(ServerPool(self.rcssserver, self.start_servers))
+                servers = pool.addresses
+                if announce is not None:
+                    announce(describe(pool.servers))
+            evaluate = stack.enter_context(RcssEvaluator(servers, self.trial))
             evaluate.connect()
             yield evaluate
 

@@ -11,14 +11,14 @@ run.json in the same form the app stores them, so any run folder can be continue
 from __future__ import annotations
 
 import threading
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, ContextManager, Iterable, Literal, Sequence
 
 from pydantic import ValidationError
 
-from app.environments import (RCSS, SIMPLE, Environment, RcssTrials, Replay, SimpleSoccerGames, checked_env,
-                              checked_servers, checked_workers)
+from app.environments import (RCSS, SIMPLE, Announce, Environment, RcssTrials, Replay, SimpleSoccerGames,
+                              checked_env, checked_servers, checked_start_servers, checked_workers)
 from app.recording import RunRecorder
 from app.run_outputs import GenerationBestsFile, RunFolder, RunFolderError, RunOutputs, generation_best
 from app.validation import describe_problems
@@ -41,7 +41,8 @@ AlgorithmName = Literal["ga", "random-search"]  # ga.state's GA and RANDOM_SEARC
 class RunSettings:
     """Everything a run needs to be played (or resumed): the algorithm (the GA or random search), the
     GA's parameters and where evaluations play: SimpleSoccer games (`game`) or, for env "rcss", trials
-    (`trial`) on `servers`."""
+    (`trial`) on `servers` the user runs or on `start_servers` servers the run starts from `rcssserver`
+    (the executable where the run plays: never stored)."""
 
     ga: GAConfig = GAConfig()
     game: GameConfig = GameConfig()
@@ -49,6 +50,8 @@ class RunSettings:
     servers: tuple[str, ...] = ()
     trial: TrialConfig = TrialConfig()
     algorithm: str = GA
+    start_servers: int = 0
+    rcssserver: str | None = field(default=None, compare=False)
 
     @classmethod
     def build(
@@ -59,8 +62,9 @@ class RunSettings:
         servers: Sequence[str] | None = None,
         trial: TrialConfig | dict[str, Any] | None = None,
         algorithm: str = GA,
+        start_servers: int | None = None,
     ) -> "RunSettings":
-        """Validated settings (an rcss run without servers plays on the default one); ValueError naming
+        """Validated settings (an rcss run given no servers starts one); ValueError naming
         each bad parameter (pydantic's ValidationError, a ValueError, for bad GA parameters: the caller
         names the fields its own way)."""
         if algorithm not in ALGORITHMS:
@@ -75,19 +79,21 @@ class RunSettings:
         except ValidationError as exc:
             raise ValueError(f"invalid trial parameters: {describe_problems(exc.errors())}") from None
         for where, check in (("env", lambda: checked_env(env)), ("servers", lambda: checked_servers(env, servers)),
+                             ("start_servers", lambda: checked_start_servers(env, servers, start_servers)),
                              ("ga.workers", lambda: checked_workers(env, ga.workers))):
             try:
                 check()
             except ValueError as exc:
                 raise ValueError(f"{where}: {exc}") from None
-        return cls(ga, game, env, tuple(checked_servers(env, servers)), trial, algorithm)
+        return cls(ga, game, env, tuple(checked_servers(env, servers)), trial, algorithm,
+                   checked_start_servers(env, servers, start_servers))
 
     @classmethod
     def from_dict(cls, data: dict[str, Any]) -> "RunSettings":
         """Settings as stored (run.json, the app's store); runs from before env existed played SimpleSoccer,
         from before algorithm was stored the GA."""
         return cls.build(data.get("ga"), data.get("game"), data.get("env", SIMPLE), data.get("servers"),
-                         data.get("trial"), data.get("algorithm", GA))
+                         data.get("trial"), data.get("algorithm", GA), data.get("start_servers") or None)
 
     def to_dict(self) -> dict[str, Any]:
         return {"algorithm": self.algorithm, "ga": self.ga.model_dump(), "env": self.env,
@@ -96,12 +102,19 @@ class RunSettings:
     @property
     def environment(self) -> Environment:
         if self.env == RCSS:
-            return RcssTrials(self.servers, self.trial)
+            return RcssTrials(self.servers, self.trial, self.start_servers, self.rcssserver)
         return SimpleSoccerGames(self.game)
 
     def with_servers(self, servers: Sequence[str]) -> "RunSettings":
-        """The same rcss run on other servers (a resumed run may play on other servers or ports)."""
-        return replace(self, servers=tuple(checked_servers(self.env, servers)))
+        """The same rcss run on other servers the user runs (a resumed run may play on other servers or ports)."""
+        return replace(self, servers=tuple(checked_servers(self.env, servers)), start_servers=0)
+
+    def with_started_servers(self, count: int | None = None, rcssserver: str | None = None) -> "RunSettings":
+        """The same rcss run on `count` servers it starts itself (default: as many as before, or 1), from
+        `rcssserver`."""
+        count = count or self.start_servers or 1
+        return replace(self, servers=(), start_servers=checked_start_servers(self.env, (), count),
+                       rcssserver=rcssserver)
 
     def default_name(self) -> str:
         """What the run is, e.g. "GA 200x25 roulette/inverse assisted seed 0" or "random search 200x25 ..."."""
@@ -152,10 +165,11 @@ class Run:
         for a damaged checkpoint)."""
         return load_checkpoint(self.folder.checkpoint) if self.folder.checkpoint.is_file() else None
 
-    def evaluator(self) -> ContextManager[Evaluator]:
+    def evaluator(self, announce: Announce | None = None) -> ContextManager[Evaluator]:
         """The evaluator `play` scores with, open for the run's length: `with run.evaluator() as evaluate:`.
-        A missing rcssserver fails here, within seconds, before anything is written."""
-        return self.settings.environment.evaluator()
+        A missing rcssserver fails here, within seconds, before anything is written. `announce` hears
+        what the environment started (the rcssservers, with their PIDs)."""
+        return self.settings.environment.evaluator(announce)
 
     def play(self, evaluate: Evaluator, callbacks: Iterable[Callback] = (),
              stop: threading.Event | None = None) -> RunResult:

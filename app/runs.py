@@ -122,10 +122,14 @@ class _ActiveRun:
 class RunManager:
     """Starts, stops and resumes runs; each run's folder is `<data_dir>/runs/<id>`."""
 
-    def __init__(self, store: Store, data_dir: str | Path, *, max_concurrent_runs: int = MAX_CONCURRENT_RUNS):
+    def __init__(self, store: Store, data_dir: str | Path, *, max_concurrent_runs: int = MAX_CONCURRENT_RUNS,
+                 rcssserver: str | Path | None = None):
+        """rcssserver: the executable of the servers rcss runs start (default $RCSSSERVER, else PATH): a
+        setting of the app, never of a request."""
         self.store = store
         self.runs_dir = Path(data_dir) / RUNS_FOLDER
         self.max_concurrent_runs = max_concurrent_runs
+        self.rcssserver = str(rcssserver) if rcssserver is not None else None
         self._active: dict[int, _ActiveRun] = {}
         self._listeners: list[Listener] = []
         self._lock = threading.RLock()
@@ -166,13 +170,15 @@ class RunManager:
         env: str = SIMPLE,
         servers: Sequence[str] | None = None,
         trial: TrialConfig | dict[str, Any] | None = None,
+        start_servers: int | None = None,
     ) -> RunRecord:
         """Start a new run of `algorithm` ("ga" or "random-search"), named `name` or, when None, by its
         settings. `ga`/`game`/`trial`: a GAConfig/GameConfig/TrialConfig or a dict of their fields (missing
-        fields take the chapter's defaults). env "rcss" plays trials on `servers` (HOST:PORT; default
-        127.0.0.1:6000) with ga.workers 1. Invalid values raise ValueError before anything is saved; a
-        server another run plays on raises RunStateError."""
-        settings = RunSettings.build(ga, game, env, servers, trial, algorithm)
+        fields take the chapter's defaults). env "rcss" plays trials, with ga.workers 1, on `servers`
+        (HOST:PORT, servers the user runs) or on `start_servers` (default 1) servers the run starts
+        itself. Invalid values raise ValueError before anything is saved; a server another run plays on, or
+        no rcssserver to start, raises RunStateError."""
+        settings = self._with_executable(RunSettings.build(ga, game, env, servers, trial, algorithm, start_servers))
         with self._lock:
             self._check_capacity()
             self._check_servers_free(settings)
@@ -190,7 +196,7 @@ class RunManager:
                 raise RunStateError(f"run {run_id} is running")
             if not record.status.resumable:
                 raise RunStateError(f"run {run_id} is {record.status}: there is nothing to resume")
-            settings = RunSettings.from_dict(record.config)
+            settings = self._with_executable(RunSettings.from_dict(record.config))
             self._check_capacity()
             self._check_servers_free(settings)
             record = self.store.set_run_status(run_id, RunStatus.RUNNING)
@@ -257,6 +263,19 @@ class RunManager:
                 f"{len(self._active)} runs are already running (the limit is {self.max_concurrent_runs}); stop one first"
             )
 
+    def _with_executable(self, settings: RunSettings) -> RunSettings:
+        """Settings that start servers get the app's rcssserver, checked now (RunStateError when there is none)."""
+        if not settings.start_servers:
+            return settings
+        from soccer.rcss.servers import RcssLaunchError, find_rcssserver
+
+        try:
+            executable = find_rcssserver(self.rcssserver)
+        except RcssLaunchError as exc:
+            raise RunStateError(f"start_servers: {exc} (start the app with serve --rcssserver PATH, or give "
+                                "the servers you run)") from None
+        return settings.with_started_servers(settings.start_servers, str(executable))
+
     def _check_servers_free(self, settings: RunSettings) -> None:
         wanted = {parse_server(server) for server in settings.servers}
         for run_id, active in self._active.items():
@@ -302,5 +321,5 @@ class RunManager:
         state = run.saved_state() if resume_run else None
         if state is not None:
             writer.restore([stats.to_dict() for stats in state.history], state.best)
-        with run.evaluator() as evaluate:
+        with run.evaluator(announce=lambda line: log.info("run %s: %s", record.id, line)) as evaluate:
             return run.play(evaluate, callbacks=[writer], stop=stop).stop_reason

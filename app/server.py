@@ -36,6 +36,7 @@ class ServeOptions:
     ui_port: int = DEFAULT_UI_PORT
     rerun_port: int = DEFAULT_RERUN_PORT
     data_dir: Path = Path(".")
+    rcssserver: Path | None = None  # the executable rcss runs start their servers from (default: $RCSSSERVER, PATH)
 
     def url(self, port: int) -> str:
         return f"http://{self.host}:{port}"
@@ -74,7 +75,7 @@ def serve(options: ServeOptions, echo: Callable[[str], None] = print) -> None:
     except OSError as exc:
         raise ServeError(f"cannot create the data folder {options.data_dir}: {exc.strerror or exc}") from exc
     store = Store(options.data_dir / DATABASE_FILE)
-    runs = RunManager(store, options.data_dir)
+    runs = RunManager(store, options.data_dir, rcssserver=options.rcssserver)
     ui = None
     viewer = RerunViewer(options.host, options.rerun_port, options.data_dir / RERUN_VIEWER_LOG)
     api_url = options.url(options.port)

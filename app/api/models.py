@@ -13,6 +13,7 @@ from app.store import NAME_MAX_LENGTH, BestIndividual, RulebaseRecord, RunRecord
 from ga.config import GAConfig
 from ga.state import GA
 from soccer.config import GameConfig
+from soccer.rcss.servers import MAX_SERVERS
 from soccer.rcss.trial import TrialConfig
 
 RULE_TEXT_MAX_LENGTH = 200_000  # far above any evolved rulebase (64 genes make at most 16 rules)
@@ -145,8 +146,9 @@ class RunStart(Strict):
     """A new run of the GA or of random search (the baseline: the same evaluations spent on fresh random
     rulebases); every GA and game parameter defaults to the chapter's. `name` defaults to what the run is
     (e.g. "GA 200x25 roulette/inverse assisted seed 0"). env "rcss" plays trials (`trial`) on real
-    rcssservers (`servers`, HOST:PORT, default 127.0.0.1:6000; several play in parallel) instead of
-    SimpleSoccer games (`game`); it needs ga.workers 1."""
+    rcssservers instead of SimpleSoccer games (`game`), with ga.workers 1: on `start_servers` servers the
+    run starts itself (default 1, from the app's rcssserver: `serve --rcssserver PATH`) or on `servers`
+    you run (HOST:PORT); several play in parallel."""
 
     name: Name | None = None
     algorithm: AlgorithmName = GA
@@ -154,13 +156,14 @@ class RunStart(Strict):
     game: GameConfig = GameConfig()
     env: EnvName = SIMPLE
     servers: list[Annotated[str, Field(max_length=300)]] = Field([], max_length=64)
+    start_servers: int | None = Field(None, ge=1, le=MAX_SERVERS)
     trial: TrialConfig = TrialConfig()
 
     @model_validator(mode="after")
     def playable(self) -> "RunStart":
         from app.run import RunSettings  # the one place the rules for env, servers and workers live
 
-        RunSettings.build(self.ga, self.game, self.env, self.servers, self.trial, self.algorithm)
+        RunSettings.build(self.ga, self.game, self.env, self.servers, self.trial, self.algorithm, self.start_servers)
         return self
 
 

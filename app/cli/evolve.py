@@ -16,8 +16,9 @@ from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, T
 
 from app.cli.common import fail
 from app.cli.play import (EnvOption, FitnessOption, GoalCapOption, IdleTicksOption, MaxTicksOption,
-                          NoiseOption, ServerOption, SkillsOption, chosen_env, config_from_options, game_config,
-                          option_help, option_name, rcss_servers, trial_config)
+                          NoiseOption, RcssserverOption, ServerOption, ServersOption, SkillsOption, chosen_env,
+                          config_from_options, game_config, option_help, option_name, rcss_executable,
+                          rcss_servers, trial_config)
 from app.environments import RCSS, RCSS_WORKERS, SIMPLE, checked_workers
 from app.rulebase_files import rulebase_text
 from app.run_outputs import RunFolder, RunFolderError, default_run_dir
@@ -61,8 +62,8 @@ TargetFitness = _ga_option("target_fitness", "Stop once the best fitness reaches
 Seed = _ga_option("seed", "Seed of the whole run: the same seed gives the same run, bit for bit.", int)
 Workers = Annotated[Optional[int], typer.Option(
     "--workers", help="Evaluation processes; results do not depend on it. Not with --env rcss: there the GA "
-    "evaluates in this one process and trials run in parallel over the --server's instead (one server per "
-    "parallel trial). (default: all cores; 1 with --env rcss)",
+    "evaluates in this one process and trials run in parallel over the servers instead (--servers, or the "
+    "--server's; one server per parallel trial). (default: all cores; 1 with --env rcss)",
     show_default=False, rich_help_panel=GA_PANEL)]
 GamesPerEvaluation = Annotated[Optional[int], typer.Option(
     "--games-per-evaluation", help=option_help(GameConfig, "games_per_evaluation",
@@ -73,7 +74,7 @@ Out = Annotated[Optional[Path], typer.Option(
     rich_help_panel=RUN_PANEL)]
 Resume = Annotated[Optional[Path], typer.Option(
     "--resume", help="Continue the killed run in this folder (with its own settings; an rcss run may be given "
-    "other --server's).", show_default=False,
+    "other servers: --server's, or --rcssserver and --servers).", show_default=False,
     rich_help_panel=RUN_PANEL)]
 
 
@@ -87,17 +88,17 @@ def evolve_command(
     workers: Workers = None, fitness: FitnessOption = None, games_per_evaluation: GamesPerEvaluation = None,
     max_ticks: MaxTicksOption = None, goal_cap: GoalCapOption = None, idle_ticks: IdleTicksOption = None,
     noise: NoiseOption = None, skills: SkillsOption = None, env: EnvOption = None, server: ServerOption = None,
-    out: Out = None, resume_dir: Resume = None,
+    rcssserver: RcssserverOption = None, servers: ServersOption = None, out: Out = None, resume_dir: Resume = None,
 ) -> None:
     """Evolve a goal-scoring rulebase with the messy-coded GA (defaults: the chapter's Table 2)."""
     options = dict(locals())
     if resume_dir is not None:
-        # --server may change: a resumed rcss run can use other servers (or ports) than before.
+        # The servers may change: a resumed rcss run can use other servers (or ports) than before.
         given = [f"--{name.replace('_', '-')}" for name, value in options.items()
-                 if value is not None and name not in ("resume_dir", "server")]
+                 if value is not None and name not in ("resume_dir", "server", "rcssserver", "servers")]
         if given:
             fail(f"--resume continues a run with its own settings; drop {', '.join(given)}")
-        _resume(resume_dir, server)
+        _resume(resume_dir, server, rcssserver, servers)
     else:
         _start(GA, options)
 
@@ -108,7 +109,7 @@ def random_search_command(
     workers: Workers = None, fitness: FitnessOption = None, games_per_evaluation: GamesPerEvaluation = None,
     max_ticks: MaxTicksOption = None, goal_cap: GoalCapOption = None, idle_ticks: IdleTicksOption = None,
     noise: NoiseOption = None, skills: SkillsOption = None, env: EnvOption = None, server: ServerOption = None,
-    out: Out = None,
+    rcssserver: RcssserverOption = None, servers: ServersOption = None, out: Out = None,
 ) -> None:
     """The baseline: spend the same evaluations on fresh random rulebases (population x generations),
     with the same statistics and outputs as evolve. Continue a killed one with `evolve --resume`."""
@@ -120,10 +121,12 @@ def _settings(algorithm: str, options: dict[str, Any]) -> "RunSettings":
     """The run the options ask for, each checked with a message naming its option (before the run's
     machinery is imported: a bad option is refused at once)."""
     env = chosen_env(options.pop("env"), options.get("server"),
-                     {"--noise": options.get("noise"), "--games-per-evaluation": options.get("games_per_evaluation")})
+                     {"--noise": options.get("noise"), "--games-per-evaluation": options.get("games_per_evaluation")},
+                     {"--rcssserver": options.get("rcssserver"), "--servers": options.get("servers")})
     game_options = [options.pop(name) for name in ("fitness", "max_ticks", "goal_cap", "idle_ticks")]
     noise, games, servers = options.pop("noise"), options.pop("games_per_evaluation"), options.pop("server")
     skills = options.pop("skills")
+    rcssserver, count = options.pop("rcssserver"), options.pop("servers")
     for name in ("out", "resume_dir"):
         options.pop(name, None)
     options["max_generations"] = options.pop("generations")
@@ -138,7 +141,11 @@ def _settings(algorithm: str, options: dict[str, Any]) -> "RunSettings":
             except ValueError as exc:
                 fail(f"--workers: {exc}")
         options["workers"] = RCSS_WORKERS
-        where = {"env": RCSS, "servers": tuple(rcss_servers(servers)), "trial": trial_config(*game_options, skills)}
+        trial = trial_config(*game_options, skills)
+        executable = rcss_executable(servers, rcssserver, count)
+        where = {"env": RCSS, "trial": trial, "servers": tuple(rcss_servers(servers)) if servers else (),
+                 "start_servers": 0 if servers else count or 1,
+                 "rcssserver": str(executable) if executable else None}
     ga = config_from_options(GAConfig, options, RENAMED)
     from app.run import RunSettings
 
@@ -158,7 +165,7 @@ def _start(algorithm: str, options: dict[str, Any]) -> None:
     _drive(run, history=[])
 
 
-def _resume(path: Path, servers: list[str] | None) -> None:
+def _resume(path: Path, servers: list[str] | None, rcssserver: Path | None, count: int | None) -> None:
     from app.run import Run
 
     try:
@@ -166,10 +173,16 @@ def _resume(path: Path, servers: list[str] | None) -> None:
         state = run.saved_state()
     except (RunFolderError, CheckpointError) as exc:
         fail(str(exc))
-    if run.settings.env == SIMPLE and servers:
-        fail(f"--server: the run in {run.folder.path} plays SimpleSoccer, not on rcssserver")
+    given = [option for option, value in (("--server", servers), ("--rcssserver", rcssserver), ("--servers", count))
+             if value]
+    if run.settings.env == SIMPLE and given:
+        fail(f"{', '.join(given)}: the run in {run.folder.path} plays SimpleSoccer, not on rcssserver")
     if servers:
+        rcss_executable(servers, rcssserver, count)  # refuses --server with --rcssserver/--servers
         run.settings = run.settings.with_servers(rcss_servers(servers))
+    elif run.settings.env == RCSS and (run.settings.start_servers or rcssserver or count):
+        executable = rcss_executable(None, rcssserver, count)
+        run.settings = run.settings.with_started_servers(count, str(executable))
     _drive(run, history=[stats.to_dict() for stats in state.history])
 
 
@@ -179,7 +192,7 @@ def _drive(run: "Run", *, history: list[dict]) -> None:
     settings, folder = run.settings, run.folder
     label = "evolving" if settings.algorithm == GA else "random search"
     try:
-        with run.evaluator() as evaluate:
+        with run.evaluator(announce=lambda line: typer.echo(line, err=True)) as evaluate:
             if history:
                 typer.echo(f"resuming {folder.path} after generation {len(history) - 1}", err=True)
             with GenerationProgress(settings.ga.max_generations, last=history[-1] if history else None,
@@ -239,7 +252,10 @@ def _summary(run: "Run", result: RunResult) -> None:
 def _replay_line(run: "Run") -> str:
     game = run.best_game
     if run.settings.env == RCSS:  # no replay: it would hold the servers for one more trial
-        servers = " ".join(f"--server {server}" for server in run.settings.servers)
+        settings = run.settings
+        servers = " ".join(f"--server {server}" for server in settings.servers)
+        if settings.start_servers:  # those it started are gone: play starts its own
+            servers = f"--rcssserver {settings.rcssserver} --servers {settings.start_servers}"
         return f"play the best on rcssserver: soccer-lab play {run.folder.best_rules} --env {RCSS} {servers}"
     if game is None:
         return "the best player's first game cannot be replayed (its seed was not kept by the run it comes from)"

@@ -124,21 +124,31 @@ def chosen_env(env: str | None, servers: list[str] | None, simple_only: dict[str
     return env
 
 
+def rcss_executable(servers: list[str] | None, rcssserver: Path | None, count: int | None) -> Path | None:
+    """The rcssserver executable to start servers from (checked now), or None for the --server's the user
+    runs."""
+    if servers:
+        if rcssserver is not None or count is not None:
+            fail("--server names servers you run; --rcssserver and --servers start servers: give one or the other")
+        return None
+    from soccer.rcss.servers import RcssLaunchError, find_rcssserver
+
+    try:
+        return find_rcssserver(rcssserver)
+    except RcssLaunchError as exc:
+        fail(f"{exc}: give --rcssserver PATH (see README), or --server HOST:PORT for a server you run")
+
+
 @contextmanager
 def rcss_addresses(servers: list[str] | None, rcssserver: Path | None, count: int | None) -> Iterator[list[str]]:
     """The HOST:PORTs trials play on: the --server's the user runs, or `count` (default 1) servers soccer-lab
     starts from `rcssserver` (default $RCSSSERVER, else PATH) and stops when the block ends."""
-    if servers:
-        if rcssserver is not None or count is not None:
-            fail("--server names servers you run; --rcssserver and --servers start servers: give one or the other")
+    executable = rcss_executable(servers, rcssserver, count)
+    if executable is None:
         yield rcss_servers(servers)
         return
-    from soccer.rcss.servers import RcssLaunchError, ServerPool, describe, find_rcssserver
+    from soccer.rcss.servers import RcssLaunchError, ServerPool, describe
 
-    try:
-        executable = find_rcssserver(rcssserver)
-    except RcssLaunchError as exc:
-        fail(f"{exc}: give --rcssserver PATH (see README), or --server HOST:PORT for a server you run")
     with ExitStack() as stack:
         try:
             pool = stack.enter_context(ServerPool(executable, count or 1))

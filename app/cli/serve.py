@@ -24,9 +24,20 @@ def serve_command(
         None, help="Folder of the database and the runs' files. (default: $SOCCER_LAB_DATA, else "
         "$XDG_DATA_HOME/soccer-lab, else ~/.local/share/soccer-lab)", show_default=False
     ),
+    rcssserver: Optional[Path] = typer.Option(
+        None, help="The rcssserver executable that runs on rcssserver start their servers from (each run its "
+        "own, stopped when it ends). (default: $RCSSSERVER, else rcssserver on PATH)", show_default=False
+    ),
 ) -> None:
     """Start the UI, the JSON API and the rerun viewer, and print their addresses."""
-    options = ServeOptions(host, port, ui_port, rerun_port, data_dir or default_data_dir())
+    if rcssserver is not None:
+        from soccer.rcss.servers import RcssLaunchError, find_rcssserver
+
+        try:
+            rcssserver = find_rcssserver(rcssserver)
+        except RcssLaunchError as exc:
+            fail(f"--rcssserver: {exc}")
+    options = ServeOptions(host, port, ui_port, rerun_port, data_dir or default_data_dir(), rcssserver)
     try:
         serve(options, echo=typer.echo)
     except (ServeError, StoreError) as exc:

@@ -9,7 +9,6 @@ import pytest
 from app.run import RunSettings
 from fuzzy.parser import parse_rulebase
 from fuzzy.vocabulary import Vocabulary
-from soccer.rcss.client import DEFAULT_SERVER
 from soccer.rcss.errors import RcssTimeoutError
 from soccer.rcss.evaluate import RcssEvaluator
 from soccer.rcss.trial import TrialConfig
@@ -48,6 +47,10 @@ def test_a_run_against_a_dead_server_fails_with_the_servers_message(tmp_path):
     ({"env": "rcss", "trial": {"max_ticks": 0}}, "trial.max_ticks: Input should be greater than 0"),
     ({"env": "rcss", "trial": {"fitness": "style points"}}, "trial.fitness: Input should be"),
     ({"env": "rcss", "trial": {"noise": True}}, "trial.noise: Extra inputs are not permitted"),
+    ({"env": "rcss", "servers": ["127.0.0.1:6000"], "start_servers": 2}, "start_servers: give the servers you run "
+                                                                          "or how many soccer-lab starts, not both"),
+    ({"start_servers": 2}, "start_servers: started servers are for env rcss only"),
+    ({"env": "rcss", "start_servers": 0}, "start_servers: Input should be greater than or equal to 1"),
 ])
 def test_bad_environment_settings_are_refused_and_no_run_starts(body, message, tmp_path):
     with api_client(tmp_path) as client:
@@ -56,12 +59,28 @@ def test_bad_environment_settings_are_refused_and_no_run_starts(body, message, t
         assert client.get("/api/runs").json() == []
 
 
-def test_settings_default_to_the_default_server_and_old_records_to_simplesoccer():
+def test_settings_default_to_one_started_server_and_old_records_keep_theirs():
     rcss = RunSettings.build(env="rcss")
-    assert rcss.servers == (DEFAULT_SERVER,) and rcss.trial == TrialConfig()
+    assert (rcss.servers, rcss.start_servers, rcss.trial) == ((), 1, TrialConfig())
     assert RunSettings.from_dict(rcss.to_dict()) == rcss
+    assert "rcssserver" not in rcss.with_started_servers(2, "/opt/rcssserver").to_dict()  # never stored
     old = RunSettings.from_dict({"ga": TINY_GA, "game": {"max_ticks": 40}})  # stored before env existed
     assert old.env == "simple" and old.servers == () and "servers" not in old.to_dict()
+    before = RunSettings.from_dict({"ga": TINY_GA, "env": "rcss", "servers": ["127.0.0.1:6000"],
+                                    "trial": {"max_cycles": 300, "idle_cycles": 50}})  # stored before start_servers
+    assert (before.servers, before.start_servers, before.trial.max_ticks, before.trial.idle_ticks) == (
+        ("127.0.0.1:6000",), 0, 300, 50)
+
+
+def test_a_run_that_starts_servers_needs_an_rcssserver(tmp_path, monkeypatch):
+    monkeypatch.delenv("RCSSSERVER", raising=False)
+    monkeypatch.setenv("PATH", str(tmp_path))
+    with api_client(tmp_path) as client:
+        response = client.post("/api/runs", json={"env": "rcss", "start_servers": 2, "ga": ONE_GENERATION})
+        assert response.status_code == 409
+        assert response.json()["detail"] == ("start_servers: no rcssserver: 'rcssserver' is not on PATH (start the app "
+                                             "with serve --rcssserver PATH, or give the servers you run)")
+        assert client.get("/api/runs").json() == []
 
 
 def test_a_server_plays_one_run_at_a_time(tmp_path, monkeypatch):

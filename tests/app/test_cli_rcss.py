@@ -5,15 +5,12 @@ from __future__ import annotations
 
 import csv
 import json
-import shutil
 import time
 
 import pytest
 from typer.testing import CliRunner
 
 from app.cli import _register, app
-from app.cli.play import rcss_servers
-from soccer.rcss.client import DEFAULT_SERVER
 from tests.app.rcss_fakes import (GOALS_CYCLES, GOALS_FITNESS, KICK_IN_FITNESS, silent_server, transcripts_missing,
                                   two_recorded_trials)
 from tests.app.test_cli_evolve import assert_one_line_error
@@ -93,12 +90,13 @@ def test_random_search_on_rcss_takes_the_same_path(tmp_path):
     assert_one_line_error(result, f"no reply from rcssserver at {server}")
 
 
-def test_rcss_without_a_server_uses_the_default_server(tmp_path):
-    assert rcss_servers(None) == [DEFAULT_SERVER] == ["127.0.0.1:6000"]
-    if shutil.which("rcssserver"):
-        pytest.skip("an rcssserver is installed: one may be listening on the default port")
+def test_rcss_without_a_server_or_an_executable_says_how_to_give_one(tmp_path, monkeypatch):
+    monkeypatch.delenv("RCSSSERVER", raising=False)
+    monkeypatch.setenv("PATH", str(tmp_path))
     result = run("evolve", "--env", "rcss", *ONE_GENERATION, "--out", tmp_path / "run")
-    assert_one_line_error(result, "rcssserver at 127.0.0.1:6000")
+    assert_one_line_error(result, "no rcssserver: 'rcssserver' is not on PATH: give --rcssserver PATH (see README), "
+                                  "or --server HOST:PORT for a server you run")
+    assert not (tmp_path / "run").exists()
 
 
 @pytest.mark.parametrize("arguments, message", [
@@ -112,6 +110,11 @@ def test_rcss_without_a_server_uses_the_default_server(tmp_path):
     (["--env", "rcss", "--max-ticks", "0"], "--max-ticks: Input should be greater than 0"),
     (["--env", "rcss", "--skills", "lazy"], "--skills: Input should be 'strict' or 'assisted'"),
     (["--server", "127.0.0.1:6000"], "--server needs --env rcss"),
+    (["--servers", "2", "--rcssserver", "/x"], "--rcssserver, --servers need --env rcss"),
+    (["--env", "rcss", "--server", "127.0.0.1:6000", "--servers", "2"], "--server names servers you run; "
+                                                                         "--rcssserver and --servers start servers"),
+    (["--env", "rcss", "--servers", "0"], "--servers"),
+    (["--env", "rcss", "--rcssserver", "/no/such/rcssserver"], "no rcssserver: '/no/such/rcssserver' does not exist"),
     (["--env", "robocup"], "--env: expected simple or rcss, got 'robocup'"),
 ])
 def test_bad_options_are_one_line_before_any_connection(arguments, message, tmp_path):
@@ -146,5 +149,5 @@ def test_play_shares_the_environment_options(tmp_path):
 
 def test_help_says_how_workers_and_servers_go_together():
     text = " ".join(run("evolve", "--help").output.replace("│", " ").split())
-    assert "Not with --env rcss" in text and "trials run in parallel over the --server's" in text
+    assert "Not with --env rcss" in text and "trials run in parallel over the servers" in text
     assert "server::synch_mode=true server::coach_w_referee=true" in text

@@ -20,7 +20,7 @@ from app.cli import _register, app
 from soccer.rcss.servers import ServerPool
 from tests.app.api_client import api_client, wait_for
 from tests.rcss.conftest import CHASER
-from tests.rcss.real_server import kill, wait_until_gone
+from tests.rcss.real_server import kill, rcssserver_children, wait_until_gone
 
 _register()
 SMALL_RUN = ["--population-size", "4", "--generations", "2", "--max-length", "16", "--max-ticks", "80", "--seed", "3"]
@@ -102,12 +102,25 @@ def test_evolve_on_two_servers(evolved):
     assert "best fitness" in result.output and (folder / "best.rules").is_file()
 
 
-def test_random_search_on_a_server(start_servers, tmp_path):
-    pool = start_servers()
-    folder = tmp_path / "random"
-    result = run("random-search", "--env", "rcss", *servers_option(pool), "--population-size", "3",
-                 "--generations", "1", "--max-ticks", "60", "--out", folder)
+def test_evolve_on_two_servers_soccer_lab_starts_and_stops(rcssserver, tmp_path):
+    folder = tmp_path / "run"
+    result = run("evolve", "--env", "rcss", "--rcssserver", rcssserver, "--servers", "2", *SMALL_RUN, "--out", folder)
     assert result.exit_code == 0, result.output
+    pids = started_pids(result.output)
+    assert len(pids) == 2 and wait_until_gone(pids, seconds=0.5) == []
+    assert generations(folder) == [0, 1]
+    manifest = json.loads((folder / "run.json").read_text())
+    assert (manifest["servers"], manifest["start_servers"]) == ([], 2) and "rcssserver" not in manifest
+    assert f"soccer-lab play {folder / 'best.rules'} --env rcss --rcssserver {rcssserver} --servers 2" in result.output
+
+
+def test_random_search_on_a_server_soccer_lab_starts(rcssserver, tmp_path, monkeypatch):
+    monkeypatch.setenv("RCSSSERVER", str(rcssserver))  # found there, as on PATH: no option needed
+    folder = tmp_path / "random"
+    result = run("random-search", "--env", "rcss", "--population-size", "3", "--generations", "1", "--max-ticks", "60",
+                 "--out", folder)
+    assert result.exit_code == 0, result.output
+    assert len(started_pids(result.output)) == 1
     assert generations(folder) == [0]
     assert json.loads((folder / "run.json").read_text())["algorithm"] == "random-search"
 
@@ -136,24 +149,24 @@ def test_a_server_killed_mid_run_is_one_line_and_the_finished_generations_stay(s
     assert generations(folder) == list(range(20))
 
 
-def test_a_killed_run_resumes_to_its_end(start_servers, tmp_path):
-    pool = start_servers()
-    folder = tmp_path / "run"
-    process = subprocess.Popen([str(SOCCER_LAB), "evolve", "--env", "rcss", *servers_option(pool), *SMALL_RUN[:2],
-                                "--generations", "4", *SMALL_RUN[4:], "--out", str(folder)],
-                               stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+def test_a_killed_run_leaves_no_server_and_resumes_to_its_end(rcssserver, tmp_path):
+    folder, log = tmp_path / "run", tmp_path / "stderr.txt"
+    with log.open("w") as stderr:
+        process = subprocess.Popen([str(SOCCER_LAB), "evolve", "--env", "rcss", "--rcssserver", str(rcssserver),
+                                    *SMALL_RUN[:2], "--generations", "4", *SMALL_RUN[4:], "--out", str(folder)],
+                                   stdout=subprocess.DEVNULL, stderr=stderr)
     try:
         wait_for(lambda: (folder / "checkpoint").exists() or process.poll() is not None, timeout=120,
                  what="generation 0")
-        process.send_signal(signal.SIGKILL)
+        process.send_signal(signal.SIGKILL)  # no clean-up of its own: the kernel ends its servers
     finally:
         process.wait(30)
-    assert process.returncode == -signal.SIGKILL, process.stderr.read()
+    assert process.returncode == -signal.SIGKILL, log.read_text()
+    pids = started_pids(log.read_text())
+    assert len(pids) == 1 and wait_until_gone(pids) == []
     kept = generations(folder)
     assert 1 <= len(kept) < 4
-    # The killed player left the server waiting for it; a resumed run starts on a fresh one.
-    again = start_servers()
-    resumed = run("evolve", "--resume", folder, *servers_option(again))
+    resumed = run("evolve", "--resume", folder, "--rcssserver", rcssserver)  # a new server, as many as before
     assert resumed.exit_code == 0, resumed.output
     assert f"resuming {folder} after generation {kept[-1]}" in resumed.output
     assert generations(folder) == [0, 1, 2, 3]
@@ -164,7 +177,20 @@ def ended(client, run_id: int) -> dict | None:
     return record if record["status"] != "running" else None
 
 
-def test_an_api_run_on_two_servers_finishes(start_servers, tmp_path):
+def test_an_api_run_on_two_servers_it_starts_finishes_and_stops_them(rcssserver, tmp_path):
+    before = rcssserver_children()
+    with api_client(tmp_path, rcssserver=rcssserver) as client:
+        response = client.post("/api/runs", json={
+            "env": "rcss", "start_servers": 2, "trial": {"max_ticks": 80},
+            "ga": {"population_size": 4, "max_generations": 2, "max_length": 16, "seed": 3, "workers": 1}})
+        assert response.status_code == 201, response.json()
+        assert response.json()["config"]["start_servers"] == 2
+        done = wait_for(lambda: ended(client, response.json()["id"]), timeout=180, what="the run to end")
+        assert done["status"] == "finished" and done["error"] is None and done["generations"] == 2
+    assert rcssserver_children() == before
+
+
+def test_an_api_run_on_two_servers_the_user_runs_finishes(start_servers, tmp_path):
     pool = start_servers(2)
     with api_client(tmp_path) as client:
         response = client.post("/api/runs", json={

@@ -80,6 +80,20 @@ def wait_until_gone(pids: list[int], seconds: float = 10.0) -> list[int]:
     return [pid for pid in pids if process_exists(pid)]
 
 
+def rcssserver_children() -> set[int]:
+    """PIDs of the live rcssserver processes this process started."""
+    children = set()
+    for stat in Path("/proc").glob("[0-9]*/stat"):
+        try:
+            name, rest = stat.read_text().split(") ", 1)
+        except (FileNotFoundError, ProcessLookupError, ValueError):
+            continue
+        state, parent = rest.split()[:2]
+        if name.endswith("(rcssserver") and int(parent) == os.getpid() and state != "Z":
+            children.add(int(stat.parent.name))
+    return children
+
+
 def kill(server: RcssServerProcess) -> None:
     """Kill a server the way a crash would: SIGKILL, no goodbye."""
     os.kill(server.pid, signal.SIGKILL)

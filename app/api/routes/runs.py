@@ -28,7 +28,7 @@ def _out(record: RunRecord, store: Store, request: Request) -> RunOut:
 @router.post("", status_code=201, summary="Start a GA or random-search run in the background", responses=CONFLICT)
 def start(body: RunStart, runs: RunsDependency, store: StoreDependency, request: Request) -> RunOut:
     return _out(runs.start(body.name, body.ga, body.game, algorithm=body.algorithm, env=body.env,
-                           servers=body.servers, trial=body.trial), store, request)
+                           servers=body.servers, trial=body.trial, start_servers=body.start_servers), store, request)
 
 
 @router.get("", summary="List runs")
