@@ -10,6 +10,7 @@ import numpy as np
 import viser
 import viser.uplot
 
+from app.environments import RCSS, RCSS_WORKERS
 from app.runs import RunEvent, RunManager, RunStateError, SampledPlayer
 from app.store import NotFound, RunStatus, Store
 from app.ui import style
@@ -19,8 +20,10 @@ from fuzzy.rule import Rulebase
 from ga.config import GAConfig
 from ga.state import GA, RANDOM_SEARCH
 from soccer.config import GameConfig
+from soccer.rcss.servers import MAX_SERVERS
 
 ALGORITHMS = {"GA": GA, "Random search": RANDOM_SEARCH}  # what the teacher picks -> the run's algorithm
+SIMPLESOCCER, RCSSSERVER = "SimpleSoccer", "rcssserver"  # where evaluations play (rcss: servers the run starts)
 LABELS = {  # what a teacher reads next to each field; fields missing here show their own name
     "population_size": "Population size",
     "max_generations": "Generations (max)",
@@ -84,6 +87,9 @@ class EvolvePanel:
         self.mean: list[float] = []
         self.inputs: dict[str, viser.GuiInputHandle] = {}
         self.algorithm = gui.add_dropdown("Algorithm", tuple(ALGORITHMS), initial_value="GA")
+        self.where = gui.add_dropdown("Play on", (SIMPLESOCCER, RCSSSERVER), initial_value=SIMPLESOCCER,
+                                      hint="rcssserver: the run starts its own servers (serve --rcssserver PATH)")
+        self.servers = gui.add_number("rcssservers", initial_value=1, min=1, max=MAX_SERVERS, step=1)
         self.name = gui.add_text("Run name (empty: from the settings)", initial_value="")
         self.game_inputs: dict[str, viser.GuiInputHandle] = {}
         with gui.add_folder("GA parameters (chapter's Table 2)", expand_by_default=False):
@@ -144,8 +150,12 @@ class EvolvePanel:
     # ---- actions ----------------------------------------------------------------------------
     def start(self) -> None:
         try:
-            record = self.runs.start(self.name.value.strip() or None, ga=self.config(), game=self.game_config(),
-                                     algorithm=ALGORITHMS[self.algorithm.value])
+            ga, game, where = self.config(), self.game_config(), {}
+            if self.where.value == RCSSSERVER:  # the GA evaluates in this process, trials over the servers
+                where = {"env": RCSS, "start_servers": int(self.servers.value), "trial": {"skills": game["skills"]}}
+                ga, game = {**ga, "workers": RCSS_WORKERS}, None  # the server has its own noise
+            record = self.runs.start(self.name.value.strip() or None, ga=ga, game=game,
+                                     algorithm=ALGORITHMS[self.algorithm.value], **where)
         except (ValueError, RunStateError) as exc:  # pydantic's ValidationError is a ValueError
             self.status.content = self._status_html(f"Not started: {_first_line(exc)}", error=True)
             return
