@@ -363,17 +363,21 @@ def _random_finds_scorers(table: StatisticsTable, preset: Preset) -> Assessment:
 
 
 FINDINGS: tuple[Finding, ...] = (
-    Finding("robocup", "6.1, Fig. 8", "The population average fitness improves steadily.",
+    Finding("robocup", "6.1, Fig. 8", "On rcssserver the population average fitness improves steadily.",
             trend("mean", "average fitness (mean over trials)", rising=False)),
-    Finding("robocup", "6.1, Fig. 8", "In some trials the average fitness plateaus towards 0.5 (goal scoring).",
+    Finding("robocup", "6.1, Fig. 8", "On rcssserver the average fitness plateaus towards 0.5 (goal scoring) in "
+            "some trials.",
             _towards_goal_scoring),
-    Finding("robocup", "6.1, Fig. 9", "Good (goal-scoring) individuals are found after very few generations.",
+    Finding("robocup", "6.1, Fig. 9", "On rcssserver good (goal-scoring) individuals are found after very few "
+            "generations.",
             _early_goal_scorers),
-    Finding("robocup", "6.1, Fig. 10", "More players learn to score goals over the generations.",
+    Finding("robocup", "6.1, Fig. 10", "On rcssserver more players learn to score goals over the generations.",
             improves("goals_0", "share of the population scoring no goal", increase=False)),
-    Finding("robocup", "6.1, Fig. 10", "Players learn to score more goals: the share scoring 2 or more rises.",
+    Finding("robocup", "6.1, Fig. 10", "On rcssserver players learn to score more goals: the share scoring 2 or "
+            "more rises.",
             improves(SEVERAL_GOALS, "share of the population scoring 2 or more goals", increase=True)),
-    Finding("robocup", "6.1, Fig. 10", "No individual scores many goals: the most by any individual was 3.",
+    Finding("robocup", "6.1, Fig. 10", "On rcssserver no individual scores many goals: the most by any "
+            "individual was 3.",
             _most_goals),
     Finding("initial", "6.2, Fig. 11", "The population average fitness improves steadily, then plateaus.",
             improves("mean", "average fitness", increase=False)),

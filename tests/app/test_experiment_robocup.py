@@ -6,16 +6,19 @@ from __future__ import annotations
 
 import csv
 
+import numpy as np
 import pytest
 from typer.testing import CliRunner
 
 from app.cli import _register, app
 from app.experiment.figures import FIGURES_FOLDER
 from app.experiment.presets import ExperimentOptions, preset, presets
-from app.experiment.report import NOT_RUN, REPORT_MD
+from app.experiment.report import AGREES, DISAGREES, NOT_RUN, REPORT_MD, write_report
 from app.experiment.runner import STATISTICS_FILE
+from app.experiment.table import StatisticsTable
 from ga.checkpoint import load_checkpoint
 from soccer.rcss.evaluate import RcssEvaluator
+from tests.app.test_experiment_report import fabricated, falling, verdict
 
 _register()
 # 2 trials of Table 2 shrunk to 4 x 5 (5 generations: the fewest a trend test takes), 60-cycle trials.
@@ -36,6 +39,37 @@ def test_the_preset_is_table_2_on_rcssserver_at_the_chapters_size():
     assert robocup.figures == ("mean_fitness", "best_fitness", "goal_histogram")
     assert "robocup" not in [p.name for p in presets("all", ExperimentOptions())]
     assert preset("robocup", ExperimentOptions(max_ticks=300)).settings[0].trial.max_ticks == 300
+
+
+def robocup_rows(rng, *, final_mean: float, most_goals_column: str) -> list[dict]:
+    """Fabricated robocup statistics: 10 trials x 10 generations, the average falling to `final_mean`, a
+    scorer from generation 1, the share scoring none falling and the share scoring 2+ rising, and some
+    individual in the class `most_goals_column` in the last generation."""
+    generations = np.linspace(0, 1, 10)
+    none = np.tile(0.9 - 0.5 * generations, (10, 1)) + rng.normal(0, 0.01, (10, 10))
+    two = np.tile(0.02 + 0.2 * generations, (10, 1)) + rng.normal(0, 0.005, (10, 10))
+    curves = {"mean": falling(0.95, final_mean, rng), "best": np.full((10, 10), 0.25), "goals_0": none,
+              "goals_1": 0.08 + 0 * none, "goals_2": two}
+    curves["best"][:, 0] = 0.9
+    marked = np.zeros((10, 10))
+    marked[:, -1] = 0.01
+    curves[most_goals_column] = curves.get(most_goals_column, 0 * none) + marked
+    return fabricated("robocup", {"Table 2": curves})
+
+
+def test_the_robocup_findings_follow_the_data(tmp_path):
+    rng = np.random.default_rng(3)
+    robocup = preset("robocup", ExperimentOptions(trials=10, population=20, generations=10))
+    like_the_chapter = robocup_rows(rng, final_mean=0.55, most_goals_column="goals_3")
+    report = write_report(StatisticsTable(like_the_chapter), [robocup], tmp_path)
+    for claim in ("On rcssserver the population average", "On rcssserver the average fitness plateaus",
+                  "On rcssserver good", "On rcssserver more players", "On rcssserver players learn",
+                  "On rcssserver no individual"):
+        assert verdict(report, claim) == AGREES, claim
+    unlike = robocup_rows(rng, final_mean=0.85, most_goals_column="goals_more")
+    report = write_report(StatisticsTable(unlike), [robocup], tmp_path)
+    assert verdict(report, "On rcssserver the average fitness plateaus") == DISAGREES
+    assert verdict(report, "On rcssserver no individual") == DISAGREES
 
 
 @pytest.mark.parametrize("arguments, message", [
