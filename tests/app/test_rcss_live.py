@@ -55,13 +55,13 @@ def started_pids(output: str) -> list[int]:
 
 def test_play_on_two_servers_soccer_lab_starts_and_stops(rcssserver, striker):
     result = run("play", striker, "--env", "rcss", "--rcssserver", rcssserver, "--servers", "2", "--games", "2",
-                 "--max-ticks", "250")
+                 "--max-ticks", "300", "--skills", "assisted")
     assert result.exit_code == 0, result.output
     pids = started_pids(result.output)
     assert len(pids) == 2 and wait_until_gone(pids, seconds=0.5) == []  # stopped before the command returned
     rows = [line.split() for line in result.output.splitlines() if line.split()[:1] in (["1"], ["2"])]
     assert [row[:2] for row in rows] == [["1", "0"], ["2", "1"]]
-    assert all(int(row[2]) >= 1 and int(row[4]) == 250 for row in rows)  # goals, ticks
+    assert all(int(row[2]) >= 1 and int(row[4]) == 300 for row in rows)  # goals, ticks
 
 
 def test_without_a_server_or_an_executable_says_how_to_give_one(striker, monkeypatch, tmp_path):
@@ -75,11 +75,12 @@ def test_without_a_server_or_an_executable_says_how_to_give_one(striker, monkeyp
 
 def test_play_on_two_servers_the_user_runs(start_servers, striker):
     pool = start_servers(2)
-    result = run("play", striker, "--env", "rcss", *servers_option(pool), "--games", "2", "--max-ticks", "250")
+    result = run("play", striker, "--env", "rcss", *servers_option(pool), "--games", "2", "--max-ticks", "300",
+                 "--skills", "assisted")
     assert result.exit_code == 0, result.output
     rows = [line.split() for line in result.output.splitlines()[1:3]]
     assert [row[:2] for row in rows] == [["1", "0"], ["2", "1"]]
-    assert all(int(row[2]) >= 1 and int(row[4]) == 250 for row in rows)  # goals, ticks
+    assert all(int(row[2]) >= 1 and int(row[4]) == 300 for row in rows)  # goals, ticks
 
 
 @pytest.fixture(scope="module")

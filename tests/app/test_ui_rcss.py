@@ -27,7 +27,7 @@ def test_a_run_on_two_rcssservers_from_the_evolve_panel(gui, runs):  # noqa: F81
     manager, store = runs
     before = rcssserver_children()
     panel = EvolvePanel(gui, manager, store, on_load=lambda *_: None, on_generation=lambda *_: None,
-                        on_runs_changed=lambda: None)
+                        on_run_ended=lambda *_: None, on_runs_changed=lambda: None)
     panel.where.value, panel.servers.value = RCSSSERVER, 2
     for name, value in {"population_size": 4, "max_generations": 2, "max_length": 16, "seed": 3}.items():
         panel.inputs[name].value = value
