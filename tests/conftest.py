@@ -1,9 +1,26 @@
 """Suite-wide settings: hypothesis runs derandomised so every CI run draws the same examples; the real
 rcssserver fixtures (tests/rcss/real_server.py) are available to every test."""
 
+import pytest
 from hypothesis import settings
 
 from tests.rcss.real_server import rcssserver, start_servers  # noqa: F401  (fixtures)
 
 settings.register_profile("soccer-lab", derandomize=True, deadline=None, max_examples=150)
 settings.load_profile("soccer-lab")
+
+
+@pytest.fixture(scope="session")
+def evolved_rulebases():
+    """The last generation of a short, seeded GA run in SimpleSoccer: what evolution really produces
+    (long messy antecedents, repeated and contradictory premises), kept small for speed."""
+    from ga import GAConfig, evolve
+    from ga.codec import ChromosomeCodec
+    from soccer.config import GameConfig
+    from soccer.evaluate import SimpleSoccerEvaluator
+
+    result = evolve(GAConfig(population_size=16, max_generations=3, seed=11),
+                    SimpleSoccerEvaluator(GameConfig(max_ticks=200)))
+    codec = ChromosomeCodec(result.vocabulary)
+    rulebases = [codec.decode(i.chromosome) for i in result.population]
+    return [result.best_rulebase] + [r for r in rulebases if len(r)]
