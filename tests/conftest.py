@@ -16,11 +16,11 @@ def evolved_rulebases():
     (long messy antecedents, repeated and contradictory premises), kept small for speed."""
     from ga import GAConfig, evolve
     from ga.codec import ChromosomeCodec
-    from soccer.config import GameConfig
+    from soccer.config import SOCCER_VOCABULARY, GameConfig
     from soccer.evaluate import SimpleSoccerEvaluator
 
     result = evolve(GAConfig(population_size=16, max_generations=3, seed=11),
-                    SimpleSoccerEvaluator(GameConfig(max_ticks=200)))
+                    SimpleSoccerEvaluator(GameConfig(max_ticks=200)), SOCCER_VOCABULARY)
     codec = ChromosomeCodec(result.vocabulary)
     rulebases = [codec.decode(i.chromosome) for i in result.population]
     return [result.best_rulebase] + [r for r in rulebases if len(r)]
