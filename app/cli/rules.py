@@ -1,23 +1,35 @@
-"""`soccer-lab rules ...`: check, infer, export and decode rulebases (rule text, our JSON, compact notation)."""
+"""`soccer-lab rules ...`: check, infer, export and decode rulebases (rule text, our JSON, compact notation);
+rule usage over games and simplification."""
 
 from __future__ import annotations
 
 import json
 import math
+from statistics import fmean
 from pathlib import Path
-from typing import Optional
+from typing import TYPE_CHECKING, Optional
 
 import typer
 
 from app.cli.common import OneLineErrors, fail
+from app.cli.play import FitnessOption, GoalCapOption, IdleTicksOption, MaxTicksOption, NoiseOption, game_config
+from app.rulebase_files import JSON_SUFFIX
 from fuzzy.engine import Engine, Inference
-from fuzzy.export import FORMATS, RulebaseFormatError, export_rulebase, rulebase_from_json
+from fuzzy.export import FORMATS, RulebaseFormatError, export_rulebase, rulebase_from_json, to_json
 from fuzzy.parser import RuleSyntaxError, parse_rulebase
 from fuzzy.printer import format_premise, format_rule, format_rulebase
 from fuzzy.rule import Rulebase
+from fuzzy.simplify import CHECKED, EXACT
 from fuzzy.vocabulary import Vocabulary, VocabularyError
 
-app = typer.Typer(help="Work with rulebases: check, infer, export, decode.", no_args_is_help=True)
+if TYPE_CHECKING:  # these play games (numba kernels): imported by the commands that need them
+    from soccer.engine import GameResult
+    from soccer.simplify import CheckedSimplification
+    from soccer.usage import Usage
+
+DEFAULT_USAGE_GAMES = 100
+
+app = typer.Typer(help="Work with rulebases: check, infer, export, decode, usage, simplify.", no_args_is_help=True)
 
 VOCABULARY_OPTION = typer.Option(None, "--vocabulary", help="Vocabulary JSON for rule text (default: the soccer one).")
 
@@ -156,3 +168,170 @@ def decode(
         typer.echo("# no valid rule: an invalid ruleset, fitness 1.0")
     for rule in rulebase:
         typer.echo(format_rule(rule, vocabulary))
+
+
+# ---- usage and simplify ------------------------------------------------------------------------------
+
+
+@app.command(cls=OneLineErrors)
+def usage(
+    file: Path = typer.Argument(..., help="Rule text or rulebase JSON."),
+    games: int = typer.Option(DEFAULT_USAGE_GAMES, "--games", "-n", min=1, help="Games to play."),
+    seed: int = typer.Option(0, "--seed", min=0, help="Seed of the first game's start; game i uses seed + i."),
+    as_json: bool = typer.Option(False, "--json", help="Print the counts as JSON."),
+    fitness: FitnessOption = None,
+    max_ticks: MaxTicksOption = None,
+    goal_cap: GoalCapOption = None,
+    idle_ticks: IdleTicksOption = None,
+    noise: NoiseOption = None,
+    vocabulary: Optional[Path] = VOCABULARY_OPTION,
+) -> None:
+    """Play FILE in SimpleSoccer and show, per rule, how often it fired, won and decided, and its mean strength;
+    per action how often it was performed; and how often the player hunted."""
+    from app.rule_inspection import rule_usage, usage_document
+
+    config = game_config(fitness, max_ticks, goal_cap, idle_ticks, noise)
+    rulebase, vocab = _playable(file, vocabulary)
+    result = _played(lambda: rule_usage(rulebase, vocab, games, seed, config))
+    if as_json:
+        typer.echo(json.dumps(usage_document(result, vocab), indent=2))
+        return
+    for line in usage_lines(result, vocab):
+        typer.echo(line)
+
+
+@app.command(cls=OneLineErrors)
+def simplify(
+    file: Path = typer.Argument(..., help="Rule text or rulebase JSON."),
+    games: int = typer.Option(0, "--games", "-n", min=0,
+                              help="Also drop the rules that never won in this many games, if the games replay "
+                                   "identically (0: only the exact steps)."),
+    seed: int = typer.Option(0, "--seed", min=0, help="Seed of the first game's start; game i uses seed + i."),
+    output: Optional[Path] = typer.Option(None, "--output", "-o",
+                                          help="Write the simplified rulebase here (.json: our JSON; else rule text)."),
+    drop_unused_fields: bool = typer.Option(False, "--drop-unused-fields",
+                                            help="Also drop consequent fields the action does not use."),
+    as_json: bool = typer.Option(False, "--json", help="Print the steps and the result as JSON."),
+    fitness: FitnessOption = None,
+    max_ticks: MaxTicksOption = None,
+    goal_cap: GoalCapOption = None,
+    idle_ticks: IdleTicksOption = None,
+    noise: NoiseOption = None,
+    vocabulary: Optional[Path] = VOCABULARY_OPTION,
+) -> None:
+    """A shorter rulebase that plays the same: exact steps (proved on every input), then, with --games, the rules
+    that never won in those games (kept only when every game replays identically)."""
+    from app.rule_inspection import simplification, simplification_document
+
+    config = game_config(fitness, max_ticks, goal_cap, idle_ticks, noise)
+    rulebase, vocab = _playable(file, vocabulary) if games else load_rulebase(file, vocabulary)
+    result = _played(lambda: simplification(rulebase, vocab, games, seed, config, drop_unused_fields))
+    simplified = result.simplification.rulebase
+    if output is not None:
+        _write(output, simplified, vocab)
+    if as_json:
+        typer.echo(json.dumps(simplification_document(result, vocab), indent=2))
+        return
+    for line in simplification_lines(result, vocab):
+        typer.echo(line)
+    if output is not None:
+        typer.echo(f"simplified rulebase written to {output}")
+    else:
+        typer.echo("")
+        typer.echo(format_rulebase(simplified, vocab) if len(simplified) else NO_RULE_LEFT)
+
+
+NO_RULE_LEFT = "# no rule can ever fire: the player only hunts"
+
+
+def _playable(file: Path, vocabulary: Path | None) -> tuple[Rulebase, Vocabulary]:
+    rulebase, vocab = load_rulebase(file, vocabulary)
+    if not len(rulebase):
+        fail(f"{file}: holds no rule")
+    return rulebase, vocab
+
+
+def _played(play):
+    """Run the games; a vocabulary SimpleSoccer cannot play ends the command with one line."""
+    try:
+        return play()
+    except VocabularyError as exc:
+        fail(f"cannot play this rulebase in SimpleSoccer: {exc}")
+
+
+def _write(path: Path, rulebase: Rulebase, vocabulary: Vocabulary) -> None:
+    if path.is_dir():
+        fail(f"--output: {path} is a folder")
+    if path.suffix.lower() == JSON_SUFFIX:
+        text = to_json(rulebase, vocabulary) + "\n"
+    else:
+        text = (format_rulebase(rulebase, vocabulary) if len(rulebase) else NO_RULE_LEFT) + "\n"
+    try:
+        path.write_text(text)
+    except OSError as exc:
+        fail(f"cannot write {path}: {exc.strerror or exc}")
+
+
+def usage_lines(usage: Usage, vocabulary: Vocabulary) -> list[str]:
+    seeds = usage.seeds
+    lines = [f"rule usage over {len(seeds)} games (seeds {seeds[0]}-{seeds[-1]}), {usage.ticks} ticks; "
+             f"the player hunted (no rule fired) {_percent(usage.hunt_share)} of them",
+             f"{'rule':>4} {'fired':>7} {'won':>7} {'decided':>7} {'strength':>8}  text"]
+    ticks = usage.ticks or 1
+    for i, (rule, u) in enumerate(zip(usage.rulebase, usage.rules)):
+        strength = "-" if u.mean_strength is None else f"{u.mean_strength:.2f}"
+        lines.append(f"{i + 1:>4} {_percent(u.fired / ticks):>7} {_percent(u.won / ticks):>7} "
+                     f"{_percent(u.decided / ticks):>7} {strength:>8}  {format_rule(rule, vocabulary)}")
+    performed = [(a, n) for a, n in usage.actions.items() if n]
+    lines.append("actions performed: " + (", ".join(f"{vocabulary.display(a)} {_percent(n / ticks)}"
+                                                     for a, n in performed) or "none") + f", hunt {_percent(usage.hunt_share)}")
+    lines.append(_results_line(usage.results))
+    lines.append("fired: ticks its strength was above 0; won: ticks it fired and its action was performed; decided: "
+                 "ticks it was that action's strongest rule; strength: its mean when it fired")
+    return lines
+
+
+def simplification_lines(result: CheckedSimplification, vocabulary: Vocabulary) -> list[str]:
+    simplified = result.simplification
+    lines = []
+    for kind, title in ((EXACT, "exact steps (each provably changes no decision, on any input):"),
+                        (CHECKED, "checked steps (kept only when every game replays identically):")):
+        steps = [s for s in simplified.steps if s.kind == kind]
+        if not steps:
+            continue
+        lines.append(title)
+        for step in steps:
+            lines.append(f"  {step.name:<20} {_step_outcome(step)}")
+            lines.extend(f"      rule {c.rule}: {c.reason}" for c in step.changes)
+    from app.rule_inspection import size
+
+    before, after = size(simplified.original), size(simplified.rulebase)
+    lines.append(f"size: {before['rules']} rules, {before['premises']} premises -> "
+                 f"{after['rules']} rules, {after['premises']} premises")
+    if result.usage is not None:
+        lines.append(f"before: {_results_line(result.usage.results)}")
+        lines.append(f"after:  {_results_line(result.results)}")
+    return lines
+
+
+def _step_outcome(step) -> str:
+    count = len(step.changes)
+    if not count:
+        return "nothing to do" if step.kind == EXACT else step.summary
+    what = f"{count} change{'s' if count > 1 else ''}"
+    if step.kind == CHECKED:
+        return f"{what}, checked on {step.games} games: {step.summary}"
+    if not step.applied:
+        return f"{what} listed, not applied (--drop-unused-fields applies them)"
+    return what
+
+
+def _results_line(results: tuple[GameResult, ...]) -> str:
+    if not results:
+        return "no games"
+    return (f"{len(results)} games: mean goals {fmean(r.goals for r in results):.2f}, "
+            f"mean fitness {fmean(r.fitness for r in results):.4f}")
+
+
+def _percent(share: float) -> str:
+    return f"{100 * share:.1f}%"

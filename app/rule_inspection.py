@@ -1,0 +1,88 @@
+"""Rule usage and simplification for the CLI, the API and the UI: one place that plays the games
+(SimpleSoccer, game i from seed + i) and turns the results into plain documents (`--json` and the
+API's bodies)."""
+
+from __future__ import annotations
+
+from statistics import fmean
+from typing import Any
+
+from fuzzy.printer import format_rule, format_rulebase
+from fuzzy.rule import Rulebase
+from fuzzy.simplify import premise_count
+from fuzzy.vocabulary import Vocabulary
+from soccer.config import GameConfig
+from soccer.engine import GameResult
+from soccer.simplify import CheckedSimplification, simplify_rulebase
+from soccer.usage import Usage, measure_usage
+
+MAX_GAMES = 1000  # the API's and UI's limit: a request plays them while the client waits
+
+
+def seeds_from(seed: int, games: int) -> list[int]:
+    """Game i (from 0) starts from seed + i, as `soccer-lab play` numbers them."""
+    return [seed + i for i in range(games)]
+
+
+def rule_usage(rulebase: Rulebase, vocabulary: Vocabulary, games: int, seed: int, config: GameConfig) -> Usage:
+    return measure_usage(rulebase, seeds_from(seed, games), config, vocabulary)[0]
+
+
+def simplification(rulebase: Rulebase, vocabulary: Vocabulary, games: int, seed: int, config: GameConfig,
+                   drop_unused_fields: bool = False) -> CheckedSimplification:
+    return simplify_rulebase(rulebase, vocabulary, seeds_from(seed, games), config, drop_unused_fields)
+
+
+# ---- documents ------------------------------------------------------------------------------------
+
+
+def usage_document(usage: Usage, vocabulary: Vocabulary) -> dict[str, Any]:
+    ticks = usage.ticks or 1
+    return {
+        "games": len(usage.seeds),
+        "seeds": list(usage.seeds),
+        "ticks": usage.ticks,
+        "rules": [
+            {"rule": i + 1, "text": format_rule(rule, vocabulary), "action": rule.consequent.action,
+             "fired": u.fired, "won": u.won, "decided": u.decided, "mean_strength": u.mean_strength,
+             "fired_share": u.fired / ticks, "won_share": u.won / ticks}
+            for i, (rule, u) in enumerate(zip(usage.rulebase, usage.rules))
+        ],
+        "actions": [{"action": a, "performed": n, "share": n / ticks} for a, n in usage.actions.items()],
+        "hunt": usage.hunt,
+        "hunt_share": usage.hunt_share,
+        "results": results_document(usage.results, usage.seeds),
+    }
+
+
+def results_document(results: tuple[GameResult, ...], seeds: tuple[int, ...]) -> dict[str, Any]:
+    return {
+        "mean_goals": fmean(r.goals for r in results) if results else None,
+        "mean_fitness": fmean(r.fitness for r in results) if results else None,
+        "games": [{"seed": s, "goals": r.goals, "kicks": r.kicks, "ticks": r.ticks, "fitness": r.fitness}
+                  for s, r in zip(seeds, results)],
+    }
+
+
+def simplification_document(result: CheckedSimplification, vocabulary: Vocabulary) -> dict[str, Any]:
+    simplified = result.simplification
+    document: dict[str, Any] = {
+        "text": format_rulebase(simplified.rulebase, vocabulary),
+        "origins": [i + 1 for i in simplified.origins],
+        "before": size(simplified.original),
+        "after": size(simplified.rulebase),
+        "steps": [
+            {"name": s.name, "kind": s.kind, "applied": s.applied, "summary": s.summary, "games": s.games,
+             "changes": [vars(c) for c in s.changes]}
+            for s in simplified.steps
+        ],
+        "games": len(result.usage.seeds) if result.usage else 0,
+    }
+    if result.usage is not None:
+        document["results"] = {"before": results_document(result.usage.results, result.usage.seeds),
+                               "after": results_document(result.results, result.usage.seeds)}
+    return document
+
+
+def size(rulebase: Rulebase) -> dict[str, int]:
+    return {"rules": len(rulebase), "premises": premise_count(rulebase)}
