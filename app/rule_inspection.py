@@ -5,18 +5,22 @@ API's bodies)."""
 from __future__ import annotations
 
 from statistics import fmean
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from fuzzy.printer import format_rule, format_rulebase
 from fuzzy.rule import Rulebase
 from fuzzy.simplify import premise_count
 from fuzzy.vocabulary import Vocabulary
 from soccer.config import GameConfig
-from soccer.engine import GameResult
-from soccer.simplify import CheckedSimplification, simplify_rulebase
-from soccer.usage import Usage, measure_usage
 
-MAX_GAMES = 1000  # the API's and UI's limit: a request plays them while the client waits
+if TYPE_CHECKING:  # these compile the game kernels: imported when games are played
+    from soccer.engine import GameResult
+    from soccer.simplify import CheckedSimplification
+    from soccer.usage import Usage
+
+DEFAULT_USAGE_GAMES = 100
+MAX_GAMES = 1000  # the API's and UI's limits: a request plays its games while the client waits
+MAX_GAME_TICKS = 1_000_000  # games x max ticks (a few seconds)
 
 
 def seeds_from(seed: int, games: int) -> list[int]:
@@ -25,11 +29,15 @@ def seeds_from(seed: int, games: int) -> list[int]:
 
 
 def rule_usage(rulebase: Rulebase, vocabulary: Vocabulary, games: int, seed: int, config: GameConfig) -> Usage:
+    from soccer.usage import measure_usage
+
     return measure_usage(rulebase, seeds_from(seed, games), config, vocabulary)[0]
 
 
 def simplification(rulebase: Rulebase, vocabulary: Vocabulary, games: int, seed: int, config: GameConfig,
                    drop_unused_fields: bool = False) -> CheckedSimplification:
+    from soccer.simplify import simplify_rulebase
+
     return simplify_rulebase(rulebase, vocabulary, seeds_from(seed, games), config, drop_unused_fields)
 
 

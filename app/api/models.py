@@ -8,6 +8,7 @@ from typing import Annotated, Any
 from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 
 from app.environments import SIMPLE, EnvName
+from app.rule_inspection import DEFAULT_USAGE_GAMES, MAX_GAME_TICKS, MAX_GAMES
 from app.run import AlgorithmName
 from app.store import NAME_MAX_LENGTH, BestIndividual, RulebaseRecord, RunRecord
 from ga.config import GAConfig
@@ -79,18 +80,23 @@ class CrispInputs(Strict):
         return value
 
 
-class EvaluateRequest(Strict):
-    """Rule text or a saved rulebase's id (exactly one), and the crisp inputs."""
+class RulebaseSource(Strict):
+    """Rule text or a saved rulebase's id (exactly one)."""
 
     text: RuleText | None = None
     rulebase_id: int | None = Field(None, ge=1, le=2**62)
-    inputs: CrispInputs = CrispInputs()
 
     @model_validator(mode="after")
-    def one_source(self) -> "EvaluateRequest":
+    def one_source(self) -> "RulebaseSource":
         if (self.text is None) == (self.rulebase_id is None):
             raise ValueError("give exactly one of 'text' and 'rulebase_id'")
         return self
+
+
+class EvaluateRequest(RulebaseSource):
+    """Rule text or a saved rulebase's id (exactly one), and the crisp inputs."""
+
+    inputs: CrispInputs = CrispInputs()
 
 
 class RuleEvaluation(BaseModel):
@@ -110,6 +116,112 @@ class EvaluateResponse(BaseModel):
     rules: list[RuleEvaluation]
     fired: list[FiredAction]
     selected: FiredAction | None  # null: no rule fired and the player hunts (turns to find the ball)
+
+
+# ---- rule usage and simplification --------------------------------------------------------
+class GamesRequest(RulebaseSource):
+    """Games of SimpleSoccer: game i starts from seed + i; `game` sets the rules of every game."""
+
+    games: int = Field(DEFAULT_USAGE_GAMES, ge=1, le=MAX_GAMES)
+    seed: int = Field(0, ge=0, le=2**62)
+    game: GameConfig = GameConfig()
+
+    @model_validator(mode="after")
+    def within_budget(self) -> "GamesRequest":
+        if self.games * self.game.max_ticks > MAX_GAME_TICKS:
+            raise ValueError(f"games x game.max_ticks must be at most {MAX_GAME_TICKS:,} (the request plays them "
+                             "while you wait)")
+        return self
+
+
+class UsageRequest(GamesRequest):
+    pass
+
+
+class SimplifyRequest(GamesRequest):
+    """games 0 (the default): only the exact steps."""
+
+    games: int = Field(0, ge=0, le=MAX_GAMES)
+    drop_unused_fields: bool = False
+
+
+class RuleUsageOut(BaseModel):
+    rule: int  # from 1, in rulebase order
+    text: str
+    action: str
+    fired: int  # ticks its strength was above 0
+    won: int  # ticks it fired and its action was performed
+    decided: int  # ticks it was the performed action's strongest rule (the first among equals)
+    mean_strength: float | None  # over the ticks it fired
+    fired_share: float
+    won_share: float
+
+
+class ActionUsageOut(BaseModel):
+    action: str
+    performed: int
+    share: float
+
+
+class GameOut(BaseModel):
+    seed: int
+    goals: float
+    kicks: float
+    ticks: float
+    fitness: float
+
+
+class GamesOut(BaseModel):
+    mean_goals: float | None
+    mean_fitness: float | None
+    games: list[GameOut]
+
+
+class UsageResponse(BaseModel):
+    games: int
+    seeds: list[int]
+    ticks: int  # decisions made, over all games
+    rules: list[RuleUsageOut]
+    actions: list[ActionUsageOut]
+    hunt: int  # ticks no rule fired
+    hunt_share: float
+    results: GamesOut
+
+
+class ChangeOut(BaseModel):
+    rule: int  # its number in the original rulebase, from 1
+    before: str
+    after: str | None  # null: the rule is dropped
+    reason: str
+
+
+class StepOut(BaseModel):
+    name: str
+    kind: str  # "exact" (proved on every input) or "checked" (replayed on `games` games)
+    applied: bool
+    summary: str
+    games: int
+    changes: list[ChangeOut]
+
+
+class SizeOut(BaseModel):
+    rules: int
+    premises: int
+
+
+class ResultsBeforeAfter(BaseModel):
+    before: GamesOut
+    after: GamesOut
+
+
+class SimplifyResponse(BaseModel):
+    text: str  # the simplified rulebase
+    origins: list[int]  # per rule of `text`, its number in the original
+    before: SizeOut
+    after: SizeOut
+    steps: list[StepOut]
+    games: int
+    results: ResultsBeforeAfter | None = None
 
 
 # ---- rulebases ---------------------------------------------------------------------------

@@ -13,6 +13,7 @@ import typer
 
 from app.cli.common import OneLineErrors, fail
 from app.cli.play import FitnessOption, GoalCapOption, IdleTicksOption, MaxTicksOption, NoiseOption, game_config
+from app.rule_inspection import DEFAULT_USAGE_GAMES
 from app.rulebase_files import JSON_SUFFIX
 from fuzzy.engine import Engine, Inference
 from fuzzy.export import FORMATS, RulebaseFormatError, export_rulebase, rulebase_from_json, to_json
@@ -26,8 +27,6 @@ if TYPE_CHECKING:  # these play games (numba kernels): imported by the commands 
     from soccer.engine import GameResult
     from soccer.simplify import CheckedSimplification
     from soccer.usage import Usage
-
-DEFAULT_USAGE_GAMES = 100
 
 app = typer.Typer(help="Work with rulebases: check, infer, export, decode, usage, simplify.", no_args_is_help=True)
 

@@ -1,8 +1,9 @@
-"""/api/rules: parse rule text, evaluate a rulebase on crisp inputs."""
+"""/api/rules: parse rule text, evaluate a rulebase on crisp inputs, rule usage over games, simplify."""
 
 from __future__ import annotations
 
 from fastapi import APIRouter
+from fastapi.exceptions import RequestValidationError
 
 from app.api.models import (
     ErrorBody,
@@ -12,10 +13,17 @@ from app.api.models import (
     ParseRequest,
     ParseResponse,
     RuleEvaluation,
+    RulebaseSource,
+    SimplifyRequest,
+    SimplifyResponse,
+    UsageRequest,
+    UsageResponse,
 )
 from app.api.routes.dependencies import StoreDependency
 from app.api.rule_text import VOCABULARY, parse, rule_out
+from app.rule_inspection import rule_usage, simplification, simplification_document, usage_document
 from fuzzy.engine import ActionOutput, Engine
+from fuzzy.rule import Rulebase
 from fuzzy.printer import format_rule, format_rulebase
 
 router = APIRouter(prefix="/rules", tags=["rules"], responses={422: {"model": ErrorBody}})
@@ -33,8 +41,7 @@ def parse_text(body: ParseRequest) -> ParseResponse:
     responses={404: {"model": ErrorBody}},
 )
 def evaluate(body: EvaluateRequest, store: StoreDependency) -> EvaluateResponse:
-    text = body.text if body.text is not None else store.get_rulebase(body.rulebase_id).text
-    engine = Engine(parse(text), VOCABULARY)
+    engine = Engine(_rulebase(body, store), VOCABULARY)
     inputs = body.inputs.model_dump()
     inference = engine.infer(inputs)
     return EvaluateResponse(
@@ -50,3 +57,40 @@ def evaluate(body: EvaluateRequest, store: StoreDependency) -> EvaluateResponse:
 
 def _fired(output: ActionOutput) -> FiredAction:
     return FiredAction(action=output.action, support=output.support, parameters=output.parameters)
+
+
+@router.post(
+    "/usage",
+    summary="Play games and count, per rule, how often it fired, won (its action was performed) and decided, and "
+            "its mean strength; per action how often it was performed; how often the player hunted",
+    responses={404: {"model": ErrorBody}},
+)
+def usage(body: UsageRequest, store: StoreDependency) -> UsageResponse:
+    rulebase = _playable(_rulebase(body, store))
+    return UsageResponse(**usage_document(rule_usage(rulebase, VOCABULARY, body.games, body.seed, body.game),
+                                          VOCABULARY))
+
+
+@router.post(
+    "/simplify",
+    summary="A shorter rulebase that plays the same: exact steps (proved on every input), then with games > 0 the "
+            "rules that never won in those games, kept only when every game replays identically",
+    responses={404: {"model": ErrorBody}},
+)
+def simplify(body: SimplifyRequest, store: StoreDependency) -> SimplifyResponse:
+    rulebase = _rulebase(body, store)
+    if body.games:
+        _playable(rulebase)
+    result = simplification(rulebase, VOCABULARY, body.games, body.seed, body.game, body.drop_unused_fields)
+    return SimplifyResponse(**simplification_document(result, VOCABULARY))
+
+
+def _rulebase(body: RulebaseSource, store) -> Rulebase:
+    return parse(body.text if body.text is not None else store.get_rulebase(body.rulebase_id).text)
+
+
+def _playable(rulebase: Rulebase) -> Rulebase:
+    if not len(rulebase):
+        raise RequestValidationError([{"type": "value_error", "loc": ("body", "text"), "input": "",
+                                       "msg": "the rulebase holds no rule: nothing to play"}])
+    return rulebase
