@@ -1,0 +1,79 @@
+"""Seconds for rule usage and simplification of one 30-rule rulebase over 100 games (README, Performance),
+beside the floor: the same 100 games played with nothing counted.
+
+    python benchmarks/rule_usage.py [--games 100] [--rules 30] [--seed 2] [--repeats 3]
+
+The rulebase is the demo striker's two rules followed by --rules - 2 random rules (seed 2: a player
+that keeps moving and scores), and the goal cap is lifted so that every game lasts its full 1000
+ticks, the worst case (with other seeds the random rules can make the player stand still, and the
+games end early, idle). The figures are the best of
+--repeats runs, the sides interleaved so the machine's other load affects them alike; numba's
+compilation is warmed up first and not timed.
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+
+import numpy as np
+
+from fuzzy.random_rulebase import random_rulebase
+from fuzzy.rule import Rulebase
+from fuzzy.simplify import premise_count, simplify_exactly
+from fuzzy.vocabulary import Vocabulary
+from soccer.config import GameConfig
+from soccer.demo import demo_rulebase
+from soccer.engine import play_games
+from soccer.simplify import simplify_rulebase
+from soccer.usage import measure_usage
+
+VOCABULARY = Vocabulary.default()
+
+
+def timed(work) -> tuple[float, object]:
+    start = time.perf_counter()
+    result = work()
+    return time.perf_counter() - start, result
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--games", type=int, default=100)
+    parser.add_argument("--rules", type=int, default=30)
+    parser.add_argument("--seed", type=int, default=2)
+    parser.add_argument("--repeats", type=int, default=3)
+    args = parser.parse_args()
+    striker = demo_rulebase(VOCABULARY)
+    extra = random_rulebase(np.random.default_rng(args.seed), VOCABULARY, rules=args.rules - len(striker))
+    rulebase = Rulebase(striker.rules + extra.rules)
+    seeds = list(range(args.games))
+    config = GameConfig(goal_cap=GameConfig().max_ticks)
+    measure_usage(rulebase, seeds[:2], config, VOCABULARY, record=True)  # compile / load the numba cache
+
+    sides = {
+        "play the games (nothing counted)": lambda: play_games([rulebase] * args.games, seeds, config, VOCABULARY),
+        "rule usage": lambda: measure_usage(rulebase, seeds, config, VOCABULARY),
+        "exact simplification (no games)": lambda: simplify_exactly(rulebase, VOCABULARY),
+        "simplification, checked on the games": lambda: simplify_rulebase(rulebase, VOCABULARY, seeds, config),
+    }
+    best = dict.fromkeys(sides, float("inf"))
+    outcome = {}
+    for _ in range(args.repeats):
+        for name, work in sides.items():
+            seconds, outcome[name] = timed(work)
+            best[name] = min(best[name], seconds)
+
+    usage, _ = outcome["rule usage"]
+    checked = outcome["simplification, checked on the games"]
+    simplified = checked.simplification.rulebase
+    print(f"rulebase: {len(rulebase)} rules, {premise_count(rulebase)} premises; {args.games} games, "
+          f"{usage.ticks} game-ticks ({usage.ticks / args.games:.0f} per game)")
+    for name, seconds in best.items():
+        print(f"{name:<40} {seconds:7.3f} s")
+    step = checked.simplification.steps[-1]
+    print(f"simplified: {len(simplified)} rules, {premise_count(simplified)} premises; checked step: {step.summary}")
+
+
+if __name__ == "__main__":
+    main()
