@@ -14,6 +14,7 @@ import time
 
 import viser
 
+from app.rule_inspection import rule_usage, simplification
 from app.ui import style
 from app.ui.context import UiContext
 from app.ui.game import Game
@@ -73,7 +74,7 @@ class Session:
         with tabs.add_tab("Rules"):
             self.editor = EditorPanel(
                 gui, context.vocabulary, context.store, (self.game.rulebase, self.game.name),
-                on_apply=self.load_rulebase, on_saved=lambda: self.library.refresh(),
+                on_apply=self.load_rulebase, on_saved=lambda: self.library.refresh(), simplify=self.simplify,
             )
         with tabs.add_tab("Evolve"):
             self.evolve = EvolvePanel(
@@ -87,7 +88,8 @@ class Session:
                                         on_load=play)
         right = gui.add_panel()
         with right.add_tab("Inference"):
-            self.inference = InferencePanel(gui, context.vocabulary, on_change=self.refresh)
+            self.inference = InferencePanel(gui, context.vocabulary, on_change=self.refresh,
+                                            on_usage=self.measure_usage)
         with right.add_tab("Policy map"):
             self.policy = PolicyPanel(gui, context.vocabulary, self.game.rulebase, self.game.view_half_angle,
                                       on_change=self.refresh)
@@ -133,8 +135,24 @@ class Session:
             if restart:
                 self.game.restart(self.game.seed)
             self.editor.show_rulebase(rulebase, name)
+            self.inference.show_usage(None)  # it counted the rules of the previous rulebase
             self.policy.show_rulebase(rulebase)
             self._render()
+
+    def measure_usage(self, games: int) -> None:
+        """Rule usage over `games` games from the pitch's seed, shown beside the rules. The games are
+        played outside the lock, so the pitch goes on meanwhile."""
+        with self.lock:
+            rulebase, seed = self.game.rulebase, self.game.seed
+        usage = rule_usage(rulebase, self.context.vocabulary, games, seed, self.context.game)
+        with self.lock:
+            if self.game.rulebase is rulebase:
+                self.inference.show_usage(usage)
+                self._render()
+
+    def simplify(self, rulebase: Rulebase, games: int):
+        """The rules simplified: exact steps, then checked on `games` games from the pitch's seed."""
+        return simplification(rulebase, self.context.vocabulary, games, self.game.seed, self.context.game)
 
     def refresh(self) -> None:
         with self.lock:

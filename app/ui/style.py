@@ -57,6 +57,10 @@ ACTION_COLOURS = (
 )
 HUNT_COLOUR = "#cfd8dc"
 
+USAGE_GAMES = 20  # games the rule usage and the Simplify button's check play (from the pitch's seed)
+USAGE_BAR_WIDTH = 50  # px: the share of ticks a rule won, beside its strength bar
+NEVER_WON_OPACITY = 0.45  # a rule that never won in those games is greyed
+
 LEFT_PANEL_WIDTH = 380
 RULE_EDITOR_HEIGHT = "max(18em, 55vh)"  # CSS: the rule text fills most of the panel's height
 RIGHT_PANEL_WIDTH = 500

@@ -47,7 +47,7 @@ def test_editor_applies_undoes_and_saves_through_its_callbacks(gui, store):
 
     applied, saved = [], []
     editor = EditorPanel(gui, VOCABULARY, store, (DEMO, "demo"), on_apply=lambda r, n: applied.append((r, n)),
-                         on_saved=lambda: saved.append(True))
+                         on_saved=lambda: saved.append(True), simplify=lambda rulebase, games: None)
     editor.text.value = "if Ball is Near then Turn Left"
     editor.apply()
     (rulebase, name), = applied
@@ -67,7 +67,7 @@ def test_editor_with_an_error_calls_nothing(gui, store):
 
     applied = []
     editor = EditorPanel(gui, VOCABULARY, store, (DEMO, "demo"), on_apply=lambda r, n: applied.append(n),
-                         on_saved=lambda: None)
+                         on_saved=lambda: None, simplify=lambda rulebase, games: None)
     editor.text.value = "if Ball is Nearish then Turn Left"
     editor.apply()
     assert applied == [] and 'data-error="true"' in editor.message.content

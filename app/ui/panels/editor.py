@@ -1,12 +1,13 @@
-"""Rule editor: rule text with errors at line and column, apply, undo, save to the library, and the
-chromosome in the chapter's compact notation, both ways."""
+"""Rule editor: rule text with errors at line and column, apply, undo, simplify, save to the library, and
+the chromosome in the chapter's compact notation, both ways."""
 
 from __future__ import annotations
 
-from typing import Callable
+from typing import TYPE_CHECKING, Callable
 
 import viser
 
+from app.rule_inspection import MAX_GAMES, size
 from app.store import Store, StoreError
 from app.ui import style
 from app.ui.panels.svg import escape
@@ -17,7 +18,11 @@ from fuzzy.vocabulary import Vocabulary
 from ga.codec import ChromosomeCodec
 from ga.notation import NotationError, format_compact, parse_compact
 
+if TYPE_CHECKING:
+    from soccer.simplify import CheckedSimplification
+
 EDITED_NAME = "edited"
+SIMPLIFIED_NAME = "simplified"
 UNDO_DEPTH = 50
 # viser's text area grows to six lines at most; the rule text (the element after the heading) gets
 # the panel's whole width and most of its height, so a whole rulebase reads without scrolling.
@@ -31,8 +36,9 @@ EDITOR_STYLE = (
 
 class EditorPanel:
     """Shows `on_pitch` (rulebase, name) first. `on_apply(rulebase, name)` puts rules on the pitch;
-    `on_saved()` follows a save to the library. The session calls `show_rulebase` whenever a rulebase
-    goes on the pitch, from here or elsewhere."""
+    `on_saved()` follows a save to the library; `simplify(rulebase, games)` simplifies rules (exact
+    steps, then checked on that many games; 0: exact only). The session calls `show_rulebase` whenever
+    a rulebase goes on the pitch, from here or elsewhere."""
 
     def __init__(
         self,
@@ -43,17 +49,24 @@ class EditorPanel:
         *,
         on_apply: Callable[[Rulebase, str], None],
         on_saved: Callable[[], None],
+        simplify: Callable[[Rulebase, int], "CheckedSimplification"],
     ):
         self.vocabulary = vocabulary
         self.store = store
         self.on_apply = on_apply
         self.on_saved = on_saved
+        self.simplify_with = simplify
         self.history: list[tuple[Rulebase, str]] = []
         self.codec = ChromosomeCodec(self.vocabulary)
         self.name = gui.add_html("")
         self.text = gui.add_text("Rules", "", multiline=True)
         actions = gui.add_button_group("Rules", ("Apply", "Undo"))
         self.message = gui.add_html("")
+        with gui.add_folder("Simplify"):
+            self.check_games = gui.add_number("Check on games", style.USAGE_GAMES, min=0, max=MAX_GAMES, step=1)
+            simplify = gui.add_button("Simplify",
+                                      hint="The same player in fewer words: exact steps, then rules that never won "
+                                           "in these games (from the pitch's seed), if every game replays the same")
         with gui.add_folder("Save to library"):
             self.save_name = gui.add_text("Name", "")
             save = gui.add_button("Save")
@@ -68,6 +81,10 @@ class EditorPanel:
         @save.on_click
         def _(_: viser.GuiEvent) -> None:
             self.save()
+
+        @simplify.on_click
+        def _(_: viser.GuiEvent) -> None:
+            self.simplify()
 
         @conversions.on_click
         def _(event: viser.GuiEvent) -> None:
@@ -117,6 +134,23 @@ class EditorPanel:
         self.on_apply(rulebase, name)
         self._say(f"Back to {name}.")
 
+    def simplify(self) -> None:
+        rulebase, name = self.on_pitch
+        result = self.simplify_with(rulebase, int(self.check_games.value))
+        simplified = result.simplification.rulebase
+        lines = [_step_line(step) for step in result.simplification.steps if step.changes]
+        if simplified == rulebase:
+            self._say("Nothing to simplify: every step left the rules as they are.", lines=lines)
+            return
+        if not len(simplified):
+            self._say("None of these rules can ever fire: nothing would be left to play.", error=True)
+            return
+        self.history = (self.history + [(rulebase, name)])[-UNDO_DEPTH:]
+        self.on_apply(simplified, SIMPLIFIED_NAME)
+        before, after = size(rulebase), size(simplified)
+        self._say(f"Simplified {before['rules']} rules ({before['premises']} premises) to {after['rules']} "
+                  f"({after['premises']}); the player now plays them. Undo goes back.", lines=lines)
+
     def save(self) -> None:
         name = self.save_name.value.strip()
         if not name:
@@ -148,3 +182,10 @@ class EditorPanel:
             return
         self.text.value = format_rulebase(rulebase, self.vocabulary)
         self._say(f"Decoded {len(rulebase)} valid rules; press Apply to play them.")
+
+
+def _step_line(step) -> str:
+    what = f"{step.name}: {len(step.changes)} change{'s' if len(step.changes) > 1 else ''}"
+    if step.kind == "checked":
+        return f"checked on {step.games} games, {what} ({step.summary})"
+    return f"exact, {what}" + ("" if step.applied else " (listed, not applied)")

@@ -3,24 +3,38 @@ aggregate the output sets, defuzzify. The decision sits on top because it is wha
 
 from __future__ import annotations
 
-from typing import Callable, Mapping, Sequence
+from typing import TYPE_CHECKING, Callable, Mapping, Sequence
 
 import viser
 
+from app.rule_inspection import MAX_GAMES
+from app.ui import style
 from app.ui.panels.membership import input_html, input_names, terms_html
 from app.ui.panels.outputs import outputs_html
 from app.ui.panels.rules import decision_html, rules_html
 from fuzzy.engine import Inference
 from fuzzy.vocabulary import Vocabulary
 
+if TYPE_CHECKING:
+    from soccer.usage import Usage
+
 
 class InferencePanel:
-    def __init__(self, gui: viser.GuiApi, vocabulary: Vocabulary, on_change: Callable[[], None]):
+    """`on_usage(games)` measures the rules' usage over that many games; `show_usage` shows it beside
+    the rules (None clears it, when another rulebase goes on the pitch)."""
+
+    def __init__(self, gui: viser.GuiApi, vocabulary: Vocabulary, on_change: Callable[[], None],
+                 on_usage: Callable[[int], None]):
         self.vocabulary = vocabulary
+        self.usage: Usage | None = None
         self.decision = gui.add_html("")
         with gui.add_folder("Rules and their strengths"):
             self.only_fired = gui.add_checkbox("Only rules that fired", False)
             self.only_fired.on_update(lambda _: on_change())  # redraw now, also while paused
+            self.usage_games = gui.add_number("Usage games", style.USAGE_GAMES, min=1, max=MAX_GAMES, step=1)
+            measure = gui.add_button("Measure rule usage",
+                                     hint="Play these games from the pitch's seed and show how often each rule won")
+            measure.on_click(lambda _: on_usage(int(self.usage_games.value)))
             self.rules = gui.add_html("")
         with gui.add_folder("Output sets (clipped, max, mean of maximum)"):
             self.outputs = gui.add_html("")
@@ -31,10 +45,13 @@ class InferencePanel:
 
     def show(self, inputs: Mapping[str, float | None], rule_texts: Sequence[str], inference: Inference) -> None:
         self._set(self.decision, "decision", decision_html(self.vocabulary, inference))
-        self._set(self.rules, "rules", rules_html(rule_texts, inference, self.only_fired.value))
+        self._set(self.rules, "rules", rules_html(rule_texts, inference, self.only_fired.value, self.usage))
         self._set(self.outputs, "outputs", outputs_html(self.vocabulary, inference))
         for name, handle in self.membership.items():
             self._set(handle, name, input_html(self.vocabulary, name, inputs.get(name)))
+
+    def show_usage(self, usage: "Usage | None") -> None:
+        self.usage = usage
 
     def _set(self, handle: viser.GuiHtmlHandle, key: str, content: str) -> None:
         # Only changed content goes over the websocket; at 30 fps most panels are unchanged most frames.

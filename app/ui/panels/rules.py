@@ -1,13 +1,17 @@
-"""The decoded rules with their live strengths, the fired actions and the chosen one."""
+"""The decoded rules with their live strengths, the fired actions and the chosen one; beside each rule,
+once measured, its usage over games (a bar: the share of ticks it won; grey: it never won)."""
 
 from __future__ import annotations
 
-from typing import Sequence
+from typing import TYPE_CHECKING, Sequence
 
 from app.ui import style
 from app.ui.panels.svg import escape, format_value
 from fuzzy.engine import Inference
 from fuzzy.vocabulary import Vocabulary
+
+if TYPE_CHECKING:
+    from soccer.usage import Usage
 
 HUNT_TEXT = "No rule fired: the player hunts (turns toward the ball, or 45° toward where it was last seen)."
 
@@ -42,8 +46,10 @@ def _parameters(vocabulary: Vocabulary, parameters: dict[str, float]) -> str:
     )
 
 
-def rules_html(rule_texts: Sequence[str], inference: Inference | None, only_fired: bool) -> str:
-    """A row per rule: number, text, a strength bar. The rule that decided the action is highlighted;
+def rules_html(rule_texts: Sequence[str], inference: Inference | None, only_fired: bool,
+               usage: "Usage | None" = None) -> str:
+    """A row per rule: number, text, a strength bar, and with `usage` a bar of the share of ticks the
+    rule won over those games (grey row: never won). The rule that decided the action is highlighted;
     with `only_fired`, rules of strength 0 are left out."""
     strengths = inference.strengths if inference is not None else [0.0] * len(rule_texts)
     deciding = inference.selected.first_rule if inference is not None and inference.selected else None
@@ -51,27 +57,47 @@ def rules_html(rule_texts: Sequence[str], inference: Inference | None, only_fire
     for index, (text, strength) in enumerate(zip(rule_texts, strengths)):
         if only_fired and strength <= 0.0:
             continue
-        rows.append(_row(index, text, strength, index == deciding))
+        won = usage.rules[index].won / max(usage.ticks, 1) if usage is not None else None
+        rows.append(_row(index, text, strength, index == deciding, won, usage is not None and won == 0))
     if not rule_texts:
         rows.append(f'<div style="color:{style.MUTED}">This rulebase has no rules.</div>')
     elif not rows:
         rows.append(f'<div style="color:{style.MUTED}">No rule fired this tick.</div>')
-    return f'<div class="rules" style="{style.FONT}; font-size:{style.FONT_SIZE}px">{"".join(rows)}</div>'
+    caption = usage_caption(usage) if usage is not None else ""
+    return f'<div class="rules" style="{style.FONT}; font-size:{style.FONT_SIZE}px">{caption}{"".join(rows)}</div>'
 
 
-def _row(index: int, text: str, strength: float, deciding: bool) -> str:
+def usage_caption(usage: "Usage") -> str:
+    seeds = usage.seeds
+    return (
+        f'<div class="usage-caption" data-games="{len(seeds)}" style="color:{style.MUTED}; '
+        f'font-size:{style.SMALL_FONT_SIZE + 1}px; margin-bottom:4px">Usage over {len(seeds)} games (seeds '
+        f"{seeds[0]}–{seeds[-1]}): the blue bar is the share of ticks each rule won (it fired and its action was "
+        f"performed); grey rules never won. The player hunted {100 * usage.hunt_share:.1f}% of the ticks.</div>"
+    )
+
+
+def _bar(share: float, colour: str, width: int) -> str:
+    return (
+        f'<div style="width:{width}px; height:10px; background:{style.GRID}; border-radius:3px; flex:none">'
+        f'<div style="width:{width * share:.1f}px; height:10px; background:{colour}; border-radius:3px"></div></div>'
+    )
+
+
+def _row(index: int, text: str, strength: float, deciding: bool, won: float | None, never_won: bool) -> str:
     fired = strength > 0.0
     colour = style.SELECTED if deciding else (style.FIRED if fired else style.MUTED)
     background = "rgba(230,81,0,0.10)" if deciding else "transparent"
-    bar = (
-        f'<div style="width:70px; height:10px; background:{style.GRID}; border-radius:3px; flex:none">'
-        f'<div style="width:{70 * strength:.1f}px; height:10px; background:{colour}; border-radius:3px"></div></div>'
-    )
+    usage = "" if won is None else (
+        f'<span class="usage" data-won="{won:.4f}" title="won {100 * won:.1f}% of the ticks" '
+        f'style="display:flex; flex:none">{_bar(won, style.ACCENT, style.USAGE_BAR_WIDTH)}</span>')
     return (
         f'<div class="rule" data-index="{index}" data-strength="{strength:.4f}" data-fired="{str(fired).lower()}" '
+        f'data-never-won="{str(never_won).lower()}" '
         f'style="display:flex; align-items:center; gap:8px; padding:2px 4px; background:{background}; '
-        f'border-radius:4px; color:{style.INK if fired else style.MUTED}; font-weight:{600 if deciding else 400}">'
+        f'border-radius:4px; color:{style.INK if fired else style.MUTED}; font-weight:{600 if deciding else 400}'
+        f'{"; opacity:" + str(style.NEVER_WON_OPACITY) if never_won else ""}">'
         f'<span style="width:22px; text-align:right; color:{style.MUTED}; flex:none">{index + 1}</span>'
-        f'<span style="flex:1">{escape(text)}</span>{bar}'
+        f'<span style="flex:1">{escape(text)}</span>{usage}{_bar(strength, colour, 70)}'
         f'<span style="width:38px; text-align:right; flex:none; color:{colour}">{strength:.2f}</span></div>'
     )
