@@ -135,7 +135,7 @@ class GamesRequest(RulebaseSource):
 
 
 class UsageRequest(GamesRequest):
-    pass
+    """The rulebase and the games to count its rules' usage in."""
 
 
 class SimplifyRequest(GamesRequest):
