@@ -53,8 +53,11 @@ def test_simplify_exact_and_checked(client):
     step = checked["steps"][-1]
     assert (step["name"], step["kind"], step["games"], step["applied"]) == ("never-won-rules", "checked", 3, True)
     assert checked["results"]["before"] == checked["results"]["after"]
-    assert checked["text"].splitlines() == ["if Ball is At then KickTowardGoal High",
-                                            "if Ball is not At and Ball is not VeryFar then GoToBall VeryHigh"]
+    usage = client.post("/api/rules/usage", json={"text": PLAYER, "games": 3, "game": SHORT}).json()
+    never_won = {r["rule"] for r in usage["rules"] if r["won"] == 0} & set(document["origins"])
+    assert never_won and {c["rule"] for c in step["changes"]} == never_won
+    exact_lines = dict(zip(document["origins"], document["text"].splitlines()))
+    assert checked["text"].splitlines() == [line for rule, line in exact_lines.items() if rule not in never_won]
 
 
 @pytest.mark.parametrize("path, body, status, fragment", [
