@@ -58,7 +58,7 @@ class Decisions:
     tick: np.ndarray  # int64[K], from 0
     action: np.ndarray  # int64[K], NO_ACTION = hunt
     values: np.ndarray  # float64[K, n_outputs]: the parameters the skill was given
-    observed: np.ndarray  # float64[K, 5]: player x, y, facing, ball x, y the decision was made from
+    pose: np.ndarray  # float64[K, 5]: player x, y, facing, ball x, y the decision was made from
 
     def first_difference(self, other: "Decisions") -> tuple[int, int] | None:
         """(game, tick) of the first decision, in game then tick order, where the two differ bit for
@@ -78,7 +78,7 @@ class Decisions:
         """One int64 row per decision, in game then tick order; floats by their bits."""
         order = np.lexsort((self.tick, self.game))
         columns = (self.game[:, None], self.tick[:, None], self.action[:, None], self.values.view(np.int64),
-                   self.observed.view(np.int64))
+                   self.pose.view(np.int64))
         return np.hstack(columns)[order]
 
 
@@ -90,16 +90,18 @@ def measure_usage(rulebase: Rulebase, seeds: Sequence[int], config: GameConfig, 
     batch = GameBatch([rulebase] * len(seeds), list(seeds), config, vocabulary)
     counter = _UsageCounter(rulebase, vocabulary)
     rows: list[tuple[np.ndarray, ...]] = []
+    state, seen, decision = batch.state, batch.observation, batch.decision  # updated in place by step()
     while not batch.finished:
-        before = batch.ticks.copy()
+        before = state.ticks.copy()
         batch.step()
-        games = np.flatnonzero(batch.ticks > before)
+        games = np.flatnonzero(state.ticks > before)
         if not len(games):
             continue
-        counter.add(batch.strengths[games, : len(rulebase)], batch.action[games])
+        counter.add(decision.strengths[games, : len(rulebase)], decision.action[games])
         if record:
-            rows.append((games, before[games], batch.action[games].copy(), batch.values[games].copy(),
-                         batch.observed[games].copy()))
+            pose = np.column_stack([seen.player_x, seen.player_y, seen.facing, seen.ball_x, seen.ball_y])
+            rows.append((games, before[games], decision.action[games].copy(), decision.values[games].copy(),
+                         pose[games]))
     counter.count()
     usage = counter.usage(rulebase, tuple(seeds), tuple(batch.results()))
     return usage, (_decisions(rows, vocabulary) if record else None)
