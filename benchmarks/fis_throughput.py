@@ -1,11 +1,12 @@
-"""Batched FIS throughput (spec 9): our numba kernel vs pyfuzzylite and scikit-fuzzy, in one run.
+"""Batched FIS throughput: our numba kernel vs pyfuzzylite and scikit-fuzzy, in one run.
 
 200 random rulebases of 10 rules (seeded), each player its own rulebase, evaluated with
 `fuzzy.batched.infer_batch`. pyfuzzylite evaluates one of the same rulebases, exported to FLL
 (MeanOfMaximum), with its own batched evaluation (arrays as input values, one engine.process()).
 scikit-fuzzy evaluates the same rulebase with ControlSystemSimulation, one input at a time (slow,
 so few evaluations). The script also checks the three agree to within the other tools' sampling
-error (spec 2.2: a maximum made only of points is invisible to sampling and is not compared).
+error (a maximum made only of points is invisible to sampling and is not compared: docs/design.md,
+"The mean of maximum, exactly").
 
     python benchmarks/fis_throughput.py [--players 200] [--rows 500] [--fuzzylite-rows 5000] [--skfuzzy-rows 40]
 """

@@ -1,4 +1,5 @@
-"""Mean of maximum, computed exactly (spec 2.2), not on a sampled grid.
+"""Mean of maximum, computed exactly, not on a sampled grid (docs/design.md,
+"The mean of maximum, exactly"; the chapter, 3.1.4).
 
 After clipping and max aggregation the maximum level M is the largest strength among the
 contributing rules, and the set where the aggregate reaches M is the union of the alpha-cuts

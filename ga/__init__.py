@@ -1,4 +1,4 @@
-"""Messy-coded genetic algorithm over fuzzy rulebases (spec 3). Imports fuzzy, never soccer."""
+"""Messy-coded genetic algorithm over fuzzy rulebases (the chapter, 4). Imports fuzzy, never soccer."""
 
 from ga.algorithms import evolve, random_search, resume
 from ga.checkpoint import CheckpointError, load_checkpoint, save_checkpoint

@@ -1,4 +1,4 @@
-"""Cut-and-splice crossover (spec 3.2): parents may differ in length, so each gets its own cut points.
+"""Cut-and-splice crossover (the chapter, 4): parents may differ in length, so each gets its own cut points.
 
 Cuts fall strictly inside a parent (between genes 1..n-1), so every head and tail is non-empty and
 children keep at least MIN_LENGTH genes. Children longer than `max_length` are truncated.

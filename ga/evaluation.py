@@ -17,7 +17,7 @@ import numpy as np
 
 from fuzzy.rule import Rulebase
 
-INVALID_FITNESS = 1.0  # a ruleset with no valid rule is never played (spec 3.1)
+INVALID_FITNESS = 1.0  # a ruleset with no valid rule is never played (README, The genetic algorithm)
 
 Evaluator = Callable[[list[Rulebase], list[int]], Sequence[Any]]
 

@@ -1,4 +1,4 @@
-"""Random chromosomes (spec 3.2): length uniform in [MIN_LENGTH, max_length], each gene a consequent
+"""Random chromosomes (the chapter, 4 and Table 2): length uniform in [MIN_LENGTH, max_length], each gene a consequent
 with probability `consequent_probability`, every field uniform over its values."""
 
 from __future__ import annotations

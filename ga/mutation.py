@@ -1,4 +1,4 @@
-"""Single-allele mutation (spec 3.2): each gene is hit with probability `rate`, at least one gene;
+"""Single-allele mutation (the chapter, 4 and Table 2): each gene is hit with probability `rate`, at least one gene;
 a hit changes one field of the gene to a different valid value. A gene never changes kind."""
 
 from __future__ import annotations

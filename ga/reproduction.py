@@ -1,4 +1,4 @@
-"""Breeding the next generation from an evaluated one (spec 3.2)."""
+"""Breeding the next generation from an evaluated one (the chapter, 4 and Table 2)."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""Per-generation statistics (spec 3.3): they drive the live plots, the rerun log, the store and the figures."""
+"""Per-generation statistics (the quantities of the chapter's Figs. 8-31): they drive the live plots, the rerun log, the store and the figures."""
 
 from __future__ import annotations
 

@@ -535,7 +535,7 @@ class GameBatch:
         goals, kicks, ticks = int(s.goals[g]), int(s.kicks[g]), int(s.ticks[g])
         distance = float(s.min_distance[g])
         return GameResult(
-            fitness=fitness(self.config.fitness, goals, kicks, ticks, distance),
+            fitness=fitness(self.config.fitness, goals, kicks, ticks, distance, self.config.world.pitch_length),
             goals=goals,
             kicks=kicks,
             ticks=ticks,

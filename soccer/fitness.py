@@ -1,12 +1,11 @@
-"""The three fitness functions of spec 4.4 (lower is better; 1.0 = the ball was never kicked)."""
+"""The three fitness functions of the chapter, 5.2 (Equations 1-3; lower is better, 1.0 = the ball was
+never kicked). Each takes the game's counts and the length of the field it was played on."""
 
 from __future__ import annotations
 
 from typing import Callable
 
 WORST_FITNESS = 1.0
-# spec 4.4: 0.5 + d / (2 x 105), 105 m being the pitch length; a fixed part of the formula, not a world setting
-DISTANCE_SCALE = 2 * 105.0
 
 
 def goals_fitness(goals: int) -> float:
@@ -14,19 +13,20 @@ def goals_fitness(goals: int) -> float:
     return 1.0 / (2 * goals)
 
 
-def simple_composite(goals: int, kicks: int, ticks: int, min_ball_goal_distance: float) -> float:
+def simple_composite(goals: int, kicks: int, ticks: int, min_ball_goal_distance: float, field_length: float) -> float:
     if kicks == 0:
         return WORST_FITNESS
     if goals > 0:
         return goals_fitness(goals)
-    return 0.5 + min_ball_goal_distance / DISTANCE_SCALE
+    # Equation 3: 0.5 + dist / (2 x fieldLen), dist the ball's closest approach to the goal
+    return 0.5 + min_ball_goal_distance / (2.0 * field_length)
 
 
-def goals_only(goals: int, kicks: int, ticks: int, min_ball_goal_distance: float) -> float:
+def goals_only(goals: int, kicks: int, ticks: int, min_ball_goal_distance: float, field_length: float) -> float:
     return goals_fitness(goals) if goals > 0 else WORST_FITNESS
 
 
-def robocup_composite(goals: int, kicks: int, ticks: int, min_ball_goal_distance: float) -> float:
+def robocup_composite(goals: int, kicks: int, ticks: int, min_ball_goal_distance: float, field_length: float) -> float:
     if kicks == 0:
         return WORST_FITNESS
     if goals > 0:
@@ -34,16 +34,16 @@ def robocup_composite(goals: int, kicks: int, ticks: int, min_ball_goal_distance
     return 1.0 - kicks / (2 * ticks)
 
 
-FITNESS_FUNCTIONS: dict[str, Callable[[int, int, int, float], float]] = {
+FITNESS_FUNCTIONS: dict[str, Callable[[int, int, int, float, float], float]] = {
     "simple-composite": simple_composite,
     "goals-only": goals_only,
     "robocup-composite": robocup_composite,
 }
 
 
-def fitness(name: str, goals: int, kicks: int, ticks: int, min_ball_goal_distance: float) -> float:
+def fitness(name: str, goals: int, kicks: int, ticks: int, min_ball_goal_distance: float, field_length: float) -> float:
     try:
         function = FITNESS_FUNCTIONS[name]
     except KeyError:
         raise ValueError(f"unknown fitness {name!r}; expected one of {', '.join(FITNESS_FUNCTIONS)}") from None
-    return function(goals, kicks, ticks, min_ball_goal_distance)
+    return function(goals, kicks, ticks, min_ball_goal_distance, field_length)

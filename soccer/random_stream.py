@@ -1,5 +1,5 @@
 """A splitmix64 stream per game: each game draws from its own seed, so its result never depends on
-which batch it is played in (spec 4.5)."""
+which batch it is played in (docs/design.md, "A game does not depend on its batch")."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""Every bad request gets a 4xx with a message saying what was wrong (spec 8), never a 500."""
+"""Every bad request gets a 4xx with a message saying what was wrong, never a 500 (README, JSON API)."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""statistics.csv in memory: one row per (preset, setting, trial, generation), every statistic of spec 3.3.
+"""statistics.csv in memory: one row per (preset, setting, trial, generation), every statistic of `ga.statistics.GenerationStats`.
 Figures and the report read only this table, so they work as well on fabricated statistics."""
 
 from __future__ import annotations

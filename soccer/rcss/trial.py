@@ -144,11 +144,11 @@ class Trial:
         return []
 
     def score(self) -> float:
-        return fitness_of(self.config.fitness, self.goals, self.kicks, max(self.ticks, 1), math.inf)
+        return fitness_of(self.config.fitness, self.goals, self.kicks, max(self.ticks, 1), math.inf, 2 * PITCH_HALF_LENGTH)
 
 
 def run_trial(session: Session, rulebase: Rulebase, seed: int, config: TrialConfig = TrialConfig()) -> TrialResult:
     """Play one trial on an open session. A rulebase without rules scores the worst fitness unplayed."""
     if len(rulebase) == 0:
-        return TrialResult(fitness_of(config.fitness, 0, 0, 1, math.inf), 0, 0, 0, "no rules", seed)
+        return TrialResult(fitness_of(config.fitness, 0, 0, 1, math.inf, 2 * PITCH_HALF_LENGTH), 0, 0, 0, "no rules", seed)
     return Trial(session, rulebase, seed, config).run()

@@ -1,4 +1,4 @@
-"""Spec 8: every server `soccer-lab serve` starts listens on 127.0.0.1 unless told otherwise, rerun's
+"""Every server `soccer-lab serve` starts listens on 127.0.0.1 unless told otherwise, rerun's
 web viewer included (rerun-sdk's own serve_web_viewer would listen on 0.0.0.0)."""
 
 from __future__ import annotations

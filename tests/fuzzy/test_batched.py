@@ -1,4 +1,4 @@
-"""The batched numba kernels equal the scalar reference engine bit for bit (spec 2.2)."""
+"""The batched numba kernels equal the scalar reference engine bit for bit (README, The fuzzy player)."""
 
 import numpy as np
 from hypothesis import given

@@ -1,4 +1,4 @@
-"""The scalar reference engine against hand-computed examples (spec 2.2)."""
+"""The scalar reference engine against hand-computed examples (README, The fuzzy player)."""
 
 import pytest
 

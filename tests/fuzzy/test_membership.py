@@ -1,4 +1,4 @@
-"""Membership functions and the soccer vocabulary's terms (spec 2.1)."""
+"""Membership functions and the soccer vocabulary's terms (fuzzy/data/soccer_vocabulary.json)."""
 
 import pytest
 

@@ -1,4 +1,4 @@
-"""A game's result and trace do not depend on the batch it is played in (spec 3.2, 4.5)."""
+"""A game's result and trace do not depend on the batch it is played in (docs/design.md, "A game does not depend on its batch")."""
 
 import numpy as np
 import pytest

@@ -1,4 +1,4 @@
-"""The batched engine: world geometry, goals, restarts, end conditions, determinism (spec 4.1, 4.5)."""
+"""The batched engine: world geometry, goals, restarts, end conditions, determinism (README, SimpleSoccer)."""
 
 import numpy as np
 import pytest

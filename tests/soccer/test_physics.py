@@ -1,4 +1,4 @@
-"""rcssserver formulas against hand-computed values (spec 4.1)."""
+"""rcssserver formulas against hand-computed values (README, SimpleSoccer)."""
 
 import math
 
