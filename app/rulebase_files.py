@@ -15,7 +15,6 @@ from fuzzy.rule import Rulebase
 from fuzzy.vocabulary import Vocabulary
 
 JSON_SUFFIX = ".json"
-RULES_SUFFIX = ".rules"
 
 
 class RulebaseFileError(ValueError):

@@ -121,13 +121,6 @@ class RunFolder:
             raise RunFolderError(f"{self.manifest} is not a run manifest")
         return manifest
 
-    def read_statistics(self) -> list[dict[str, str]]:
-        """The rows of statistics.csv as written (strings), [] when there is none yet."""
-        if not self.statistics.is_file():
-            return []
-        with self.statistics.open(newline="") as handle:
-            return list(csv.DictReader(handle))
-
     def write_best(self, rule_text: str, json_text: str) -> None:
         _write_atomically(self.best_rules, rule_text)
         _write_atomically(self.best_json, json_text)

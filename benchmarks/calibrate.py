@@ -28,7 +28,7 @@ from app.experiment.report import GOAL_SCORING, assess_findings
 from app.experiment.runner import Plan, assemble, plan, prepare_folder, run_trials
 from app.experiment.table import StatisticsTable
 from ga.config import GAConfig
-from soccer.config import SKILL_SET_NAMES, GameConfig
+from soccer.config import SKILL_SET_NAMES
 
 INITIAL, RANDOM = "initial", "random"
 GOAL_CAP_FITNESS = GAConfig().target_fitness  # 10 goals (Table 1): a run would stop here (section 5.3)

@@ -91,10 +91,6 @@ class GeneSpace:
             raise ValueError("gene field out of range")
 
 
-def empty_chromosome() -> np.ndarray:
-    return np.zeros((0, GENE_WIDTH), dtype=GENE_DTYPE)
-
-
 def composition(chromosome: np.ndarray) -> tuple[int, int, int]:
     """(premises, rules, valid rules). A consequent closes a valid rule exactly when the gene
     before it is a premise, since premises accumulate until the next consequent."""

@@ -48,7 +48,6 @@ SKILLS: tuple[tuple[str, tuple[str, ...]], ...] = (
 HUNT = -1  # what the player does when no rule fired
 
 LEFT, RIGHT = -1, 1  # side where the ball was last seen
-SKILL_SETS = ("strict", "assisted")  # GameConfig.skills; the kernel takes `assisted` as a flag
 
 
 def skill_table(vocabulary: Vocabulary) -> np.ndarray:

@@ -13,7 +13,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from fuzzy.engine import Engine, Inference
+from fuzzy.engine import Engine
 from fuzzy.rule import Rulebase
 from fuzzy.vocabulary import Vocabulary
 from soccer.config import SOCCER_VOCABULARY, GameConfig, WorldConstants
@@ -126,8 +126,6 @@ class RcssPlayer:
         self.world = WorldModel(params)
         self.constants = world_constants(params)
         self.view_half_angle = VIEW_HALF_ANGLE["normal"]
-        self.last_inference: Inference | None = None
-        self.last_perception: Perception | None = None
 
     def decide(self, cycle: PlayerCycle) -> list[str]:
         self.world.update(cycle)
@@ -158,7 +156,6 @@ class RcssPlayer:
             self.constants,
         )
         self.world.note_command(kind, value, perception.speed)
-        self.last_inference, self.last_perception = inference, perception
         if kind not in (TURN, DASH, KICK):
             return []
         return [command_text(kind, value, kick_direction, self.params)]

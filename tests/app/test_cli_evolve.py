@@ -12,7 +12,6 @@ from typer.testing import CliRunner
 
 from app import recording
 from app.cli import _register, app
-from app.run_outputs import RunFolder
 from fuzzy.export import rulebase_from_json
 from fuzzy.parser import parse_rulebase
 from fuzzy.vocabulary import Vocabulary

@@ -7,7 +7,6 @@ import threading
 from types import SimpleNamespace
 
 import numpy as np
-import pytest
 
 from app.runs import SAMPLED_PLAYERS, RunEvent, RunManager, SampledPlayer, sample_players
 from app.store import Store

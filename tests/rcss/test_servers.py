@@ -43,11 +43,11 @@ def test_a_pool_starts_answering_servers_and_stops_every_one(start_servers):
 def child(rcssserver: Path, body: str) -> subprocess.Popen:
     """A Python process that starts a pool of 2 servers, prints their PIDs and scratch folders, then runs
     `body` (indented inside the pool's block when it uses `with`)."""
-    script = textwrap.dedent(f"""
+    script = textwrap.dedent("""
         import sys, time
         from soccer.rcss.servers import ServerPool
         def report(pool):
-            print(" ".join(f"{{s.pid}}:{{s.folder}}" for s in pool.servers), flush=True)
+            print(" ".join(f"{s.pid}:{s.folder}" for s in pool.servers), flush=True)
     """) + textwrap.dedent(body)
     return subprocess.Popen([sys.executable, "-c", script, str(rcssserver)], stdout=subprocess.PIPE,
                             stderr=subprocess.PIPE, text=True)
