@@ -105,6 +105,20 @@ def test_the_average_fitness_plateau_level_is_measured(tmp_path):
     assert verdict(report, "The average fitness plateaus around 0.75") == DISAGREES
 
 
+def test_each_setting_counts_the_trials_that_left_the_plateau_and_how(tmp_path):
+    """The measured reason behind a disagreement: trials where nobody learned to kick, trials taken over
+    by goal scorers, per setting."""
+    rng = np.random.default_rng(6)
+    selection = preset("selection", OPTIONS)
+    ends = np.array([0.99] * 7 + [0.75, 0.5, 0.3])  # 7 never kicked, 1 plateaued, 2 taken over
+    mixed = np.linspace(1.0, ends, 10).T  # trials x generations, from 1.0 to each end
+    curves = {s: {"mean": mixed, "best": falling(0.6, 0.3, rng)} for s in ("roulette", "tournament", "elitist")}
+    write_report(StatisticsTable(fabricated("selection", curves)), [selection], tmp_path)
+    markdown = (tmp_path / REPORT_MD).read_text()
+    assert "trials where kicking never spread (final average >= 0.95)" in markdown
+    assert markdown.count("| 7 of 10 | 2 of 10 |") == 3
+
+
 def test_fitness_equal_but_for_float_noise_is_no_difference():
     """Running means of equal fitnesses differ in the last bits; rank tests must not call that a difference."""
     import numpy as np
