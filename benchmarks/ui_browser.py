@@ -248,13 +248,16 @@ def run(tab_count: int, speed: float, seconds: float, playwright) -> dict[str, o
         ui = start_ui(store, runs, port=free_port())
         Game(ui.context, ui.context.demo_rulebase(), "warm-up", seed=1).step()  # numba's cache, loaded once
         browser = playwright.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS)
-        context = browser.new_context(viewport=VIEWPORT)
-        context.add_init_script(WATCH_PAGE)
+        # One window per tab, as a teacher's and the students' screens would show them: pages sharing a
+        # window are background tabs there, and Chromium draws a background tab about once a second.
+        contexts = [browser.new_context(viewport=VIEWPORT) for _ in range(tab_count)]
+        for context in contexts:
+            context.add_init_script(WATCH_PAGE)
         try:
-            tabs = [open_tab(ui, context) for _ in range(tab_count)]
+            tabs = [open_tab(ui, context) for context in contexts]
             rows = measure(tabs, seconds, speed)
             fps = frames_drawn(tabs, min(5.0, seconds))
-            for tab in tabs:
+            for tab, context in zip(tabs, contexts):
                 open_tab(ui, context, tab)
             with warnings.catch_warnings(record=True) as caught:
                 warnings.simplefilter("always")
