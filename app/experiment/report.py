@@ -26,7 +26,7 @@ import numpy as np
 from scipy import stats
 
 from app.experiment.figures import Figure, write_figures
-from app.experiment.presets import Preset
+from app.experiment.presets import ROBOCUP, Preset
 from app.experiment.table import StatisticsTable
 
 ALPHA = 0.05
@@ -436,12 +436,22 @@ FINDINGS: tuple[Finding, ...] = (
 )
 
 
+def _study(preset_name: str) -> str:
+    """The chapter's two studies: its RoboCup trials (6.1) and its SimpleSoccer study (6.2-6.5)."""
+    return "rcssserver" if preset_name == ROBOCUP else "SimpleSoccer"
+
+
 def assess_findings(table: StatisticsTable, presets: list[Preset]) -> list[tuple[Finding, Assessment]]:
-    """Every finding, assessed from the table ("not run" when its preset is not in it)."""
+    """Every finding of the study the presets belong to, assessed from the table ("not run" when its
+    preset is not in it); the other study's findings are left out (`experiment all` is the whole
+    SimpleSoccer study, `experiment robocup` the RoboCup trials)."""
     by_name = {p.name: p for p in presets}
+    studies = {_study(p.name) for p in presets}
     present = set(table.presets())
     results = []
     for finding in FINDINGS:
+        if _study(finding.preset) not in studies:
+            continue
         if finding.preset in present and finding.preset in by_name:
             results.append((finding, finding.assess(table, by_name[finding.preset])))
         else:

@@ -56,6 +56,8 @@ def test_ga_no_better_than_random_search_says_so(tmp_path, random_preset):
     assert "the GA is not significantly better than random search" in markdown
     assert "Mann-Whitney U, one-sided (GA lower)" in markdown
     assert verdict(report, "The population average fitness improves") == NOT_RUN  # initial not run
+    assert not [f for f, _ in report.findings if f.preset == "robocup"]  # the other study's findings
+    assert "rcssserver" not in markdown and len(report.findings) == 25
 
 
 def test_ga_clearly_better_than_random_search_agrees(tmp_path, random_preset):
