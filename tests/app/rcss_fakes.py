@@ -22,7 +22,7 @@ COACH_PORT = re.compile(r"\(coach_port \d+\)")
 def replay_server(path) -> ReplayServer:
     """A server replaying `path`; its server_param names the replay's own trainer port."""
     lines = without_error_probes(read_transcript(path))
-    server = ReplayServer(lines, client_timeout=5.0)
+    server = ReplayServer(lines, client_timeout=30.0)  # a client process starts in seconds on a busy machine
     coach_port = f"(coach_port {server.trainer_port})"
     server.lines = [Line(l.number, l.sent, l.role, COACH_PORT.sub(coach_port, l.text)) for l in lines]
     return server

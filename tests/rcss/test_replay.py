@@ -13,6 +13,7 @@ from soccer.rcss.errors import (
     RcssTimeoutError,
 )
 from soccer.rcss.evaluate import RcssEvaluator
+from soccer.rcss.player import load_compiled_skills
 from tests.rcss.replay import Line, ReplayServer, read_transcript
 from soccer.rcss.trial import TrialConfig, run_trial
 
@@ -23,6 +24,7 @@ RECORDED_TEAM = "LabTeam"  # see_global names the player by the recorded team
 
 
 def play(lines, rulebase, config, seed=1, **server_options):
+    load_compiled_skills()  # as the evaluator does: loading them takes about a cycle's answer window
     with ReplayServer(lines, client_timeout=5.0, **server_options) as server:
         session = Session(server.server, trainer_port=server.trainer_port, team=RECORDED_TEAM, timeouts=FAST)
         try:
