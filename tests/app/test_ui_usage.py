@@ -18,9 +18,8 @@ from fuzzy.vocabulary import Vocabulary
 from soccer.config import GameConfig
 from soccer.engine import play_game
 from soccer.usage import measure_usage
-from tests.app.test_ui_browser import (CHROMIUM, TIMEOUT_MS, VIEWPORT, browser,  # noqa: F401 (a fixture)
-                                       dismiss_notifications, field, free_port, pause, session_of, shot,
-                                       wait_until)
+from tests.app.test_ui_browser import (CHROMIUM, browser, page,  # noqa: F401 (fixtures; page opens this ui)
+                                       field, free_port, pause, session_of, shot, wait_until)
 
 VOCABULARY = Vocabulary.default()
 GAME = GameConfig(max_ticks=150, idle_ticks=60)
@@ -94,17 +93,6 @@ def ui(tmp_path_factory):
     handle.stop()
     runs.shutdown(wait=10)
     store.close()
-
-
-@pytest.fixture(scope="module")
-def page(ui, browser):  # noqa: F811
-    page = browser.new_page(viewport=VIEWPORT)
-    page.set_default_timeout(TIMEOUT_MS)
-    page.goto(ui.url)
-    page.locator(".game-status").wait_for()
-    dismiss_notifications(page)
-    yield page
-    page.close()
 
 
 @pytest.mark.browser

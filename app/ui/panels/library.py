@@ -9,7 +9,7 @@ import viser
 
 from app.experiment.library import ExperimentFolder, FigureFile
 from app.runs import RunManager, RunStateError
-from app.store import NotFound, Store, StoreError
+from app.store import NotFound, RulebaseRecord, Store, StoreError
 from app.ui import style
 from app.ui.panels.experiments import experiment_html, experiment_label, figure_html
 from app.ui.panels.svg import escape
@@ -145,16 +145,23 @@ class LibraryPanel:
         return name
 
     # ---- rulebases ----------------------------------------------------------------------------
-    def open_rulebase(self) -> None:
+    def _selected_rulebase(self, doing: str) -> tuple[RulebaseRecord, Rulebase] | None:
+        """(record, parsed rulebase) of the selected rulebase, or None after saying why not."""
         record_id = self._selected(self.rulebases, "rulebase")
         if record_id is None:
-            return
+            return None
         try:
             record = self.store.get_rulebase(record_id)
-            rulebase = parse_rulebase(record.text, self.vocabulary)
+            return record, parse_rulebase(record.text, self.vocabulary)
         except (NotFound, RuleSyntaxError) as exc:
-            self._say(f"Cannot open: {exc}", error=True)
+            self._say(f"Cannot {doing}: {exc}", error=True)
+            return None
+
+    def open_rulebase(self) -> None:
+        selected = self._selected_rulebase("open")
+        if selected is None:
             return
+        record, rulebase = selected
         self.on_load(rulebase, record.name)
         self._say(f"“{record.name}” is on the pitch.")
 
@@ -184,15 +191,10 @@ class LibraryPanel:
 
     def download_rulebase(self, client: viser.ClientHandle) -> None:
         """Send the selected rulebase to the tab that asked, as a file in the chosen export format."""
-        record_id = self._selected(self.rulebases, "rulebase")
-        if record_id is None:
+        selected = self._selected_rulebase("export")
+        if selected is None:
             return
-        try:
-            record = self.store.get_rulebase(record_id)
-            rulebase = parse_rulebase(record.text, self.vocabulary)
-        except (NotFound, RuleSyntaxError) as exc:
-            self._say(f"Cannot export: {exc}", error=True)
-            return
+        record, rulebase = selected
         chosen = EXPORT_FORMATS[self.export_format.value]
         filename = chosen.filename(record.name)
         client.send_file_download(filename, chosen.write(rulebase, self.vocabulary).encode(), save_immediately=True)
