@@ -510,20 +510,19 @@ class GameBatch:
             return
         world = self.world
         finished = 0
-        for layer, space in enumerate(world.spaces):
+        a = self._arguments
+        for layer in world.occupied_layers():
             bodies = self._bodies(layer)
-            a = self._arguments
             finished += tick_kernel(bodies, layer, a.pitches, a.state, a.observation, a.decision, a.rulebases,
                                     a.scratch, a.layout, a.constants, a.rules)
-            pymunk.batch.set_space_bodies(space, _FIELDS, self._buffers[layer])
+            pymunk.batch.set_space_bodies(world.spaces[layer], _FIELDS, self._buffers[layer])
         if finished:
             self._live -= finished
             for g in np.flatnonzero(self.state.done & (world.pitches.player_slot >= 0)):
                 world.remove_game(int(g))
             world.index_bodies()
-        if self._live:
-            for space in world.spaces:
-                space.step(self.constants.tick_seconds)
+        for layer in world.occupied_layers():
+            world.spaces[layer].step(self.constants.tick_seconds)
 
     def run(self) -> list[GameResult]:
         while self._live:

@@ -18,10 +18,18 @@ every shape in the space: with ball-player contacts in pymunk, a body touching t
 (the ball between player and post) was resolved in an order that depended on the other games. A
 body's contacts with its own pitch's static shapes are found in an order fixed by its slot and the
 hash table size, which is therefore a constant, not scaled with the batch.
+
+Building a pitch's shapes in pymunk from Python cost more than a short game's ticks, so the spaces and
+their pitches are built once per process and reused: a World borrows its spaces, moves a spare pitch to
+each game's slot (its vertices set to exactly those a new pitch there would get) and gives the spaces
+back when its last game has left them. Nothing a reused space remembers reaches a game: its shapes are
+added in the same order as new ones, and the ball and player are new bodies (docs/design.md, "A game
+does not depend on its batch").
 """
 
 from __future__ import annotations
 
+import threading
 from typing import NamedTuple, Sequence
 
 import numpy as np
@@ -56,30 +64,56 @@ def pitch_slot(seed: int) -> int:
     return mix64(seed) % SLOTS
 
 
-def _box(body: pymunk.Body, x0: float, y0: float, x1: float, y1: float) -> pymunk.Poly:
-    return pymunk.Poly(body, [(x0, y0), (x1, y0), (x1, y1), (x0, y1)])
+class PitchOutline(NamedTuple):
+    """A pitch's static shapes centred at the origin: boxes (x0, y0, x1, y1) and the posts' centres."""
+
+    boxes: tuple[tuple[float, float, float, float], ...]
+    posts: tuple[tuple[float, float], ...]
+    post_radius: float
+
+    @classmethod
+    def of(cls, world: WorldConfig) -> "PitchOutline":
+        hl, hw, gw, t = world.pitch_length / 2, world.pitch_width / 2, world.goal_width / 2, WALL_THICKNESS
+        back = hl + world.goal_depth
+        boxes = (
+            (-hl - t, hw, back + t, hw + t),  # touch line, y > 0 (the player's right when attacking)
+            (-hl - t, -hw - t, back + t, -hw),  # touch line, y < 0
+            (-hl - t, -hw, -hl, hw),  # own end line
+            (hl, gw, back + t, hw),  # attacked end line beside the goal, and the net's side
+            (hl, -hw, back + t, -gw),
+            (back, -gw, back + t, gw),  # back of the net
+        )
+        return cls(boxes, tuple((hl, side * gw) for side in (-1.0, 1.0)), world.post_radius)
 
 
-def pitch_shapes(world: WorldConfig, body: pymunk.Body, ox: float, oy: float) -> list[pymunk.Shape]:
-    """The static walls, net and posts of one pitch centred at (ox, oy)."""
-    hl, hw, gw, t = world.pitch_length / 2, world.pitch_width / 2, world.goal_width / 2, WALL_THICKNESS
-    back = hl + world.goal_depth
-    boxes = [
-        (-hl - t, hw, back + t, hw + t),  # touch line, y > 0 (the player's right when attacking)
-        (-hl - t, -hw - t, back + t, -hw),  # touch line, y < 0
-        (-hl - t, -hw, -hl, hw),  # own end line
-        (hl, gw, back + t, hw),  # attacked end line beside the goal, and the net's side
-        (hl, -hw, back + t, -gw),
-        (back, -gw, back + t, gw),  # back of the net
-    ]
-    shapes: list[pymunk.Shape] = [_box(body, ox + x0, oy + y0, ox + x1, oy + y1) for x0, y0, x1, y1 in boxes]
-    for side in (-1.0, 1.0):
-        shapes.append(pymunk.Circle(body, world.post_radius, (ox + hl, oy + side * gw)))
-    for shape in shapes:
-        shape.elasticity = WALL_ELASTICITY
-        shape.friction = 0.0
-        shape.filter = STATIC_FILTER
-    return shapes
+def _corners(x0: float, y0: float, x1: float, y1: float) -> list[tuple[float, float]]:
+    return [(x0, y0), (x1, y0), (x1, y1), (x0, y1)]
+
+
+_IDENTITY = pymunk.Transform.identity()  # through it pymunk builds the hull as for a new Poly
+
+
+class Pitch:
+    """One pitch's static walls, net and posts on its space's static body, moved to a game's slot by
+    `place` while out of the space."""
+
+    def __init__(self, outline: PitchOutline, body: pymunk.Body):
+        self.outline = outline
+        self.boxes = [pymunk.Poly(body, _corners(*box)) for box in outline.boxes]
+        self.posts = [pymunk.Circle(body, outline.post_radius, centre) for centre in outline.posts]
+        self.shapes: list[pymunk.Shape] = [*self.boxes, *self.posts]
+        for shape in self.shapes:
+            shape.elasticity = WALL_ELASTICITY
+            shape.friction = 0.0
+            shape.filter = STATIC_FILTER
+
+    def place(self, ox: float, oy: float) -> None:
+        """Centre the pitch at (ox, oy): each coordinate offset + outline, as a pitch built there has.
+        The space reads the new vertices when the shapes are (re)indexed."""
+        for box, (x0, y0, x1, y1) in zip(self.boxes, self.outline.boxes):
+            box.unsafe_set_vertices(_corners(ox + x0, oy + y0, ox + x1, oy + y1), _IDENTITY)
+        for post, (x, y) in zip(self.posts, self.outline.posts):
+            post.unsafe_set_offset((ox + x, oy + y))
 
 
 def _round_body(mass: float, radius: float, elasticity: float, x: float, y: float) -> tuple[pymunk.Body, pymunk.Circle]:
@@ -93,10 +127,53 @@ def _round_body(mass: float, radius: float, elasticity: float, x: float, y: floa
     return body, shape
 
 
-def _new_space() -> pymunk.Space:
-    space = pymunk.Space()
-    space.use_spatial_hash(HASH_CELL, HASH_CELLS)
-    return space
+class PitchSpace:
+    """A pymunk Space and the pitches built in it, lent to one World at a time (`borrow_spaces`). A
+    pitch stays in the space when its game ends; a new game takes the idle pitch lying at its slot,
+    else an idle one moved there, else a new one. Each way its shapes enter the space's spatial
+    hash in the same order, so a body finds its contacts in the same order."""
+
+    def __init__(self, outline: PitchOutline):
+        self.outline = outline
+        self.space = pymunk.Space()
+        self.space.use_spatial_hash(HASH_CELL, HASH_CELLS)
+        self._idle: dict[int, Pitch] = {}  # pitches no game plays on, by the slot they lie at
+
+    def take_pitch(self, slot: int) -> Pitch:
+        pitch = self._idle.pop(slot, None)
+        if pitch is not None:
+            return pitch
+        ox, oy = pitch_offset(slot)
+        if self._idle:
+            pitch = self._idle.popitem()[1]
+            pitch.place(ox, oy)
+            for shape in pitch.shapes:
+                self.space.reindex_shape(shape)
+        else:
+            pitch = Pitch(self.outline, self.space.static_body)
+            pitch.place(ox, oy)
+            self.space.add(*pitch.shapes)
+        return pitch
+
+    def give_back(self, slot: int, pitch: Pitch) -> None:
+        self._idle[slot] = pitch
+
+
+_idle_spaces: dict[PitchOutline, list[PitchSpace]] = {}  # this process's spaces no World holds
+_idle_lock = threading.Lock()  # Worlds may be built in several threads (the app's)
+
+
+def borrow_spaces(outline: PitchOutline, count: int) -> list[PitchSpace]:
+    with _idle_lock:
+        idle = _idle_spaces.setdefault(outline, [])
+        borrowed = [idle.pop() for _ in range(min(count, len(idle)))]
+    return borrowed + [PitchSpace(outline) for _ in range(count - len(borrowed))]
+
+
+def give_back_spaces(spaces: list[PitchSpace]) -> None:
+    """Spaces whose every body and pitch has been removed, for the next World."""
+    with _idle_lock:
+        _idle_spaces[spaces[0].outline].extend(spaces)
 
 
 class Pitches(NamedTuple):
@@ -110,7 +187,9 @@ class Pitches(NamedTuple):
 
 class World:
     """The shared space(s): games added at their seed's slot, removed when they finish, and the
-    mapping from pymunk's body order (which removal permutes) to (game, player or ball)."""
+    mapping from pymunk's body order (which removal permutes) to (game, player or ball). The spaces
+    are borrowed (`borrow_spaces`) and given back when the last game has left them; `spaces` is
+    then empty."""
 
     def __init__(self, config: WorldConfig, seeds: Sequence[int]):
         self.config = config
@@ -127,9 +206,12 @@ class World:
             layers[g] = layer
         unplaced = np.full(games, -1, dtype=np.int64)  # index_bodies fills the slots in
         self.pitches = Pitches(layer=layers, player_slot=unplaced.copy(), ball_slot=unplaced.copy(), offsets=offsets)
-        self.spaces = [_new_space() for _ in range(max(len(taken), 1))]
+        self._slots = slots
+        self._pitch_spaces = borrow_spaces(PitchOutline.of(config), max(len(taken), 1))
+        self.spaces = [pitch_space.space for pitch_space in self._pitch_spaces]
+        self._games_in_space = [0] * len(self.spaces)  # per layer
         self._objects: list[tuple[pymunk.Body, ...]] = [()] * games
-        self._static: list[list[pymunk.Shape]] = [[] for _ in range(games)]
+        self._pitch: list[Pitch | None] = [None] * games
         self._body_ids = np.zeros(2 * games, dtype=np.uintp)  # pymunk body id of game g's player [g], ball [games + g]
         self._id_order: np.ndarray | None = None  # argsort of _body_ids, refreshed after games are added
         self._id_buffer = pymunk.batch.Buffer()
@@ -137,23 +219,35 @@ class World:
     def add_game(self, game: int, player_xy: tuple[float, float], ball_xy: tuple[float, float]) -> None:
         c = self.config
         ox, oy = self.pitches.offsets[game]
-        space = self.spaces[self.pitches.layer[game]]
+        layer = self.pitches.layer[game]
         player, player_shape = _round_body(c.player_mass, c.player_size, c.elasticity, ox + player_xy[0], oy + player_xy[1])
         ball, ball_shape = _round_body(c.ball_mass, c.ball_size, c.elasticity, ox + ball_xy[0], oy + ball_xy[1])
-        static = pitch_shapes(c, space.static_body, ox, oy)
-        space.add(player, player_shape, ball, ball_shape, *static)
+        self.spaces[layer].add(player, player_shape, ball, ball_shape)
         self._objects[game] = (player, player_shape, ball, ball_shape)
-        self._static[game] = static
+        self._pitch[game] = self._pitch_spaces[layer].take_pitch(self._slots[game])
+        self._games_in_space[layer] += 1
         self._body_ids[game] = player.id
         self._body_ids[len(self._objects) + game] = ball.id
         self._id_order = None
 
     def remove_game(self, game: int) -> None:
-        if self._objects[game]:
-            self.spaces[self.pitches.layer[game]].remove(*self._objects[game], *self._static[game])
-            self._objects[game] = ()
-            self._static[game] = []
-            self.pitches.player_slot[game] = self.pitches.ball_slot[game] = -1
+        pitch = self._pitch[game]
+        if pitch is None:
+            return
+        layer = self.pitches.layer[game]
+        self.spaces[layer].remove(*self._objects[game])
+        self._pitch_spaces[layer].give_back(self._slots[game], pitch)
+        self._objects[game] = ()
+        self._pitch[game] = None
+        self.pitches.player_slot[game] = self.pitches.ball_slot[game] = -1
+        self._games_in_space[layer] -= 1
+        if not any(self._games_in_space):
+            give_back_spaces(self._pitch_spaces)
+            self._pitch_spaces, self.spaces, self._games_in_space = [], [], []
+
+    def occupied_layers(self) -> list[int]:
+        """The layers whose space still holds games (only their spaces need reading and stepping)."""
+        return [layer for layer, games in enumerate(self._games_in_space) if games]
 
     def objects(self, game: int) -> tuple[pymunk.Body, pymunk.Shape, pymunk.Body, pymunk.Shape]:
         """(player body, player shape, ball body, ball shape) of a game still in the space."""
@@ -167,9 +261,9 @@ class World:
         if self._id_order is None:
             self._id_order = np.argsort(self._body_ids)
         known = self._body_ids[self._id_order]
-        for space in self.spaces:
+        for layer in self.occupied_layers():
             self._id_buffer.clear()
-            pymunk.batch.get_space_bodies(space, pymunk.batch.BodyFields.BODY_ID, self._id_buffer)
+            pymunk.batch.get_space_bodies(self.spaces[layer], pymunk.batch.BodyFields.BODY_ID, self._id_buffer)
             ids = np.frombuffer(self._id_buffer.int_buf(), dtype=np.uintp)
             where = np.minimum(np.searchsorted(known, ids), len(known) - 1)
             rows = np.flatnonzero(known[where] == ids)  # all but the space's static body

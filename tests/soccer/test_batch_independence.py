@@ -1,5 +1,9 @@
 """A game's result and trace do not depend on the batch it is played in (docs/design.md, "A game does not depend on its batch")."""
 
+import json
+import subprocess
+import sys
+
 import numpy as np
 import pytest
 
@@ -119,3 +123,46 @@ def test_slot_hash_is_splitmix64_as_the_game_streams_use_it():
     states = seed_states([12345, 2**64 + 7])  # seeds are taken modulo 2**64
     assert next_uniform(states, 0) == (mix64(12345) >> 11) * 2.0**-53
     assert next_uniform(states, 1) == (mix64(7) >> 11) * 2.0**-53
+
+
+# The game found against the end line wall (above), played as the first game of a fresh process.
+WALL_GAME = """
+import json, sys
+import numpy as np
+from fuzzy.random_rulebase import random_rulebase
+from fuzzy.vocabulary import Vocabulary
+from soccer.config import GameConfig
+from soccer.engine import play_game
+rng = np.random.default_rng(0)
+rulebase = [random_rulebase(rng, Vocabulary.default(), rules=10) for _ in range(116)][115]
+result, trace = play_game(rulebase, 5115, GameConfig(skills="assisted"))
+json.dump({"result": repr(result), "player_x": trace.player_x.tolist(), "ball_y": trace.ball_y.tolist(),
+           "action": trace.action.tolist()}, sys.stdout)
+"""
+
+
+def test_a_game_in_reused_spaces_equals_it_first_in_a_fresh_process():
+    # Spaces and pitches are kept for the process (soccer/world.py): the game meets a moved pitch, the
+    # idle pitch left at its own slot by another game, and a batch around it, after batches of other
+    # sizes; each time it must be the very game a fresh process plays first.
+    fresh = json.loads(subprocess.run([sys.executable, "-c", WALL_GAME], capture_output=True, text=True,
+                                      check=True).stdout)
+    rng = np.random.default_rng(0)
+    rulebases = [random_rulebase(rng, VOCABULARY, rules=10) for _ in range(116)]
+    wall, config = rulebases[115], GameConfig(skills="assisted")
+    others = [random_rulebase(rng, VOCABULARY, rules=10) for _ in range(40)]
+    plays = []
+    GameBatch(others, [900 + g for g in range(40)], config, VOCABULARY).run()  # idle pitches at other slots
+    plays.append(play_game(wall, 5115, config))  # on a moved pitch
+    GameBatch(others[:7], [5115, *range(700, 706)], config, VOCABULARY).run()  # another game at its slot
+    plays.append(play_game(wall, 5115, config))  # on the idle pitch left at its slot
+    batch = GameBatch([*others[:9], wall, *others[9:20]], [*range(800, 809), 5115, *range(809, 820)], config,
+                      VOCABULARY)
+    in_batch = batch.run()[9]
+    for result, trace in plays:
+        assert repr(result) == fresh["result"]
+        assert trace.player_x.tolist() == fresh["player_x"]
+        assert trace.ball_y.tolist() == fresh["ball_y"]
+        assert trace.action.tolist() == fresh["action"]
+    assert repr(in_batch) == fresh["result"]
+    assert in_batch.kicks > 0 and in_batch.ticks == 1000
