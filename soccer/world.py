@@ -19,12 +19,13 @@ every shape in the space: with ball-player contacts in pymunk, a body touching t
 body's contacts with its own pitch's static shapes are found in an order fixed by its slot and the
 hash table size, which is therefore a constant, not scaled with the batch.
 
-Building a pitch's shapes in pymunk from Python cost more than a short game's ticks, so the spaces and
-their pitches are built once per process and reused: a World borrows its spaces, moves a spare pitch to
-each game's slot (its vertices set to exactly those a new pitch there would get) and gives the spaces
-back when its last game has left them. Nothing a reused space remembers reaches a game: its shapes are
-added in the same order as new ones, and the ball and player are new bodies (docs/design.md, "A game
-does not depend on its batch").
+Building a pitch's shapes in pymunk from Python cost more than a short game's ticks, so spaces and
+their pitches are built once per process and reused (PitchSpace): a World borrows its spaces, each
+game takes a pitch already there (moved to its slot if need be, its vertices set to exactly those a
+new pitch there would get), and the World gives the spaces back when its last game has left them.
+Nothing a reused space remembers reaches a game: a pitch's shapes enter the spatial hash in the same
+order however it came, and the ball and player are new bodies (docs/design.md, "Spaces and pitches
+are built once per process").
 """
 
 from __future__ import annotations
@@ -95,7 +96,7 @@ _IDENTITY = pymunk.Transform.identity()  # through it pymunk builds the hull as 
 
 class Pitch:
     """One pitch's static walls, net and posts on its space's static body, moved to a game's slot by
-    `place` while out of the space."""
+    `place` (then the space reindexes its shapes)."""
 
     def __init__(self, outline: PitchOutline, body: pymunk.Body):
         self.outline = outline
@@ -108,8 +109,7 @@ class Pitch:
             shape.filter = STATIC_FILTER
 
     def place(self, ox: float, oy: float) -> None:
-        """Centre the pitch at (ox, oy): each coordinate offset + outline, as a pitch built there has.
-        The space reads the new vertices when the shapes are (re)indexed."""
+        """Centre the pitch at (ox, oy): each coordinate offset + outline, as a pitch built there has."""
         for box, (x0, y0, x1, y1) in zip(self.boxes, self.outline.boxes):
             box.unsafe_set_vertices(_corners(ox + x0, oy + y0, ox + x1, oy + y1), _IDENTITY)
         for post, (x, y) in zip(self.posts, self.outline.posts):
@@ -171,7 +171,7 @@ def borrow_spaces(outline: PitchOutline, count: int) -> list[PitchSpace]:
 
 
 def give_back_spaces(spaces: list[PitchSpace]) -> None:
-    """Spaces whose every body and pitch has been removed, for the next World."""
+    """Spaces every game has left (their pitches stay, idle), for the next World."""
     with _idle_lock:
         _idle_spaces[spaces[0].outline].extend(spaces)
 
