@@ -188,6 +188,7 @@ def open_tab(ui, browser_context, tab: Tab | None = None) -> Tab:
 
 def measure(tabs: list[Tab], seconds: float, speed: float) -> list[dict[str, float]]:
     for tab in tabs:
+        tab.session.ready.wait(PAINT_TIMEOUT_S)
         tab.session.controls.speed.value = speed
         tab.session.set_playing(True)
         tab.ticks.clear()

@@ -19,6 +19,7 @@ import viser
 from typing import TYPE_CHECKING
 
 from app.ui.context import UiContext
+from app.ui.layout import Layout
 from app.ui.pitch import PitchGeometry, draw_field
 from fuzzy.vocabulary import Vocabulary
 from soccer.config import GameConfig
@@ -89,6 +90,7 @@ def start_ui(
         server.stop()
         raise PortBusyError(f"port {port} on {host} is busy (choose another with --ui-port)")
     draw_field(server.scene, PitchGeometry.from_world(context.game.world))
+    layout = Layout(server)
     handle = UiHandle(server, context)
 
     def close_session(client_id: int) -> None:
@@ -99,7 +101,7 @@ def start_ui(
 
     @server.on_client_connect
     def _(client: viser.ClientHandle) -> None:
-        session = Session(client, context)
+        session = Session(client, context, layout, connected=lambda: client.client_id in server.get_clients())
         with handle.lock:
             handle.sessions[client.client_id] = session
         if client.client_id not in server.get_clients():  # the tab closed while its session was built

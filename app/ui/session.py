@@ -11,6 +11,7 @@ import functools
 import logging
 import threading
 import time
+from collections.abc import Callable
 
 import viser
 
@@ -18,6 +19,7 @@ from app.rule_inspection import rule_usage, simplification
 from app.ui import style
 from app.ui.context import UiContext
 from app.ui.game import Game
+from app.ui.layout import Layout
 from app.ui.panels.editor import EditorPanel
 from app.ui.panels.evolve import EvolvePanel
 from app.ui.panels.inference import InferencePanel
@@ -33,35 +35,54 @@ GAME_OVER_PAUSE = 2.0  # seconds the final position stays on screen before the n
 MAX_CATCH_UP = 0.25  # seconds of play made up at most after a stall (a busy machine): no bursts
 DUE_EARLY = 0.02  # of a tick: a wake-up this early still plays it, not a frame later
 IDLE_WAKE = 0.1  # seconds: paused or slow, the loop still looks for a finished generation this often
+# The panels wait for the browser to take in the pitch (at most PITCH_SEEN_WAIT seconds), then
+# PANELS_AFTER more while it decodes the pictures and draws them.
+PITCH_SEEN_WAIT = 2.0
+PANELS_AFTER = 0.5
 
 
 class Session:
-    def __init__(self, client: viser.ClientHandle, context: UiContext):
+    def __init__(self, client: viser.ClientHandle, context: UiContext, layout: Layout,
+                 connected: Callable[[], bool]):
         self.client = client
         self.context = context
+        self.layout = layout
+        self._connected = connected  # whether the tab is still open
         self.lock = threading.RLock()
         self.playing = True  # the first minute: the demo player is already playing
         self._tick_budget = 0.0
         self._game_over_since: float | None = None
         self._closed = threading.Event()
+        self._pitch_seen = threading.Event()
+        self.ready = threading.Event()  # the panels are built and the game plays
         self._ticks_per_second = 1.0 / context.game.world.tick_seconds  # at 1x speed
         self.game = Game(context, context.demo_rulebase(), context.demo_name, seed=style.DEFAULT_SEED)
-        self._build()
+        self._show_pitch()
         self._thread = threading.Thread(target=self._loop, name=f"ui-session-{client.client_id}", daemon=True)
         self._thread.start()
 
     # ---- layout ---------------------------------------------------------------------------
-    def _build(self) -> None:
-        gui, context = self.client.gui, self.context
-        # The pitch first, on its own: the browser draws it while the panels are still being built.
-        self.pitch = PitchView(self.client.scene, PitchGeometry.from_world(context.game.world))
+    # The pitch first, the panels after (docs/design.md, "First paint"): a browser without a GPU
+    # spends seconds laying out the panels, and would draw the pitch only after them.
+    def _show_pitch(self) -> None:
+        self.pitch = PitchView(self.client.scene, PitchGeometry.from_world(self.context.game.world))
         self.pitch.show(self.game.frame())
+        self._aspect = self.client.camera.aspect
+
+        @self.client.camera.on_update
+        def _(camera: viser.CameraHandle) -> None:
+            # The browser answers the camera sent below once it has taken in the pitch. Refit when the
+            # canvas changes shape (a window resized), not when the user pans.
+            self._pitch_seen.set()
+            if abs(camera.aspect - self._aspect) > 0.01:
+                self._aspect = camera.aspect
+                self.pitch.fit_camera(camera)
+
         self.pitch.fit_camera(self.client.camera)
         self.client.flush()
-        gui.configure_theme(dark_mode=False, show_logo=False, show_share_button=False, brand_color=(25, 118, 210))
-        main = gui.main_panel
-        main.dock_left()
-        main.set_width(style.LEFT_PANEL_WIDTH)
+
+    def _build_panels(self) -> None:
+        gui, context = self.client.gui, self.context
         play = functools.partial(self.load_rulebase, restart=True)  # a new player starts a new game
         # Tabs and buttons without icons: viser reads each icon from a 2 MB zip file the first time it
         # is used, seconds that the first visitor after a start would wait for.
@@ -86,27 +107,16 @@ class Session:
         with tabs.add_tab("Library"):
             self.library = LibraryPanel(gui, context.store, context.runs, context.vocabulary, context.api_url,
                                         on_load=play)
-        right = gui.add_panel()
-        with right.add_tab("Inference"):
+        # The panels themselves (docked, sized, the right one's tabs) are the server's: see layout.py.
+        with self.layout.right_tab("Inference"):
             self.inference = InferencePanel(gui, context.vocabulary, on_change=self.refresh,
                                             on_usage=self.measure_usage)
-        with right.add_tab("Policy map"):
+        with self.layout.right_tab("Policy map"):
             self.policy = PolicyPanel(gui, context.vocabulary, self.game.rulebase, self.game.view_half_angle,
                                       on_change=self.refresh)
-        with right.add_tab("Population"):
+        with self.layout.right_tab("Population"):
             self.population = PopulationPanel(gui, context.game, context.vocabulary,
                                               start_seed=lambda: self.game.seed)
-        right.dock_right()
-        right.set_width(style.RIGHT_PANEL_WIDTH)
-        self._aspect = 0.0
-
-        @self.client.camera.on_update
-        def _(camera: viser.CameraHandle) -> None:
-            # Refit when the canvas changes shape (panels docked, window resized), not when the user pans.
-            if abs(camera.aspect - self._aspect) > 0.01:
-                self._aspect = camera.aspect
-                self.pitch.fit_camera(camera)
-
         self._render()
 
     # ---- controls -------------------------------------------------------------------------
@@ -161,7 +171,8 @@ class Session:
     def close(self) -> None:
         """The tab is gone: stop drawing and listening (quick: called from viser's event loop)."""
         self._closed.set()
-        self.evolve.close()
+        if self.ready.is_set():  # else the loop, having built the panels, sees the tab closed
+            self.evolve.close()
 
     def join(self, timeout: float) -> bool:
         """Wait for the loop to end after close(); whether it has."""
@@ -170,6 +181,20 @@ class Session:
 
     # ---- the loop -------------------------------------------------------------------------
     def _loop(self) -> None:
+        self._pitch_seen.wait(PITCH_SEEN_WAIT)
+        if self._closed.wait(PANELS_AFTER):
+            return
+        with self.lock:
+            try:
+                self._build_panels()
+            except Exception:
+                if self._connected():
+                    raise
+                return  # the tab closed while its panels were built
+        self.ready.set()
+        if self._closed.is_set():
+            self.evolve.close()
+            return
         last = time.perf_counter()
         while not self._closed.is_set():
             now = time.perf_counter()
@@ -179,6 +204,8 @@ class Session:
                         break
                     self._advance(min(now - last, MAX_CATCH_UP))
             except Exception:  # a broken frame must not kill the tab's loop
+                if not self._connected():  # the tab closed under us: viser removed its panels first
+                    break
                 log.exception("session frame failed")
             last = now
             self._closed.wait(self._until_next_tick())

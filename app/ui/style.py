@@ -42,6 +42,7 @@ INK = "#1f2933"
 MUTED = "#9aa5b1"
 GRID = "#e4e7eb"
 ACCENT = "#1976d2"
+BRAND = (25, 118, 210)  # ACCENT as RGB: the theme's colour (buttons, selected tabs)
 FIRED = "#2e7d32"
 SELECTED = "#e65100"
 ERROR = "#c62828"
