@@ -20,7 +20,7 @@ from typing import TYPE_CHECKING
 
 from app.ui.context import UiContext
 from app.ui.layout import Layout
-from app.ui.pitch import PitchGeometry, draw_field
+from app.ui.pitch import PitchGeometry, draw_pitch
 from fuzzy.vocabulary import Vocabulary
 from soccer.config import GameConfig
 
@@ -89,7 +89,7 @@ def start_ui(
     if server.get_port() != port:
         server.stop()
         raise PortBusyError(f"port {port} on {host} is busy (choose another with --ui-port)")
-    draw_field(server.scene, PitchGeometry.from_world(context.game.world))
+    draw_pitch(server.scene, PitchGeometry.from_world(context.game.world), Session.first_game(context).frame())
     layout = Layout(server)
     handle = UiHandle(server, context)
 

@@ -1,5 +1,6 @@
 """The top-down pitch in viser's 3D scene: the field (lines, goal), player with facing and view cone,
-ball and trail, each a flat picture (see pitch_pictures.py) but the trail.
+ball and trail, each a flat picture (see pitch_pictures.py) but the trail. The pictures are the
+server's, sent once to every tab (draw_pitch); each tab moves the frames they hang from (PitchView).
 
 World coordinates are the simulator's (x toward the attacked goal, y to the player's right when it
 faces +x, as in rcssserver). Seen from above with x to the right, +y points down the screen, so the
@@ -20,6 +21,10 @@ from soccer.config import WorldConfig
 
 CAMERA_FOV = math.radians(20.0)  # a narrow lens from far above looks orthographic
 FIELD_NODE = "/field"
+PLAYER_NODE = "/pitch/player"
+CONE_NODES = {False: f"{PLAYER_NODE}/view_cone_no_ball", True: f"{PLAYER_NODE}/view_cone_ball"}  # ball seen?
+BALL_NODE = "/pitch/ball"
+TRAIL_NODE = "/pitch/trail"
 Z_GRASS, Z_CONE, Z_TRAIL, Z_BODY = -0.05, 0.02, 0.03, 0.2
 
 
@@ -65,32 +70,39 @@ def show_picture(scene: viser.SceneApi, name: str, picture: Picture, z: float, *
                            position=to_scene(x, y, z), cast_shadow=False, receive_shadow=False, **kwargs)
 
 
-def draw_field(scene: viser.SceneApi, geometry: PitchGeometry, name: str = FIELD_NODE) -> None:
-    """The field, the same for every tab: drawn once into the server's scene, which viser sends each
-    tab as it connects, before the tab's own session is built."""
+def draw_pitch(scene: viser.SceneApi, geometry: PitchGeometry, start: PitchFrame) -> None:
+    """Every picture of the pitch, the same for every tab, drawn once into the server's scene, which
+    viser sends each tab as it connects, before the tab's session exists: the field, the player, its
+    view cones and the ball, hung from frames placed as every new tab's game starts (the demo player,
+    the first seed). A tab's session then moves frames of its own with the same names (PitchView): in
+    the browser a tab's node stands in for the server's of its name, the pictures hanging from it.
+    So a new tab draws the whole pitch from the first message, and no tab sends a picture again."""
     # Unlit: no environment map (its loading keeps the canvas transparent for seconds) and no lights
     # (the pictures carry their own colours).
     scene.configure_environment_map(None)
     scene.configure_default_lights(enabled=False, cast_shadow=False)
-    show_picture(scene, name, field_picture(geometry), Z_GRASS)
+    show_picture(scene, FIELD_NODE, field_picture(geometry), Z_GRASS)
+    PitchView(scene, geometry).show(start)
+    show_picture(scene, f"{PLAYER_NODE}/body", player_picture(), 0.0)
+    for seen, name in CONE_NODES.items():
+        colour = style.BALL if seen else style.VIEW_CONE
+        show_picture(scene, f"{name}/picture", cone_picture(geometry.view_half_angle, colour), 0.0)
+    show_picture(scene, f"{BALL_NODE}/picture", ball_picture(), 0.0)
 
 
 class PitchView:
-    """What moves on one client's pitch: player with facing and view cone, ball and trail.
-    `show(frame)` sends only what changed since the last frame."""
+    """The frames that move on a pitch (player with facing and view cones, ball) and the ball's trail;
+    the pictures hang from the frames (draw_pitch). `show(frame)` sends only what changed."""
 
-    def __init__(self, scene: viser.SceneApi, geometry: PitchGeometry, root: str = "/pitch"):
+    def __init__(self, scene: viser.SceneApi, geometry: PitchGeometry):
         self.geometry = geometry
-        self.player = scene.add_frame(f"{root}/player", show_axes=False, position=to_scene(0, 0, Z_BODY))
-        cones = {seen: cone_picture(geometry.view_half_angle, style.BALL if seen else style.VIEW_CONE)
-                 for seen in (False, True)}
-        self.cones = {seen: show_picture(scene, f"{root}/player/view_cone_{'ball' if seen else 'no_ball'}",
-                                         picture, Z_CONE - Z_BODY, visible=not seen)
-                      for seen, picture in cones.items()}
-        show_picture(scene, f"{root}/player/body", player_picture(), 0.0)
-        self.ball = show_picture(scene, f"{root}/ball", ball_picture(), Z_BODY)
+        self.player = scene.add_frame(PLAYER_NODE, show_axes=False, position=to_scene(0, 0, Z_BODY))
+        # One cone for each colour, the one shown switched: a colour change would be a new picture.
+        self.cones = {seen: scene.add_frame(name, show_axes=False, position=(0.0, 0.0, Z_CONE - Z_BODY))
+                      for seen, name in CONE_NODES.items()}
+        self.ball = scene.add_frame(BALL_NODE, show_axes=False, position=to_scene(0, 0, Z_BODY))
         self.trail = scene.add_line_segments(
-            f"{root}/trail", np.zeros((1, 2, 3), np.float32), colors=style.BALL_TRAIL, thickness=style.TRAIL_THICKNESS,
+            TRAIL_NODE, np.zeros((1, 2, 3), np.float32), colors=style.BALL_TRAIL, thickness=style.TRAIL_THICKNESS,
             visible=False,
         )
         self._trail_shown: np.ndarray | None = None

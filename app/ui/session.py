@@ -56,10 +56,15 @@ class Session:
         self._pitch_seen = threading.Event()
         self.ready = threading.Event()  # the panels are built and the game plays
         self._ticks_per_second = 1.0 / context.game.world.tick_seconds  # at 1x speed
-        self.game = Game(context, context.demo_rulebase(), context.demo_name, seed=style.DEFAULT_SEED)
+        self.game = self.first_game(context)
         self._show_pitch()
         self._thread = threading.Thread(target=self._loop, name=f"ui-session-{client.client_id}", daemon=True)
         self._thread.start()
+
+    @staticmethod
+    def first_game(context: UiContext) -> Game:
+        """Every tab's game as it opens: the demo player from the first seed."""
+        return Game(context, context.demo_rulebase(), context.demo_name, seed=style.DEFAULT_SEED)
 
     # ---- layout ---------------------------------------------------------------------------
     # The pitch first, the panels after (docs/design.md, "First paint"): a browser without a GPU
