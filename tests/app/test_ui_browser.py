@@ -389,6 +389,11 @@ def test_library_shows_an_experiment_and_its_figures(ui, page, tmp_path):
     shot(page, "8-library-experiment")
 
 
+def drawn_player(page) -> tuple[float, float]:
+    return tuple(page.evaluate("() => { const p = window.__viserMutable.nodeRefFromName['/pitch/player'].position;"
+                               " return [p.x, p.y]; }"))
+
+
 def test_each_tab_has_its_own_game(ui, browser, page):
     second = browser.new_page(viewport=VIEWPORT)
     try:
@@ -404,6 +409,12 @@ def test_each_tab_has_its_own_game(ui, browser, page):
         wait_until(lambda: second_session.game.state.tick >= second_tick + 5)
         assert first_session.game.state.tick == first_tick
         assert second_session.game.name == ui.context.demo_name
+        # The pitch's pictures are the server's, the same for both; the frames they hang from are each
+        # tab's own: each page draws its own session's player.
+        x, y = first_session.game.state.player
+        wait_until(lambda: drawn_player(page) == pytest.approx((x, -y), abs=1e-3))
+        wait_until(lambda: drawn_player(second) != drawn_player(page))
+        assert second.evaluate("() => !!window.__viserMutable.nodeRefFromName['/pitch/player/body']")
     finally:
         second.close()
 
