@@ -23,9 +23,11 @@ Building a pitch's shapes in pymunk from Python cost more than a short game's ti
 their pitches are built once per process and reused (PitchSpace): a World borrows its spaces, each
 game takes a pitch already there (moved to its slot if need be, its vertices set to exactly those a
 new pitch there would get), and the World gives the spaces back when its last game has left them.
-Nothing a reused space remembers reaches a game: a pitch's shapes enter the spatial hash in the same
-order however it came, and the ball and player are new bodies (docs/design.md, "Spaces and pitches
-are built once per process").
+Balls and players are reused the same way (building them cost about 3% of a trial's CPU): a
+finished game's bodies wait in their space, and a later game puts them at rest where it starts,
+Chipmunk's bias velocity cleared (PitchSpace.take_body). Nothing a reused space remembers reaches
+a game: a pitch's shapes enter the spatial hash in the same order however it came, and a taken body
+is in the state a new one has (docs/design.md, "Spaces and pitches are built once per process").
 """
 
 from __future__ import annotations
@@ -116,15 +118,21 @@ class Pitch:
             post.unsafe_set_offset((ox + x, oy + y))
 
 
-def _round_body(mass: float, radius: float, elasticity: float, x: float, y: float) -> tuple[pymunk.Body, pymunk.Circle]:
-    # Infinite moment: bodies never spin; the player's facing is kept by the engine, not by pymunk.
-    body = pymunk.Body(mass, float("inf"))
-    body.position = (x, y)
-    shape = pymunk.Circle(body, radius)
-    shape.elasticity = elasticity
-    shape.friction = 0.0
-    shape.filter = MOVING_FILTER
-    return body, shape
+class RoundBody(NamedTuple):
+    """What a ball or a player is made of in pymunk; its bodies are built and reused by this kind."""
+
+    mass: float
+    radius: float
+    elasticity: float
+
+    def build(self) -> tuple[pymunk.Body, pymunk.Circle]:
+        # Infinite moment: bodies never spin; the player's facing is kept by the engine, not by pymunk.
+        body = pymunk.Body(self.mass, float("inf"))
+        shape = pymunk.Circle(body, self.radius)
+        shape.elasticity = self.elasticity
+        shape.friction = 0.0
+        shape.filter = MOVING_FILTER
+        return body, shape
 
 
 class PitchSpace:
@@ -138,6 +146,7 @@ class PitchSpace:
         self.space = pymunk.Space()
         self.space.use_spatial_hash(HASH_CELL, HASH_CELLS)
         self._idle: dict[int, Pitch] = {}  # pitches no game plays on, by the slot they lie at
+        self._idle_bodies: dict[RoundBody, list[tuple[pymunk.Body, pymunk.Circle]]] = {}  # out of the space
 
     def take_pitch(self, slot: int) -> Pitch:
         pitch = self._idle.pop(slot, None)
@@ -157,6 +166,25 @@ class PitchSpace:
 
     def give_back(self, slot: int, pitch: Pitch) -> None:
         self._idle[slot] = pitch
+
+    def take_body(self, kind: RoundBody, x: float, y: float) -> tuple[pymunk.Body, pymunk.Circle]:
+        """A body of `kind` with its shape, at rest at (x, y), not yet in the space: one a finished
+        game left, else a new one. A left body differs from a new one only in Chipmunk's bias
+        velocity (the last step's contact correction, added to the next step's move), which
+        `update_position` with no time step clears without moving it."""
+        idle = self._idle_bodies.get(kind)
+        if not idle:
+            body, shape = kind.build()
+        else:
+            body, shape = idle.pop()
+            pymunk.Body.update_position(body, 0.0)
+            body.velocity = (0.0, 0.0)
+        body.position = (x, y)
+        return body, shape
+
+    def give_back_body(self, kind: RoundBody, body: pymunk.Body, shape: pymunk.Circle) -> None:
+        """A body and its shape just removed from the space, for a later game's `take_body`."""
+        self._idle_bodies.setdefault(kind, []).append((body, shape))
 
 
 _idle_spaces: dict[PitchOutline, list[PitchSpace]] = {}  # this process's spaces no World holds
@@ -193,6 +221,8 @@ class World:
 
     def __init__(self, config: WorldConfig, seeds: Sequence[int]):
         self.config = config
+        self._player_kind = RoundBody(config.player_mass, config.player_size, config.elasticity)
+        self._ball_kind = RoundBody(config.ball_mass, config.ball_size, config.elasticity)
         games = len(seeds)
         slots = [pitch_slot(seed) for seed in seeds]
         offsets = np.array([pitch_offset(s) for s in slots], dtype=np.float64).reshape(games, 2)
@@ -217,14 +247,14 @@ class World:
         self._id_buffer = pymunk.batch.Buffer()
 
     def add_game(self, game: int, player_xy: tuple[float, float], ball_xy: tuple[float, float]) -> None:
-        c = self.config
         ox, oy = self.pitches.offsets[game]
         layer = self.pitches.layer[game]
-        player, player_shape = _round_body(c.player_mass, c.player_size, c.elasticity, ox + player_xy[0], oy + player_xy[1])
-        ball, ball_shape = _round_body(c.ball_mass, c.ball_size, c.elasticity, ox + ball_xy[0], oy + ball_xy[1])
+        pitch_space = self._pitch_spaces[layer]
+        player, player_shape = pitch_space.take_body(self._player_kind, ox + player_xy[0], oy + player_xy[1])
+        ball, ball_shape = pitch_space.take_body(self._ball_kind, ox + ball_xy[0], oy + ball_xy[1])
         self.spaces[layer].add(player, player_shape, ball, ball_shape)
         self._objects[game] = (player, player_shape, ball, ball_shape)
-        self._pitch[game] = self._pitch_spaces[layer].take_pitch(self._slots[game])
+        self._pitch[game] = pitch_space.take_pitch(self._slots[game])
         self._games_in_space[layer] += 1
         self._body_ids[game] = player.id
         self._body_ids[len(self._objects) + game] = ball.id
@@ -235,8 +265,12 @@ class World:
         if pitch is None:
             return
         layer = self.pitches.layer[game]
-        self.spaces[layer].remove(*self._objects[game])
-        self._pitch_spaces[layer].give_back(self._slots[game], pitch)
+        player, player_shape, ball, ball_shape = self._objects[game]
+        self.spaces[layer].remove(player, player_shape, ball, ball_shape)
+        pitch_space = self._pitch_spaces[layer]
+        pitch_space.give_back(self._slots[game], pitch)
+        pitch_space.give_back_body(self._player_kind, player, player_shape)
+        pitch_space.give_back_body(self._ball_kind, ball, ball_shape)
         self._objects[game] = ()
         self._pitch[game] = None
         self.pitches.player_slot[game] = self.pitches.ball_slot[game] = -1

@@ -13,7 +13,8 @@ from soccer.config import GameConfig
 from soccer.demo import demo_rulebase
 from soccer.engine import GameBatch, play_game
 from soccer.random_stream import mix64, next_uniform, seed_states
-from soccer.world import pitch_slot
+from soccer.config import WorldConfig
+from soccer.world import PitchOutline, PitchSpace, RoundBody, pitch_offset, pitch_slot
 
 VOCABULARY = Vocabulary.default()
 
@@ -166,3 +167,33 @@ def test_a_game_in_reused_spaces_equals_it_first_in_a_fresh_process():
         assert trace.action.tolist() == fresh["action"]
     assert repr(in_batch) == fresh["result"]
     assert in_batch.kicks > 0 and in_batch.ticks == 1000
+
+
+def test_a_body_a_game_left_in_a_wall_contact_is_taken_again_at_rest_as_a_new_one():
+    # A ball pressed into the own end line wall leaves its last step with Chipmunk's bias velocity
+    # (the contact's position correction); taken again for another game, it must stay where it is
+    # put for a step, as a new body does.
+    world = WorldConfig()
+    pitch_space = PitchSpace(PitchOutline.of(world))
+    ball = RoundBody(world.ball_mass, world.ball_size, world.elasticity)
+    ox, oy = pitch_offset(0)
+    pitch_space.take_pitch(0)
+    rest = (ox, oy + 10.0)
+
+    body, shape = pitch_space.take_body(ball, ox - world.pitch_length / 2 + world.ball_size / 2, oy)
+    pitch_space.space.add(body, shape)
+    body.velocity = (-10.0, 0.0)
+    pitch_space.space.step(world.tick_seconds)
+    assert pitch_space.space.shape_query(shape)  # still in contact with the wall
+    pitch_space.space.remove(body, shape)
+    pitch_space.give_back_body(ball, body, shape)
+
+    again, again_shape = pitch_space.take_body(ball, *rest)
+    assert again is body
+    new, new_shape = RoundBody(*ball).build()
+    new.position = rest
+    for taken, taken_shape in ((again, again_shape), (new, new_shape)):
+        pitch_space.space.add(taken, taken_shape)
+        pitch_space.space.step(world.tick_seconds)
+        assert (taken.position, taken.velocity) == (rest, (0.0, 0.0))
+        pitch_space.space.remove(taken, taken_shape)
