@@ -2,7 +2,9 @@
 simulator cycles per second (whole trials of a player that runs, kicks and scores) and GA evaluations per
 second (a small evolution from random rulebases, the chapter's RoboCup trials). Targets: at least 1,000
 cycles/s per server, and 2 servers nearly twice one (each server steps only when its client says (done),
-so the client's own work per cycle counts as much as the server's).
+so the client's own work per cycle counts as much as the server's). For the striker it also prints the
+CPU time per cycle of the clients (this process with one server, the client processes with two) and of
+the servers, read from /proc (Linux), and what share of a core each took.
 
     python benchmarks/rcss_throughput.py [--rcssserver PATH] [--trials 4] [--population 20] [--generations 2]
                                          [--rounds 2]
@@ -17,7 +19,8 @@ import argparse
 import os
 import statistics
 import time
-from typing import Sequence
+from pathlib import Path
+from typing import NamedTuple, Sequence
 
 from fuzzy.parser import parse_rulebase
 from ga.algorithms import evolve
@@ -52,15 +55,59 @@ class CountingEvaluator:
         return results
 
 
-def striker_cycles(pool: ServerPool, trials: int) -> tuple[float, int]:
-    """(cycles/s over all servers, cycles) for `trials` whole trials of the striker."""
+def cpu_seconds(pid: int) -> float:
+    """User and system CPU time of a process so far (0 once it is gone)."""
+    try:
+        fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+    except OSError:
+        return 0.0
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+
+def children() -> set[int]:
+    """This process's child processes (servers and client processes)."""
+    pids: set[int] = set()
+    for task in Path(f"/proc/{os.getpid()}/task").iterdir():
+        try:
+            pids.update(int(pid) for pid in (task / "children").read_text().split())
+        except OSError:
+            pass
+    return pids
+
+
+class CpuUse(NamedTuple):
+    client: float  # CPU seconds of the clients: this process and its children other than servers
+    server: float  # CPU seconds of the servers
+
+
+def cpu_use(pool: ServerPool) -> CpuUse:
+    servers = {server.pid for server in pool.servers}
+    clients = children() - servers
+    return CpuUse(time.process_time() + sum(map(cpu_seconds, clients)), sum(map(cpu_seconds, servers)))
+
+
+class StrikerRun(NamedTuple):
+    cycles_per_second: float
+    cycles: int
+    client_ms: float  # CPU per cycle
+    server_ms: float
+    client_cores: float  # CPU seconds per second of wall time
+    server_cores: float
+
+
+def striker_cycles(pool: ServerPool, trials: int) -> StrikerRun:
+    """Cycles/s over all servers and CPU per cycle for `trials` whole trials of the striker."""
     with RcssEvaluator(pool.addresses, TrialConfig()) as evaluate:
         evaluate.connect()
+        before = cpu_use(pool)
         started = time.perf_counter()
         results = evaluate([STRIKER] * trials, list(range(trials)))
         seconds = time.perf_counter() - started
+        after = cpu_use(pool)  # before the client processes end
     cycles = sum(result.ticks for result in results)
-    return cycles / seconds, cycles
+    client, server = after.client - before.client, after.server - before.server
+    return StrikerRun(cycles / seconds, cycles, 1000 * client / cycles, 1000 * server / cycles, client / seconds,
+                      server / seconds)
 
 
 def evolution(pool: ServerPool, population: int, generations: int) -> tuple[float, float, int]:
@@ -92,15 +139,17 @@ def main() -> None:
     for round_number in range(args.rounds):
         for servers in (1, 2):
             with ServerPool(args.rcssserver, servers) as pool:
-                rate, played = striker_cycles(pool, args.trials)
-                cycles[servers].append(rate)
+                run = striker_cycles(pool, args.trials)
+                cycles[servers].append(run.cycles_per_second)
             with ServerPool(args.rcssserver, servers) as pool:
                 per_second, cycle_rate, count = evolution(pool, args.population, args.generations)
                 evaluations[servers].append(per_second)
                 evolution_cycles[servers].append(cycle_rate)
-            print(f"round {round_number + 1}, {servers} server{'s' if servers > 1 else ''}: striker {rate:.0f} "
-                  f"cycles/s ({played} cycles); evolution {per_second:.1f} evaluations/s, {cycle_rate:.0f} cycles/s "
-                  f"({count} evaluations)", flush=True)
+            print(f"round {round_number + 1}, {servers} server{'s' if servers > 1 else ''}: striker "
+                  f"{run.cycles_per_second:.0f} cycles/s ({run.cycles} cycles; CPU per cycle: client "
+                  f"{run.client_ms:.3f} ms, server {run.server_ms:.3f} ms; cores busy: clients {run.client_cores:.2f}, "
+                  f"servers {run.server_cores:.2f}); evolution {per_second:.1f} evaluations/s, {cycle_rate:.0f} "
+                  f"cycles/s ({count} evaluations)", flush=True)
     load_after = os.getloadavg()
 
     one, two = statistics.median(cycles[1]), statistics.median(cycles[2])

@@ -11,10 +11,19 @@ count for whichever cycle the server is in by then, and every answer after it wo
 So a session answers a cycle only within ANSWER_WITHIN of reading it; a client that took longer (a
 stall, or the pause between two evaluations) answers nothing, reads what the server sent meanwhile,
 and takes up the next cycle that arrives.
+
+The server steps only when the client has answered, so the client spends as little as it can per
+cycle: each socket is non-blocking and connected to the server's reply port after init, a read that
+finds a datagram queued costs one system call, and a client with nothing to read sleeps in poll()
+until the server sends (never a busy wait). A session waits on the trainer, whose (think) the server
+sends last, so it wakes about once a cycle and finds the player's messages already queued. The
+player's commands and its (done) travel in one datagram (the server reads a datagram as a list of
+commands).
 """
 
 from __future__ import annotations
 
+import math
 import select
 import socket
 import time
@@ -75,55 +84,77 @@ def parse_server(address: str) -> tuple[str, int]:
 
 
 class Endpoint:
-    """One UDP conversation with the server: init to the well-known port, then to the reply port."""
+    """One UDP conversation with the server: init to the well-known port, then with the reply port."""
 
-    def __init__(self, role: str, host: str, port: int, timeouts: Timeouts):
+    def __init__(self, role: str, host: str, port: int, timeouts: Timeouts, where: str | None = None):
         self.role = role
         self.init_address = (host, port)
-        self.address = self.init_address
+        self.where = where or f"{host}:{port}"  # the server, as errors name it
         self.timeouts = timeouts
-        self.sent: list[str] = []  # every message we sent, for tests and debugging
         self.socket = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
         self.socket.bind(("0.0.0.0", 0))
+        self.socket.setblocking(False)
+        self._poll = select.poll()
+        self._poll.register(self.socket, select.POLLIN)
+        self._held: bytes | None = None  # a datagram read ahead by more_waiting()
 
     def send(self, text: str) -> None:
-        self.sent.append(text)
-        self.socket.sendto(text.encode("ascii") + b"\x00", self.address)
-
-    def receive(self, timeout: float, waiting_for: str) -> Message:
-        self.socket.settimeout(timeout)
         try:
-            data, source = self.socket.recvfrom(DATAGRAM_SIZE)
-        except (TimeoutError, socket.timeout):
-            raise RcssTimeoutError(
-                f"{self.role}: rcssserver at {self._where()} sent nothing for {self.timeouts.cycle:g} s "
-                f"while we waited for {waiting_for} (did the server quit?)"
-            ) from None
-        except OSError as exc:  # e.g. ICMP port unreachable reported on the socket
-            raise RcssNoServerError(f"{self.role}: cannot talk to rcssserver at {self._where()}: {exc}") from None
-        self.address = source  # after init, talk to the port the replies come from
+            self.socket.send(text.encode("ascii") + b"\x00")
+        except OSError as exc:
+            raise self._gone(exc) from None
+
+    def receive(self, deadline: float, waiting_for: str) -> Message:
+        """The next message; RcssTimeoutError when none arrives by `deadline` (time.monotonic())."""
+        data, self._held = self._held, None
+        while data is None:
+            data = self._read()
+            if data is None and not self._poll.poll(max(math.ceil((deadline - time.monotonic()) * 1000), 0)):
+                raise RcssTimeoutError(
+                    f"{self.role}: rcssserver at {self.where} sent nothing for {self.timeouts.cycle:g} s "
+                    f"while we waited for {waiting_for} (did the server quit?)"
+                )
         return parse_message(data)
 
     def more_waiting(self) -> bool:
         """A datagram is already queued (the server has moved on to another cycle)."""
-        return bool(select.select([self.socket], [], [], 0)[0])
+        if self._held is None:
+            self._held = self._read()
+        return self._held is not None
+
+    def _read(self) -> bytes | None:
+        """A queued datagram, or None."""
+        try:
+            return self.socket.recv(DATAGRAM_SIZE)
+        except BlockingIOError:
+            return None
+        except OSError as exc:
+            raise self._gone(exc) from None
+
+    def _gone(self, error: OSError) -> RcssNoServerError:
+        if isinstance(error, ConnectionRefusedError):  # the kernel's answer to a datagram sent to a closed port
+            return RcssNoServerError(f"{self.role}: rcssserver at {self.where} is gone: its port refuses messages "
+                                     "(did the server quit?)")
+        return RcssNoServerError(f"{self.role}: cannot talk to rcssserver at {self.where}: {error}")
 
     def initialise(self, text: str) -> Message:
-        """Send init and return the first reply; RcssNoServerError when nobody answers in time."""
+        """Send init and return the first reply, then talk only with the port it came from;
+        RcssNoServerError when nobody answers in time."""
         try:
-            self.send(text)
+            self.socket.sendto(text.encode("ascii") + b"\x00", self.init_address)
         except OSError as exc:  # e.g. a host name that does not resolve
-            raise RcssNoServerError(f"{self.role}: cannot reach rcssserver at {self._where()}: {exc}") from None
-        try:
-            return self.receive(self.timeouts.connect, "the reply to init")
-        except RcssTimeoutError:
+            raise RcssNoServerError(f"{self.role}: cannot reach rcssserver at {self.where}: {exc}") from None
+        if not self._poll.poll(self.timeouts.connect * 1000):
             raise RcssNoServerError(
-                f"{self.role}: no reply from rcssserver at {self._where()} within {self.timeouts.connect:g} s "
+                f"{self.role}: no reply from rcssserver at {self.where} within {self.timeouts.connect:g} s "
                 "(is it running, on this host and port?)"
-            ) from None
-
-    def _where(self) -> str:
-        return f"{self.init_address[0]}:{self.init_address[1]}"
+            )
+        try:
+            data, source = self.socket.recvfrom(DATAGRAM_SIZE)
+        except OSError as exc:
+            raise RcssNoServerError(f"{self.role}: cannot talk to rcssserver at {self.where}: {exc}") from None
+        self.socket.connect(source)  # after init the server answers from a port of its own for this client
+        return parse_message(data)
 
     def close(self) -> None:
         self.socket.close()
@@ -174,7 +205,7 @@ class PlayerClient:
         deadline = time.monotonic() + self.timeouts.cycle
         skipped = False
         while True:
-            message = self.endpoint.receive(max(deadline - time.monotonic(), 0.001), "(think)")
+            message = self.endpoint.receive(deadline, "(think)")
             if not isinstance(message, Think):
                 self._take(message)
             elif self.endpoint.more_waiting():
@@ -191,7 +222,7 @@ class PlayerClient:
         """Read what is queued (cycles the server went through without us); their hears go with the next
         cycle read."""
         while self.endpoint.more_waiting():
-            message = self.endpoint.receive(self.timeouts.cycle, "queued messages")
+            message = self.endpoint.receive(time.monotonic(), "queued messages")
             if not isinstance(message, Think):
                 self._take(message)
 
@@ -209,10 +240,8 @@ class PlayerClient:
             raise RcssCommandError(f"player: rcssserver rejected a command: {message.reason}")
 
     def act(self, commands: list[str]) -> None:
-        """This cycle's body commands, then (done)."""
-        for command in commands:
-            self.endpoint.send(command)
-        self.endpoint.send("(done)")
+        """This cycle's body commands, then (done), in one datagram."""
+        self.endpoint.send("".join(commands) + "(done)")
 
     def bye(self) -> None:
         self.endpoint.send("(bye)")
@@ -224,8 +253,9 @@ class PlayerClient:
 class TrainerClient:
     """The offline trainer: places ball and player, sets play modes, sees everything (eye on)."""
 
-    def __init__(self, host: str, port: int, timeouts: Timeouts = Timeouts()):
-        self.endpoint = Endpoint("trainer", host, port, timeouts)
+    def __init__(self, host: str, port: int, timeouts: Timeouts = Timeouts(), server: str | None = None):
+        """`server`: the server's player address, for errors to name it as the user gave it."""
+        self.endpoint = Endpoint("trainer", host, port, timeouts, f"{server} (trainer port {port})" if server else None)
         self.timeouts = timeouts
         self.pending: deque[str] = deque()  # commands awaiting (ok ...), oldest first
         self._cycle = TrainerCycle()  # the cycle being read
@@ -265,7 +295,7 @@ class TrainerClient:
         deadline = time.monotonic() + self.timeouts.cycle
         while True:
             try:
-                message = self.endpoint.receive(max(deadline - time.monotonic(), 0.001), "(think)")
+                message = self.endpoint.receive(deadline, "(think)")
             except RcssTimeoutError:
                 if self.pending:
                     raise RcssCommandError(f"trainer: no reply from rcssserver to {self.pending[0]}") from None
@@ -279,7 +309,7 @@ class TrainerClient:
     def read_backlog(self) -> None:
         """Read what is queued (as the player's); hears and acknowledgements are kept."""
         while self.endpoint.more_waiting():
-            message = self.endpoint.receive(self.timeouts.cycle, "queued messages")
+            message = self.endpoint.receive(time.monotonic(), "queued messages")
             if not isinstance(message, Think):
                 self._take(message)
 
@@ -335,7 +365,7 @@ class Session:
             first = self.player.connect()
             params = self.params
             host, port = self._trainer_address
-            self.trainer = TrainerClient(host, port or params.coach_port, self.player.timeouts)
+            self.trainer = TrainerClient(host, port or params.coach_port, self.player.timeouts, self.server)
             self.trainer.connect()
         except BaseException:
             self.close()
@@ -356,8 +386,8 @@ class Session:
         else:
             self.player.read_backlog()
             self.trainer.read_backlog()
+        trainer_cycle = self.trainer.read_cycle()  # the server sends the trainer's (think) last
         player_cycle = self.player.read_cycle()
-        trainer_cycle = self.trainer.read_cycle()
         self.last_player_cycle = player_cycle
         self.time = player_cycle.sense_body.time
         return player_cycle, trainer_cycle
@@ -368,13 +398,13 @@ class Session:
             try:
                 self.trainer.endpoint.send("(ear off)")
                 self.trainer.endpoint.send("(eye off)")
-            except OSError:
+            except RcssNoServerError:
                 pass
         try:
             self.player.bye()
             if self.trainer is not None:
                 self.trainer.done()
-        except OSError:
+        except RcssNoServerError:
             pass
         self.player.close()
         if self.trainer is not None:

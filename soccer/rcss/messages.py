@@ -6,16 +6,18 @@ against the transcripts in tests/rcss/transcripts (see NOTES.md there): player a
 the order of time and sender; see objects carry 2 to 4 numbers (and more for players).
 
 The messages of every cycle (think, sense_body, see, see_global) are flat lists of `(NAME VALUES)` or
-`((NAME) VALUES)` items: regular expressions read them straight into their classes, 3-4 times faster
+`((NAME) VALUES)` items: regular expressions read them straight into their classes, many times faster
 than the s-expression reader, which reads every other message. A client answers the server after each
-cycle, so this is time the server waits.
+cycle, so this is time the server waits; so a see (20 to 40 objects) is read only as far as it is used:
+the ball and the landmarks localisation needs come straight from its text, and `See.objects` reads
+every object when first asked for.
 """
 
 from __future__ import annotations
 
 import math
 import re
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import NamedTuple
 
 from soccer.rcss.errors import RcssParseError
@@ -24,10 +26,15 @@ from soccer.rcss.sexp import clean, parse
 REFEREE = "referee"
 _GOAL_MODE = re.compile(r"^goal_([lr])_(\d+)$")
 _OBJECT = re.compile(r"\(\(([^()]*)\) ([^()]*)\)")  # ((NAME PARTS) VALUES) in see and see_global
-_FIELD = re.compile(r"\((\w+) ([^()]*)\)")  # (NAME VALUES) in sense_body, nested ones included
-# sense_body's counts of executed commands (the server counts a kick only when it reached the ball)
-COUNTERS = ("kick", "dash", "turn", "say", "turn_neck", "catch", "move", "change_view", "change_focus")
+# What the player uses of a sense_body (the fields come in this order, stamina between view_mode and speed)
+_SENSE_BODY = re.compile(r"\(sense_body (\d+) \(view_mode (\w+) (\w+)\).*?"
+                         r"\(speed ([^\s()]+) ([^\s()]+)\) \(head_angle ([^\s()]+)\) \(kick (\d+)\)")
+_BALL = re.compile(r"\(\(b\) ([^()]*)\)")  # the ball in view (see) or on the field (see_global)
+_NEAR_BALL = re.compile(r"\(\(B\) ([^()]*)\)")  # the ball out of view but within visible_distance
+_LANDMARK = re.compile(r"\(\(([fg] [^()]*)\) ([^\s()]+) ([^\s()]+)")  # a flag or goal in view, with a distance
+_GLOBAL_PLAYER = re.compile(r"\(\((p [^()]*)\) ([^()]*)\)")
 THINK = "(think)"
+THINK_DATAGRAM = b"(think)\x00"
 
 
 @dataclass(frozen=True)
@@ -68,6 +75,9 @@ class Think:
     """`(think)`: the server waits for our commands and `(done)` (synch mode)."""
 
 
+THINK_MESSAGE = Think()  # twice a cycle: one instance serves them all
+
+
 @dataclass(frozen=True)
 class Ok:
     """`(ok COMMAND ...)`: COMMAND names the command being acknowledged."""
@@ -105,19 +115,18 @@ class Hear:
         return (match.group(1), int(match.group(2))) if match else None
 
 
-@dataclass(frozen=True)
-class SenseBody:
+class SenseBody(NamedTuple):
+    """What the player uses of its own state, every cycle (the message says more: stamina, the other
+    command counts, ...). A NamedTuple, as the other per-cycle values: cheaper to make than a frozen
+    dataclass."""
+
     time: int
     view_quality: str
     view_width: str
     speed: float  # |v| after decay, quantised
     speed_direction: float  # degrees relative to the head
     head_angle: float
-    counters: dict[str, int] = field(default_factory=dict)  # kick, dash, turn, ...: executed commands
-
-    @property
-    def kick_count(self) -> int:
-        return self.counters.get("kick", 0)
+    kick_count: int = 0  # kicks executed so far (the server counts a kick only when it reached the ball)
 
 
 class SeenObject(NamedTuple):
@@ -141,10 +150,21 @@ class SeenObject(NamedTuple):
         return not str(self.name[0]).isupper()
 
 
-@dataclass(frozen=True)
 class See:
-    time: int
-    objects: tuple[SeenObject, ...]
+    """`(see T ((NAME) VALUES) ...)`, kept as its text: the player reads the ball, the near ball and the
+    landmarks straight from it; `objects` reads every object, when first asked for (and raises
+    RcssParseError then if one is malformed)."""
+
+    def __init__(self, time: int, text: str):
+        self.time = time
+        self.text = text
+        self._objects: tuple[SeenObject, ...] | None = None
+
+    @property
+    def objects(self) -> tuple[SeenObject, ...]:
+        if self._objects is None:
+            self._objects = _seen_objects(self.text)
+        return self._objects
 
     def find(self, key: str) -> SeenObject | None:
         for seen in self.objects:
@@ -155,24 +175,35 @@ class See:
     @property
     def ball(self) -> SeenObject | None:
         """The ball in the view cone, or None."""
-        return self.find("b")
+        return _first(_BALL, self.text, ("b",))
+
+    @property
+    def near_ball(self) -> SeenObject | None:
+        """The ball out of the view cone but within visible_distance (`(B)`), or None."""
+        return _first(_NEAR_BALL, self.text, ("B",))
 
     @property
     def flags(self) -> tuple[SeenObject, ...]:
         """Flags and goals in view: the landmarks localisation uses."""
         return tuple(s for s in self.objects if s.name[0] in ("f", "g"))
 
+    def landmarks(self) -> list[tuple[str, float, float]]:
+        """(name, distance, direction) of every flag and goal in view that has a distance, in the order
+        seen: what localisation reads."""
+        try:
+            return [(name, float(distance), float(direction)) for name, distance, direction in _LANDMARK.findall(self.text)]
+        except ValueError:
+            raise RcssParseError(f"malformed see: a landmark without numbers in {self.text[:80]!r}") from None
 
-@dataclass(frozen=True)
-class GlobalObject:
+
+class GlobalObject(NamedTuple):
     x: float
     y: float
     vx: float = 0.0
     vy: float = 0.0
 
 
-@dataclass(frozen=True)
-class GlobalPlayer:
+class GlobalPlayer(NamedTuple):
     team: str
     unum: int
     x: float
@@ -184,11 +215,29 @@ class GlobalPlayer:
     kicked: bool  # the trailing `k`: the player kicked in the last step
 
 
-@dataclass(frozen=True)
 class SeeGlobal:
-    time: int
-    ball: GlobalObject | None
-    players: tuple[GlobalPlayer, ...]
+    """`(see_global T ((NAME) VALUES) ...)`, kept as its text (as See): the ball and the players are
+    read when first asked for (and raise RcssParseError then if malformed)."""
+
+    def __init__(self, time: int, text: str):
+        self.time = time
+        self.text = text
+        self._players: tuple[GlobalPlayer, ...] | None = None
+
+    @property
+    def ball(self) -> GlobalObject | None:
+        match = _BALL.search(self.text)
+        if match is None:
+            return None
+        numbers = _numbers_and_flags(match.group(1), "(b)")[0]
+        return GlobalObject(*numbers[:4]) if len(numbers) >= 2 else None
+
+    @property
+    def players(self) -> tuple[GlobalPlayer, ...]:
+        if self._players is None:
+            players = (_global_player(name, values) for name, values in _GLOBAL_PLAYER.findall(self.text))
+            self._players = tuple(player for player in players if player is not None)
+        return self._players
 
     def player(self, team: str, unum: int) -> GlobalPlayer | None:
         for p in self.players:
@@ -219,10 +268,9 @@ def _checked_balance(text: str, kind: str) -> None:
 def _numbers_and_flags(values: str, what: str) -> tuple[list[float], list[str]]:
     """An item's numbers, and the flags after them (see_global's `k` for a player who just kicked)."""
     tokens = values.split()
-    try:
-        return [float(token) for token in tokens], []
-    except ValueError:  # flags (only players have them)
-        split = next((i for i, token in enumerate(tokens) if token[0].isalpha()), len(tokens))
+    split = len(tokens)
+    while split and tokens[split - 1][0].isalpha():  # flags (only players have them)
+        split -= 1
     try:
         return [float(token) for token in tokens[:split]], tokens[split:]
     except ValueError:
@@ -238,53 +286,60 @@ def _time(text: str, kind: str) -> int:
 
 def _sense_body(text: str) -> SenseBody:
     _checked_balance(text, "sense_body")
-    fields = dict(_FIELD.findall(text))
+    match = _SENSE_BODY.match(text)
+    if match is None:
+        raise RcssParseError(f"malformed sense_body: no view_mode, speed, head_angle or kick in {text[:80]!r}")
+    time, view_quality, view_width, speed, speed_direction, head_angle, kicks = match.groups()
     try:
-        view_quality, view_width = fields["view_mode"].split()
-        speed, speed_direction = _numbers_and_flags(fields["speed"], "speed")[0]
-        (head_angle,) = _numbers_and_flags(fields["head_angle"], "head_angle")[0]
-        counters = {name: int(fields[name]) for name in COUNTERS if name in fields}
-    except (KeyError, ValueError) as exc:
-        raise RcssParseError(f"malformed sense_body: missing or bad {exc}") from None
-    return SenseBody(_time(text, "sense_body"), view_quality, view_width, speed, speed_direction, head_angle,
-                     counters)
+        return SenseBody(int(time), view_quality, view_width, float(speed), float(speed_direction), float(head_angle),
+                         int(kicks))
+    except ValueError:
+        raise RcssParseError(f"malformed sense_body: bad speed or head_angle in {text[:80]!r}") from None
 
 
-def _seen_objects(text: str) -> list[tuple[tuple[str, ...], list[float], list[str]]]:
-    """(name parts, numbers, flags) of every ((NAME) VALUES) item; quoted team names lose their quotes."""
-    return [(tuple(name.replace('"', "").split()), *_numbers_and_flags(values, f"({name})"))
-            for name, values in _OBJECT.findall(text)]
+def _seen(name: tuple[str, ...], numbers: list[float]) -> SeenObject:
+    if len(numbers) == 1:  # far objects: direction only
+        return SeenObject(name, math.nan, numbers[0])
+    if len(numbers) >= 4:
+        return SeenObject(name, *numbers[:4])
+    if len(numbers) >= 2:
+        return SeenObject(name, numbers[0], numbers[1])
+    raise RcssParseError(f"malformed see object ({' '.join(name)}) without numbers")
+
+
+def _first(pattern: re.Pattern, text: str, name: tuple[str, ...]) -> SeenObject | None:
+    """The first object `pattern` finds in a see's text (one without parts to its name)."""
+    match = pattern.search(text)
+    return _seen(name, _numbers_and_flags(match.group(1), f"({name[0]})")[0]) if match else None
+
+
+def _seen_objects(text: str) -> tuple[SeenObject, ...]:
+    """Every ((NAME) VALUES) item of a see; quoted team names lose their quotes."""
+    return tuple(_seen(tuple(name.replace('"', "").split()), _numbers_and_flags(values, f"({name})")[0])
+                 for name, values in _OBJECT.findall(text))
 
 
 def _see(text: str) -> See:
     _checked_balance(text, "see")
-    objects = []
-    for name, numbers, _ in _seen_objects(text):
-        if len(numbers) == 1:  # far objects: direction only
-            objects.append(SeenObject(name, math.nan, numbers[0]))
-        elif len(numbers) >= 4:
-            objects.append(SeenObject(name, *numbers[:4]))
-        elif len(numbers) >= 2:
-            objects.append(SeenObject(name, numbers[0], numbers[1]))
-        else:
-            raise RcssParseError(f"malformed see object ({' '.join(name)}) without numbers")
-    return See(_time(text, "see"), tuple(objects))
+    return See(_time(text, "see"), text)
+
+
+def _global_player(name: str, values: str) -> GlobalPlayer | None:
+    """A player with its team, number and six numbers; None for one named or placed less fully."""
+    parts = name.replace('"', "").split()
+    numbers, flags = _numbers_and_flags(values, f"({name})")
+    if len(parts) < 3 or len(numbers) < 6:
+        return None
+    try:
+        unum = int(parts[2])
+    except ValueError:
+        raise RcssParseError(f"malformed see_global player ({name})") from None
+    return GlobalPlayer(parts[1], unum, *numbers[:6], kicked="k" in flags)
 
 
 def _see_global(text: str) -> SeeGlobal:
     _checked_balance(text, "see_global")
-    ball = None
-    players = []
-    for name, numbers, flags in _seen_objects(text):
-        if name == ("b",) and len(numbers) >= 2:
-            ball = GlobalObject(*numbers[:4])
-        elif name[0] == "p" and len(name) >= 3 and len(numbers) >= 6:
-            try:
-                unum = int(name[2])
-            except ValueError:
-                raise RcssParseError(f"malformed see_global player ({' '.join(name)})") from None
-            players.append(GlobalPlayer(name[1], unum, *numbers[:6], kicked="k" in flags))
-    return SeeGlobal(_time(text, "see_global"), ball, tuple(players))
+    return SeeGlobal(_time(text, "see_global"), text)
 
 
 def _pairs(items: list) -> dict:
@@ -309,9 +364,11 @@ def _hear(body: list) -> Hear:
 
 def parse_message(datagram: bytes | str) -> Message:
     """Parse one datagram from rcssserver into a typed message."""
+    if datagram == THINK_DATAGRAM:
+        return THINK_MESSAGE
     text = clean(datagram)
     if text == THINK:
-        return Think()
+        return THINK_MESSAGE
     if text.startswith("(sense_body "):
         return _sense_body(text)
     if text.startswith("(see "):

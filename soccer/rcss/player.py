@@ -6,22 +6,30 @@ the body turns by the moment actually made (moment / (1 + inertia_moment x speed
 by its last velocity, and the ball stays where it was last seen. An object is visible when it lies
 in the view cone (and, for the ball, was in the last see); premises about an invisible object have
 degree 0, exactly as in SimpleSoccer.
+
+The controller and the skill run as one numba kernel (`_command`), on the compiled rulebase of the
+batched inference SimpleSoccer uses (fuzzy/batched.py, bit for bit the scalar engine's result): the
+server waits for the decision every cycle.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from typing import NamedTuple
 
-from fuzzy.engine import Engine
+import numba
+import numpy as np
+
+from fuzzy.batched import NO_ACTION, CompiledRulebases, Scratch, VocabularyTables, compile_rulebases, decide
 from fuzzy.rule import Rulebase
 from fuzzy.vocabulary import Vocabulary
 from soccer.config import SOCCER_VOCABULARY, GameConfig, WorldConstants
+from soccer.engine import VocabularyLayout, plain
 from soccer.rcss.client import PlayerCycle
 from soccer.rcss.localisation import Pose, goal_relative, localise, normalise_angle
-from soccer.rcss.messages import See, SeenObject, SenseBody
+from soccer.rcss.messages import SenseBody, parse_message
 from soccer.rcss.params import VIEW_HALF_ANGLE, ServerParams
-from soccer.skills import DASH, HUNT, KICK, LEFT, RIGHT, TURN, skill_command, skill_table
+from soccer.skills import DASH, HUNT, KICK, LEFT, RIGHT, TURN, skill_command
 
 
 def world_constants(params: ServerParams, view_width: str = "normal") -> WorldConstants:
@@ -29,8 +37,7 @@ def world_constants(params: ServerParams, view_width: str = "normal") -> WorldCo
     return params.world.model_copy(update={"view_width": 2 * VIEW_HALF_ANGLE[view_width]}).constants()
 
 
-@dataclass(frozen=True)
-class Perception:
+class Perception(NamedTuple):
     """The controller's inputs this cycle (None = not visible) plus what the skills need."""
 
     ball_distance: float | None
@@ -40,14 +47,6 @@ class Perception:
     goal_direction_known: float  # from the pose, even out of view: skills steer by it
     kickable: bool
     speed: float
-
-    def inputs(self) -> dict[str, float | None]:
-        return {
-            "ball_distance": self.ball_distance,
-            "ball_direction": self.ball_direction,
-            "goal_distance": self.goal_distance,
-            "goal_direction": self.goal_direction,
-        }
 
 
 class WorldModel:
@@ -74,7 +73,7 @@ class WorldModel:
             return
         self.pose = localise(see, head) or self.pose
         ball = see.ball
-        near = ball or see.find("B")
+        near = ball or see.near_ball
         self.near_ball_distance = near.distance if near is not None else None
         self.ball_in_last_see = ball is not None
         if ball is not None:
@@ -118,14 +117,19 @@ class RcssPlayer:
 
     def __init__(self, rulebase: Rulebase, params: ServerParams, vocabulary: Vocabulary = SOCCER_VOCABULARY,
                  skills: str = GameConfig.model_fields["skills"].default):
-        self.vocabulary = vocabulary
-        self.skill_of_action = skill_table(vocabulary)
+        self.layout = VocabularyLayout.from_vocabulary(vocabulary)  # refuses a vocabulary the skills cannot play
+        compiled = compile_rulebases([rulebase], vocabulary)
         self.assisted_skills = skills == "assisted"
-        self.engine = Engine(rulebase, self.vocabulary)
         self.params = params
         self.world = WorldModel(params)
         self.constants = world_constants(params)
         self.view_half_angle = VIEW_HALF_ANGLE["normal"]
+        self.inputs = np.zeros(len(vocabulary.input_names))
+        self.visible = np.zeros(len(vocabulary.object_names), dtype=np.bool_)
+        # the kernel's arguments, made once: plain tuples (numba types them in C) and reused work arrays
+        self._kernel_arguments = (plain(compiled), plain(Scratch.for_rulebases(compiled)),
+                                  np.empty(max(compiled.max_rules, 1)), np.empty(compiled.tables.outputs),
+                                  plain(self.layout), plain(self.constants))
 
     def decide(self, cycle: PlayerCycle) -> list[str]:
         self.world.update(cycle)
@@ -133,38 +137,41 @@ class RcssPlayer:
             return []
         self.view_half_angle = VIEW_HALF_ANGLE.get(cycle.sense_body.view_width, self.view_half_angle)
         perception = self.world.perceive(cycle.sense_body.speed, self.view_half_angle)
-        inference = self.engine.infer(perception.inputs())
-        selected = inference.selected
-        if selected is None:
-            skill, direction, power = HUNT, 0.0, 0.0
-        else:
-            skill = self.skill_of_action[self.vocabulary.action_names.index(selected.action)]
-            direction = selected.parameters.get("direction", self.vocabulary.output_default("direction"))
-            power = selected.parameters.get("power", self.vocabulary.output_default("power"))
-        kind, value, kick_direction = skill_command(
-            skill,
-            direction,
-            power,
-            perception.ball_direction is not None,
-            perception.ball_distance if perception.ball_distance is not None else 0.0,
-            perception.ball_direction if perception.ball_direction is not None else 0.0,
-            perception.goal_direction_known,
-            perception.kickable,
-            self.world.last_ball_side,
-            perception.speed,
-            self.assisted_skills,
-            self.constants,
-        )
+        ball_seen, goal_seen = perception.ball_distance is not None, perception.goal_distance is not None
+        kind, value, kick_direction = _command(
+            self.inputs, self.visible, *self._kernel_arguments, ball_seen,
+            perception.ball_distance if ball_seen else 0.0, perception.ball_direction if ball_seen else 0.0,
+            goal_seen, perception.goal_distance if goal_seen else 0.0, perception.goal_direction if goal_seen else 0.0,
+            perception.goal_direction_known, perception.kickable, self.world.last_ball_side, perception.speed,
+            self.assisted_skills)
         self.world.note_command(kind, value, perception.speed)
         if kind not in (TURN, DASH, KICK):
             return []
         return [command_text(kind, value, kick_direction, self.params)]
 
 
+@numba.njit(cache=True)
+def _command(inputs, visible, rulebases, scratch, strengths, outputs, layout, constants, ball_seen, ball_distance,
+             ball_direction, goal_seen, goal_distance, goal_direction, goal_direction_known, kickable, last_ball_side,
+             speed, assisted):
+    """The body command (kind, value, direction) of the skill the fuzzy controller selects on what is
+    perceived (HUNT when no rule fires); `inputs` and `visible` are its work arrays. The named tuples
+    arrive plain (soccer.engine.plain) and are named here."""
+    rulebases = CompiledRulebases(*(rulebases[:-1] + (VocabularyTables(*rulebases[-1]),)))
+    scratch, layout, constants = Scratch(*scratch), VocabularyLayout(*layout), WorldConstants(*constants)
+    inputs[layout.ball_distance], inputs[layout.ball_direction] = ball_distance, ball_direction
+    inputs[layout.goal_distance], inputs[layout.goal_direction] = goal_distance, goal_direction
+    visible[layout.ball], visible[layout.goal] = ball_seen, goal_seen
+    action, _ = decide(0, inputs, visible, rulebases, scratch, strengths, outputs)
+    skill = HUNT if action == NO_ACTION else layout.skills[action]
+    return skill_command(skill, outputs[layout.direction], outputs[layout.power], ball_seen, ball_distance,
+                         ball_direction, goal_direction_known, kickable, last_ball_side, speed, assisted, constants)
+
+
 def load_compiled_skills() -> None:
-    """One decision on a made-up view, so that numba loads the compiled skills now: the first call takes
+    """One decision on a made-up view, so that numba loads the compiled kernels now: the first call takes
     seconds, and a server waits only 1.25 s for a cycle's (done) before it steps on without the player."""
-    view = See(0, (SeenObject(("f", "c"), 10.0, 0.0), SeenObject(("g", "r"), 60.0, 5.0)))
+    view = parse_message("(see 0 ((f c) 10 0) ((g r) 60 5) ((b) 5 0))")
     body = SenseBody(0, "high", "normal", 0.0, 0.0, 0.0)
     RcssPlayer(Rulebase(()), ServerParams()).decide(PlayerCycle(body, view))
 

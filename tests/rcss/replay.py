@@ -5,7 +5,8 @@ trainer); `#` lines are annotations. `ReplayServer` plays the server's side on 1
 ports): it sends the recorded `<` lines in order and, at each recorded `(init ...)`, `(done)` and
 `(bye)` of a client, waits until the client under test sends the same, keeping what else the client
 sent that cycle. The client's own commands may differ from the recording (the server's answers do
-not depend on them in the replay), so only these anchors synchronise. Like the real server, replies
+not depend on them in the replay), so only these anchors synchronise. A datagram may hold several
+commands, as the real server allows (the player sends its commands and `(done)` together). Like the real server, replies
 come from a port other than the init port, and anything but init sent to the init port is answered
 with `(error only_init_allowed_on_init_port)`.
 """
@@ -63,6 +64,7 @@ class ReplayServer:
             sock.bind(("127.0.0.1", 0))
             self.sockets[name] = sock
         self.clients: dict[str, tuple[str, int]] = {}
+        self._queued: dict[str, list[str]] = {PLAYER: [], TRAINER: []}  # commands received, not yet matched
         self._thread = threading.Thread(target=self._run, name="rcss-replay", daemon=True)
 
     @property
@@ -125,11 +127,14 @@ class ReplayServer:
 
     def _await_anchor(self, line: Line) -> bool:
         while True:
-            text, source, to_init_port = self._receive(line.role, line.text)
-            if to_init_port:
-                self.log.init_port_misuse.append(text)
-                self.sockets[f"{line.role} init"].sendto(b"(error only_init_allowed_on_init_port)\x00", source)
-                continue
+            if not self._queued[line.role]:
+                text, source, to_init_port = self._receive(line.role, line.text)
+                if to_init_port:
+                    self.log.init_port_misuse.append(text)
+                    self.sockets[f"{line.role} init"].sendto(b"(error only_init_allowed_on_init_port)\x00", source)
+                    continue
+                self._queued[line.role].extend(commands_in(text))
+            text = self._queued[line.role].pop(0)
             if text == line.text:
                 self.log.commands[line.role].append([])
                 return True
@@ -139,3 +144,16 @@ class ReplayServer:
             if text in ANCHORS:
                 raise AssertionError(f"expected {line.text} from {line.role}, got {text}")
             self.log.commands[line.role][-1].append(text)
+
+
+def commands_in(datagram: str) -> list[str]:
+    """The top-level `(...)` commands of a datagram, in order."""
+    commands, depth, start = [], 0, 0
+    for index, character in enumerate(datagram):
+        if character == "(":
+            start, depth = (index if depth == 0 else start), depth + 1
+        elif character == ")":
+            depth -= 1
+            if depth == 0:
+                commands.append(datagram[start:index + 1])
+    return commands

@@ -1,13 +1,14 @@
 import math
+import re
 import statistics
 
 import pytest
 
 from soccer.rcss.localisation import LANDMARKS, Pose, goal_relative, localise
-from soccer.rcss.messages import See, SeenObject, parse_message
+from soccer.rcss.messages import parse_message
 from tests.rcss.replay import read_transcript
 
-from .conftest import GOALS, OUT_OF_PLAY
+from .conftest import ALL_TRANSCRIPTS, GOALS, OUT_OF_PLAY
 
 
 def test_landmarks_follow_the_server_axes():
@@ -24,13 +25,15 @@ def test_localise_exact_synthetic_view():
     objects = []
     for key in ("f c", "g r", "f p r c", "f t r 10"):
         distance, direction = pose.relative(*LANDMARKS[key])
-        objects.append(SeenObject(tuple(key.split()), distance, direction))
-    found = localise(See(1, tuple(objects)))
+        objects.append(f"(({key}) {distance!r} {direction!r})")  # repr: the exact numbers
+    found = localise(parse_message(f"(see 1 {' '.join(objects)})"))
     assert found.x == pytest.approx(-15.0) and found.y == pytest.approx(4.0) and found.body == pytest.approx(30.0)
 
 
-def test_localise_needs_two_landmarks():
-    assert localise(See(1, (SeenObject(("f", "c"), 10.0, 0.0), SeenObject(("b",), 3.0, 5.0)))) is None
+def test_localise_needs_two_landmarks_in_view_with_their_distance():
+    assert localise(parse_message("(see 1 ((f c) 10 0) ((b) 3 5))")) is None
+    assert localise(parse_message("(see 1 ((f c) 10 0) ((F) 1 120) ((f r t 10) 40))")) is None
+    assert localise(parse_message("(see 1 ((f c) 10 0) ((f r t 10) 50 4))")) is not None
 
 
 def test_goal_relative_hand_computed():
@@ -58,3 +61,24 @@ def test_localisation_against_see_global(path, transcripts_available):
     assert statistics.median(position_errors) < 0.1
     assert max(position_errors) < 0.5
     assert statistics.median(facing_errors) < 1.0  # see_global reports whole degrees
+
+
+def test_the_see_text_reader_gives_the_general_readings_pose_on_every_recorded_see(transcripts_available):
+    """Localisation reads the landmarks' plain decimals straight from a see's text; a number written
+    otherwise (here 38.1 as 38.1e0, the same value) sends the see to `See.landmarks()`: both give the
+    very same pose on every recorded see."""
+    compared = 0
+    for path in ALL_TRANSCRIPTS:
+        for line in read_transcript(path):
+            if line.sent or not line.text.startswith("(see "):
+                continue
+            see = parse_message(line.text)
+            if not see.landmarks():
+                continue
+            name, distance, _ = see.landmarks()[0]
+            written = re.search(rf"\(\({name}\) (\S+) ", line.text).group(1)
+            irregular = parse_message(line.text.replace(f"(({name}) {written} ", f"(({name}) {written}e0 ", 1))
+            assert irregular.landmarks() == see.landmarks()
+            assert localise(irregular, 10.0) == localise(see, 10.0)
+            compared += 1
+    assert compared > 200

@@ -1,8 +1,9 @@
+import math
+
 import pytest
 
 from soccer.rcss.errors import RcssParseError
 from soccer.rcss.messages import (
-    COUNTERS,
     ErrorReply,
     Hear,
     Ok,
@@ -73,8 +74,7 @@ def test_the_per_cycle_messages_read_as_the_s_expression_reader_reads_them():
                 assert (message.view_quality, message.view_width) == tuple(items["view_mode"])
                 assert (message.speed, message.speed_direction, message.head_angle) == (*items["speed"],
                                                                                       *items["head_angle"])
-                assert message.counters == {name: values[0] for name, values in items.items() if name in COUNTERS}
-                assert {"kick", "dash", "turn"} <= set(message.counters)
+                assert message.kick_count == items["kick"][0]
             elif isinstance(message, See):
                 assert len(message.objects) == len(items)
                 for seen in message.objects:
@@ -94,10 +94,17 @@ def test_the_per_cycle_messages_read_as_the_s_expression_reader_reads_them():
 
 
 @pytest.mark.parametrize("text", ["(see 12 ((f c) 10 0) ((b) 3", "(sense_body 3 (view_mode high normal)",
-                                  "(see_global x ((b) 1 2 0 0))", "(see 4 ((g r) far -3))"])
+                                  "(see_global x ((b) 1 2 0 0))", "(see x ((g r) 1 -3))"])
 def test_a_malformed_per_cycle_message_is_a_parse_error(text):
     with pytest.raises(RcssParseError):
         parse_message(text)
+
+
+@pytest.mark.parametrize("read", [lambda see: see.objects, lambda see: see.landmarks(), lambda see: see.ball])
+def test_a_see_with_a_malformed_object_is_a_parse_error_when_that_object_is_read(read):
+    see = parse_message("(see 4 ((g r) far -3) ((b) near 0))")  # a see is read only as far as it is used
+    with pytest.raises(RcssParseError):
+        read(see)
 
 
 def test_hear_player_and_trainer_formats_give_the_same_goal():
@@ -114,16 +121,34 @@ def test_sense_body_fields():
         "(dash 3) (turn 1) (say 0) (arm (movable 0) (expires 0) (target 0 0) (count 0)) (focus_point 0 0))"
     )
     assert (body.time, body.view_width, body.speed, body.speed_direction, body.head_angle) == (5, "normal", 0.37, 1, 0)
-    assert body.kick_count == 2 and body.counters["dash"] == 3
+    assert body.kick_count == 2
 
 
 def test_see_objects_with_two_or_four_numbers_and_near_objects():
-    see = parse_message("(see 78 ((f r b) 38.1 54) ((g r) 9.5 -4 -0.19 -0.2) ((B) 2.2 -160) ((l r) 9.7 68))")
+    see = parse_message("(see 78 ((f r b) 38.1 54) ((g r) 9.5 -4 -0.19 -0.2) ((B) 2.2 -160) ((l r) 9.7 68) "
+                        "((f r b 50) 40))")
     assert see.find("f r b").distance_change is None
     goal = see.find("g r")
     assert (goal.distance, goal.direction, goal.distance_change, goal.direction_change) == (9.5, -4, -0.19, -0.2)
-    assert see.ball is None and not see.find("B").in_view
-    assert [s.key for s in see.flags] == ["f r b", "g r"]
+    assert see.ball is None and not see.find("B").in_view and see.near_ball == see.find("B")
+    assert [s.key for s in see.flags] == ["f r b", "g r", "f r b 50"]
+    assert see.landmarks() == [("f r b", 38.1, 54.0), ("g r", 9.5, -4.0)]  # those with a distance
+
+
+def test_a_see_reads_its_ball_and_landmarks_as_its_objects_say():
+    """The player reads the ball and the landmarks straight from a see's text: on every recorded see
+    they are the objects the full reading gives."""
+    checked = 0
+    for path in ALL_TRANSCRIPTS:
+        for line in read_transcript(path):
+            if line.sent or not line.text.startswith("(see "):
+                continue
+            see = parse_message(line.text)
+            assert see.ball == see.find("b") and see.near_ball == see.find("B")
+            assert see.landmarks() == [(s.key, s.distance, s.direction) for s in see.flags if s.in_view
+                                       and not math.isnan(s.distance)]
+            checked += 1
+    assert checked > 200
 
 
 def test_see_global_ball_player_and_kick_flag():

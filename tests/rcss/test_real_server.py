@@ -11,6 +11,7 @@ import time
 
 import pytest
 
+from fuzzy.parser import parse_rulebase
 from soccer.config import WorldConfig
 from soccer.rcss.client import Session
 from soccer.rcss.errors import RcssConfigError, RcssError
@@ -18,6 +19,7 @@ from soccer.rcss.evaluate import RcssEvaluator
 from soccer.rcss.player import RcssPlayer
 from soccer.rcss.trial import TrialConfig, run_trial
 
+from .conftest import VOCABULARY
 from .real_server import connected_players, kill
 
 # The striker fetches the ball with the assisted skills and scores within 300 cycles from any start.
@@ -75,7 +77,7 @@ def test_two_servers_share_the_trials_and_keep_their_order(start_servers, chaser
     assert [connected_players(server) for server in pool.servers] == [1, 1]  # one session each, kept
 
 
-def test_a_server_killed_mid_trial_is_one_clear_error_within_seconds(start_servers, chaser):
+def test_a_server_killed_mid_trial_is_one_clear_error_within_seconds(start_servers):
     pool = start_servers()
     server = pool.servers[0]
     killed_at: list[float] = []
@@ -84,12 +86,15 @@ def test_a_server_killed_mid_trial_is_one_clear_error_within_seconds(start_serve
         kill(server)
         killed_at.append(time.monotonic())
 
+    # A player that only turns on the spot (no rule fires away from the ball: it hunts): no goal, no
+    # kick, nothing ends the trial before the server dies.
+    turner = parse_rulebase("if Ball is At then DoNothing", VOCABULARY)
     with Session(server.address) as session:
         session.open()
-        run_trial(session, chaser, 3, TrialConfig(max_ticks=5))  # the player's skills loaded
+        run_trial(session, turner, 3, TrialConfig(max_ticks=5))  # the player's skills loaded
         threading.Timer(0.5, crash).start()
         with pytest.raises(RcssError) as raised:
-            run_trial(session, chaser, 3, TrialConfig(max_ticks=1_000_000, idle_ticks=1_000_000))
+            run_trial(session, turner, 3, TrialConfig(max_ticks=1_000_000, idle_ticks=1_000_000))
     assert time.monotonic() - killed_at[0] < 5.0  # the client's cycle deadline (3 s), not a hang
     message = str(raised.value)
     assert "\n" not in message and server.address in message and "rcssserver" in message

@@ -14,7 +14,7 @@ from soccer.rcss.errors import (
 )
 from soccer.rcss.evaluate import RcssEvaluator
 from soccer.rcss.player import load_compiled_skills
-from tests.rcss.replay import Line, ReplayServer, read_transcript
+from tests.rcss.replay import TRAINER, Line, ReplayServer, read_transcript
 from soccer.rcss.trial import TrialConfig, run_trial
 
 from .conftest import GOALS, player_thinks
@@ -99,8 +99,11 @@ def test_trainer_refused(goals_lines, chaser):
 
 def test_error_reply_to_a_command(transcripts_available, chaser):
     lines = read_transcript(GOALS)  # with the recording's deliberate bad commands and their errors
-    with pytest.raises(RcssCommandError, match="illegal_command_form"):
-        play(lines, chaser, TrialConfig())
+    with pytest.raises(RcssCommandError, match="trainer: rcssserver rejected .*: unknown_command"):
+        play(lines, chaser, TrialConfig())  # the trainer's cycle is read first: its error is the first met
+    player_errors_only = [l for l in lines if not (l.role == TRAINER and l.text.startswith("(error"))]
+    with pytest.raises(RcssCommandError, match="player: rcssserver rejected a command: illegal_command_form"):
+        play(player_errors_only, chaser, TrialConfig())
 
 
 def test_server_silent_mid_trial(goals_lines, chaser):
