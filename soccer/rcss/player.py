@@ -117,19 +117,19 @@ class RcssPlayer:
 
     def __init__(self, rulebase: Rulebase, params: ServerParams, vocabulary: Vocabulary = SOCCER_VOCABULARY,
                  skills: str = GameConfig.model_fields["skills"].default):
-        self.layout = VocabularyLayout.from_vocabulary(vocabulary)  # refuses a vocabulary the skills cannot play
+        layout = VocabularyLayout.from_vocabulary(vocabulary)  # refuses a vocabulary the skills cannot play
         compiled = compile_rulebases([rulebase], vocabulary)
         self.assisted_skills = skills == "assisted"
         self.params = params
         self.world = WorldModel(params)
         self.constants = world_constants(params)
         self.view_half_angle = VIEW_HALF_ANGLE["normal"]
-        self.inputs = np.zeros(len(vocabulary.input_names))
-        self.visible = np.zeros(len(vocabulary.object_names), dtype=np.bool_)
-        # the kernel's arguments, made once: plain tuples (numba types them in C) and reused work arrays
-        self._kernel_arguments = (plain(compiled), plain(Scratch.for_rulebases(compiled)),
+        # the kernel's first arguments, made once: its work arrays (inputs, visible, strengths, outputs)
+        # and the rulebase, scratch, layout and constants as plain tuples (numba types those in C)
+        self._kernel_arguments = (np.zeros(len(vocabulary.input_names)), np.zeros(len(vocabulary.object_names), np.bool_),
+                                  plain(compiled), plain(Scratch.for_rulebases(compiled)),
                                   np.empty(max(compiled.max_rules, 1)), np.empty(compiled.tables.outputs),
-                                  plain(self.layout), plain(self.constants))
+                                  plain(layout), plain(self.constants))
 
     def decide(self, cycle: PlayerCycle) -> list[str]:
         self.world.update(cycle)
@@ -139,7 +139,7 @@ class RcssPlayer:
         perception = self.world.perceive(cycle.sense_body.speed, self.view_half_angle)
         ball_seen, goal_seen = perception.ball_distance is not None, perception.goal_distance is not None
         kind, value, kick_direction = _command(
-            self.inputs, self.visible, *self._kernel_arguments, ball_seen,
+            *self._kernel_arguments, ball_seen,
             perception.ball_distance if ball_seen else 0.0, perception.ball_direction if ball_seen else 0.0,
             goal_seen, perception.goal_distance if goal_seen else 0.0, perception.goal_direction if goal_seen else 0.0,
             perception.goal_direction_known, perception.kickable, self.world.last_ball_side, perception.speed,
