@@ -1,16 +1,18 @@
 """Typed rcssserver messages (protocol version 19).
 
 `parse_message(datagram)` returns one of the classes below; a message kind we do not use is kept as
-`Other` (never an error), a malformed one raises RcssParseError naming it. The formats were checked
+`Other` (never an error), a malformed one raises RcssParseError naming it (a see's or see_global's
+objects when they are read, see below). The formats were checked
 against the transcripts in tests/rcss/transcripts (see NOTES.md there): player and trainer `hear` differ in
 the order of time and sender; see objects carry 2 to 4 numbers (and more for players).
 
 The messages of every cycle (think, sense_body, see, see_global) are flat lists of `(NAME VALUES)` or
 `((NAME) VALUES)` items: regular expressions read them straight into their classes, many times faster
 than the s-expression reader, which reads every other message. A client answers the server after each
-cycle, so this is time the server waits; so a see (20 to 40 objects) is read only as far as it is used:
-the ball and the landmarks localisation needs come straight from its text, and `See.objects` reads
-every object when first asked for.
+cycle, so this is time the server waits; so each is read only as far as it is used: a sense_body for
+the fields the player uses, a see (20 to 40 objects) for the ball and the landmarks localisation needs
+straight from its text (`See.objects` reads every object when first asked for), a see_global for its
+players when asked for.
 """
 
 from __future__ import annotations
