@@ -83,8 +83,8 @@ def test_a_server_killed_mid_trial_is_one_clear_error_within_seconds(start_serve
     killed_at: list[float] = []
 
     def crash() -> None:
+        killed_at.append(time.monotonic())  # before: the client may notice before kill() has seen it die
         kill(server)
-        killed_at.append(time.monotonic())
 
     # A player that only turns on the spot (no rule fires away from the ball: it hunts): no goal, no
     # kick, nothing ends the trial before the server dies.
