@@ -44,7 +44,10 @@ def child(rcssserver: Path, body: str) -> subprocess.Popen:
     """A Python process that starts a pool of 2 servers, prints their PIDs and scratch folders, then runs
     `body` (indented inside the pool's block when it uses `with`)."""
     script = textwrap.dedent("""
-        import sys, time
+        import signal, sys, time
+        # Ctrl+C as a terminal's program gets it: a parent that ignores SIGINT (something in a long test
+        # session can leave it so) would hand the ignoring on to this child
+        signal.signal(signal.SIGINT, signal.default_int_handler)
         from soccer.rcss.servers import ServerPool
         def report(pool):
             print(" ".join(f"{s.pid}:{s.folder}" for s in pool.servers), flush=True)
