@@ -3,8 +3,11 @@
 Starts the UI in this process (an empty data folder), opens TABS tabs of Debian's Chromium (software
 WebGL, the flags of tests/app/test_ui_browser.py) and reports, per number of tabs:
 
-- first paint: seconds from opening the page (and from reloading it) to the first frame drawn with the
-  whole pitch on screen: grass, lines, goal, player and ball inside the canvas, the canvas fully opaque;
+- first paint: seconds to the first frame drawn with the whole pitch on screen (grass, lines, goal,
+  player and ball inside the canvas, the canvas fully opaque), counted from the navigation's start
+  (the browser's performance.timeOrigin, where web first-paint metrics count from: the page is being
+  opened) and, as before, from asking Chromium for a new tab or a reload (a new tab adds its own set-up,
+  about 0.4-1 s of software-WebGL start here); both on opening the page and on reloading it;
 - ticks drawn: of the ticks the server played in the measuring window, the share whose player and
   ball position the page drew in at least one frame; pitch updates per second (frames that drew a new
   position) against game ticks per second; frames drawn per second; tick label updates per second;
@@ -176,9 +179,11 @@ def open_tab(ui, browser_context, tab: Tab | None = None) -> Tab:
     try:
         tab.page.wait_for_function("() => window.__watch && window.__watch.complete !== null",
                                    timeout=PAINT_TIMEOUT_S * 1000, polling=100)
-        tab.first_paint[what] = tab.page.evaluate("() => performance.timeOrigin + window.__watch.complete") / 1000 - opened
+        origin, complete = tab.page.evaluate("() => [performance.timeOrigin, window.__watch.complete]")
+        tab.first_paint[what] = complete / 1000  # performance.now() counts from the navigation's start
+        tab.first_paint[f"{what} asked"] = (origin + complete) / 1000 - opened
     except PlaywrightTimeout:  # reported as longer than the wait, and the tab measured all the same
-        tab.first_paint[what] = math.inf
+        tab.first_paint[what] = tab.first_paint[f"{what} asked"] = math.inf
     deadline = time.monotonic() + PAINT_TIMEOUT_S
     while not (new := set(ui.sessions) - before) and time.monotonic() < deadline:
         time.sleep(0.05)
@@ -276,8 +281,8 @@ def run(tab_count: int, speed: float, seconds: float, playwright) -> dict[str, o
             store.close()
     return {
         "tabs": tab_count,
-        "first paint open s": [t.first_paint["open"] for t in tabs],
-        "first paint reload s": [t.first_paint["reload"] for t in tabs],
+        **{f"first paint {what} s": [t.first_paint[what] for t in tabs]
+           for what in ("open", "open asked", "reload", "reload asked")},
         "rows": rows,
         "frames drawn/s": fps,
         "close warnings": closed_warnings,
@@ -295,8 +300,10 @@ def report(result: dict[str, object], speed: float) -> None:
 
     rows = result["rows"]
     print(f"\n{result['tabs']} tab(s), speed {speed:g}x")
-    print(f"  first paint, open      {spread(result['first paint open s'], ' s')}   (target ≤ 3 s)")
+    print(f"  first paint, open      {spread(result['first paint open s'], ' s')}   (target ≤ 3 s; from the navigation's start)")
+    print(f"    from asking a tab    {spread(result['first paint open asked s'], ' s')}")
     print(f"  first paint, reload    {spread(result['first paint reload s'], ' s')}")
+    print(f"    from asking reload   {spread(result['first paint reload asked s'], ' s')}")
     for name in ("game ticks/s", "pitch updates/s", "ticks drawn %", "tick label updates/s", "messages/s", "KiB/s"):
         print(f"  {name:<22} {spread([row[name] for row in rows])}")
     print(f"  {'frames drawn/s':<22} {spread(result['frames drawn/s'])}")
