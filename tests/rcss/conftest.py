@@ -4,6 +4,7 @@ their NOTES.md) and a player rulebase for replays."""
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Iterator
 
 import pytest
 
@@ -17,6 +18,14 @@ TRANSCRIPTS = Path(__file__).parent / "transcripts"
 GOALS = TRANSCRIPTS / "trial_goals.txt"
 OUT_OF_PLAY = TRANSCRIPTS / "trial_out_of_play.txt"
 ALL_TRANSCRIPTS = sorted(TRANSCRIPTS.glob("*.txt")) + sorted((TRANSCRIPTS / "extra").glob("*.txt"))
+
+
+def received_messages(starting: tuple[str, ...] = ("",)) -> Iterator[str]:
+    """The text of every message the server sent in every transcript (only those starting so, if given)."""
+    for path in ALL_TRANSCRIPTS:
+        for line in read_transcript(path):
+            if not line.sent and line.text.startswith(starting):
+                yield line.text
 
 CHASER = """
 if Ball is not At then GoToBall High

@@ -8,7 +8,7 @@ from soccer.rcss.localisation import LANDMARKS, Pose, goal_relative, localise
 from soccer.rcss.messages import parse_message
 from tests.rcss.replay import read_transcript
 
-from .conftest import ALL_TRANSCRIPTS, GOALS, OUT_OF_PLAY
+from .conftest import GOALS, OUT_OF_PLAY, received_messages
 
 
 def test_landmarks_follow_the_server_axes():
@@ -68,17 +68,14 @@ def test_the_see_text_reader_gives_the_general_readings_pose_on_every_recorded_s
     otherwise (here 38.1 as 38.1e0, the same value) sends the see to `See.landmarks()`: both give the
     very same pose on every recorded see."""
     compared = 0
-    for path in ALL_TRANSCRIPTS:
-        for line in read_transcript(path):
-            if line.sent or not line.text.startswith("(see "):
-                continue
-            see = parse_message(line.text)
-            if not see.landmarks():
-                continue
-            name, distance, _ = see.landmarks()[0]
-            written = re.search(rf"\(\({name}\) (\S+) ", line.text).group(1)
-            irregular = parse_message(line.text.replace(f"(({name}) {written} ", f"(({name}) {written}e0 ", 1))
-            assert irregular.landmarks() == see.landmarks()
-            assert localise(irregular, 10.0) == localise(see, 10.0)
-            compared += 1
+    for text in received_messages(("(see ",)):
+        see = parse_message(text)
+        if not see.landmarks():
+            continue
+        name, distance, _ = see.landmarks()[0]
+        written = re.search(rf"\(\({name}\) (\S+) ", text).group(1)
+        irregular = parse_message(text.replace(f"(({name}) {written} ", f"(({name}) {written}e0 ", 1))
+        assert irregular.landmarks() == see.landmarks()
+        assert localise(irregular, 10.0) == localise(see, 10.0)
+        compared += 1
     assert compared > 200

@@ -23,7 +23,7 @@ from soccer.rcss.messages import (
 from soccer.rcss.sexp import Quoted, parse
 from tests.rcss.replay import read_transcript
 
-from .conftest import ALL_TRANSCRIPTS
+from .conftest import ALL_TRANSCRIPTS, received_messages
 
 
 def test_sexp_reads_atoms_numbers_quoted_and_minus_zero():
@@ -62,34 +62,31 @@ def test_the_per_cycle_messages_read_as_the_s_expression_reader_reads_them():
     """sense_body, see and see_global are read with regular expressions: every recorded one holds the
     values the s-expression reader finds in it."""
     checked = 0
-    for path in ALL_TRANSCRIPTS:
-        for line in read_transcript(path):
-            if line.sent or not line.text.startswith(("(sense_body ", "(see ", "(see_global ")):
-                continue
-            message, tree = parse_message(line.text), parse(line.text)
-            items = {tuple(str(p) for p in item[0]) if isinstance(item[0], list) else item[0]: item[1:]
-                     for item in tree[2:]}
-            assert message.time == tree[1]
-            if isinstance(message, SenseBody):
-                assert (message.view_quality, message.view_width) == tuple(items["view_mode"])
-                assert (message.speed, message.speed_direction, message.head_angle) == (*items["speed"],
-                                                                                      *items["head_angle"])
-                assert message.kick_count == items["kick"][0]
-            elif isinstance(message, See):
-                assert len(message.objects) == len(items)
-                for seen in message.objects:
-                    numbers = [v for v in items[seen.name] if not isinstance(v, str)]
-                    values = (seen.direction,) if len(numbers) == 1 else (seen.distance, seen.direction)
-                    changes = (seen.distance_change, seen.direction_change) if len(numbers) >= 4 else ()
-                    assert [*values, *changes] == numbers[:len(values) + len(changes)]
-            else:
-                ball = items[("b",)]
-                assert (message.ball.x, message.ball.y, message.ball.vx, message.ball.vy) == tuple(ball[:4])
-                for player in message.players:
-                    values = items[("p", player.team, str(player.unum))]
-                    assert (player.x, player.y, player.vx, player.vy, player.body, player.neck) == tuple(values[:6])
-                    assert player.kicked == ("k" in values[6:])
-            checked += 1
+    for text in received_messages(("(sense_body ", "(see ", "(see_global ")):
+        message, tree = parse_message(text), parse(text)
+        items = {tuple(str(p) for p in item[0]) if isinstance(item[0], list) else item[0]: item[1:]
+                 for item in tree[2:]}
+        assert message.time == tree[1]
+        if isinstance(message, SenseBody):
+            assert (message.view_quality, message.view_width) == tuple(items["view_mode"])
+            assert (message.speed, message.speed_direction, message.head_angle) == (*items["speed"],
+                                                                                  *items["head_angle"])
+            assert message.kick_count == items["kick"][0]
+        elif isinstance(message, See):
+            assert len(message.objects) == len(items)
+            for seen in message.objects:
+                numbers = [v for v in items[seen.name] if not isinstance(v, str)]
+                values = (seen.direction,) if len(numbers) == 1 else (seen.distance, seen.direction)
+                changes = (seen.distance_change, seen.direction_change) if len(numbers) >= 4 else ()
+                assert [*values, *changes] == numbers[:len(values) + len(changes)]
+        else:
+            ball = items[("b",)]
+            assert (message.ball.x, message.ball.y, message.ball.vx, message.ball.vy) == tuple(ball[:4])
+            for player in message.players:
+                values = items[("p", player.team, str(player.unum))]
+                assert (player.x, player.y, player.vx, player.vy, player.body, player.neck) == tuple(values[:6])
+                assert player.kicked == ("k" in values[6:])
+        checked += 1
     assert checked > 1500
 
 
@@ -139,15 +136,12 @@ def test_a_see_reads_its_ball_and_landmarks_as_its_objects_say():
     """The player reads the ball and the landmarks straight from a see's text: on every recorded see
     they are the objects the full reading gives."""
     checked = 0
-    for path in ALL_TRANSCRIPTS:
-        for line in read_transcript(path):
-            if line.sent or not line.text.startswith("(see "):
-                continue
-            see = parse_message(line.text)
-            assert see.ball == see.find("b") and see.near_ball == see.find("B")
-            assert see.landmarks() == [(s.key, s.distance, s.direction) for s in see.flags if s.in_view
-                                       and not math.isnan(s.distance)]
-            checked += 1
+    for text in received_messages(("(see ",)):
+        see = parse_message(text)
+        assert see.ball == see.find("b") and see.near_ball == see.find("B")
+        assert see.landmarks() == [(s.key, s.distance, s.direction) for s in see.flags if s.in_view
+                                   and not math.isnan(s.distance)]
+        checked += 1
     assert checked > 200
 
 
