@@ -203,15 +203,11 @@ def _fit(sightings):
         local[i, 1] = distance * math.sin(angle)
         weight[i] = 1.0 / max(distance, 1.0) ** 2
     total = lx = ly = gx = gy = 0.0
-    for i in range(n):  # each sum in the order seen: the weighted centroids of both point sets
+    for i in range(n):  # the weighted centroids of both point sets, each sum in the order seen
         total += weight[i]
-    for i in range(n):
         lx += weight[i] * local[i, 0]
-    for i in range(n):
         ly += weight[i] * local[i, 1]
-    for i in range(n):
         gx += weight[i] * sightings[i, 0]
-    for i in range(n):
         gy += weight[i] * sightings[i, 1]
     lx, ly, gx, gy = lx / total, ly / total, gx / total, gy / total
     cross = dot = 0.0
