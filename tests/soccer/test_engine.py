@@ -1,5 +1,8 @@
 """The batched engine: world geometry, goals, restarts, end conditions, determinism (README, SimpleSoccer)."""
 
+import sys
+
+import numba
 import numpy as np
 import pytest
 
@@ -8,7 +11,7 @@ from fuzzy.rule import Consequent, Premise, Rule, Rulebase
 from fuzzy.vocabulary import Vocabulary
 from soccer.config import GameConfig
 from soccer.demo import demo_rulebase
-from soccer.engine import GameBatch, play_game, play_games
+from soccer.engine import GameBatch, borrowed, play_game, play_games
 from soccer.physics import COLLISION_GAP
 
 VOCABULARY = Vocabulary.default()
@@ -166,3 +169,19 @@ def test_strict_kicking_skills_leave_an_unreachable_ball_alone():
     strict = play_games([kicker] * 3, [1, 2, 3], GameConfig(skills="strict"))
     assert all(result.goals >= 5 for result in assisted)
     assert all(result.kicks == 0 and result.fitness == 1.0 and result.end_reason == "idle" for result in strict)
+
+
+@numba.njit
+def _through_borrowed_views(values):
+    first, (second, scale) = borrowed(values)
+    first[0] = scale
+    second[1, 1] = 2.0 * scale
+    return first.sum() + second.sum()
+
+
+def test_borrowed_views_read_and_write_the_callers_arrays_and_keep_no_reference():
+    first, second = np.ones(3), np.zeros((2, 2))
+    references = sys.getrefcount(first), sys.getrefcount(second)
+    assert _through_borrowed_views((first, (second, 5.0))) == 5.0 + 2.0 + 10.0
+    assert first.tolist() == [5.0, 1.0, 1.0] and second.tolist() == [[0.0, 0.0], [0.0, 10.0]]
+    assert (sys.getrefcount(first), sys.getrefcount(second)) == references
