@@ -1,8 +1,8 @@
 """The batched SimpleSoccer engine: every game of a population in one pymunk Space, one numba kernel
 per tick over all live games (docs/design.md explains the data layout).
 
-Per tick: read every body's position and velocity with `pymunk.batch`, run `tick_kernel`, write the
-bodies back, remove finished games, `space.step(tick_seconds)`. The kernel's steps, each a numba
+Per tick: `tick_kernel` (reading and writing the bodies' positions and velocities where Chipmunk
+keeps them, soccer/world.py), remove finished games, `space.step(tick_seconds)`. The kernel's steps, each a numba
 function: `close_step` (the step just made: player-ball collision, goal and restart, statistics, end
 conditions), `perceive_step`, `decide_step` (the game's own fuzzy controller, `fuzzy.batched.decide`),
 `act_step` (the skill's body command) and `physics_step` (the command applied to velocities, noise).
@@ -19,8 +19,6 @@ from typing import NamedTuple, Sequence
 
 import numba
 import numpy as np
-import pymunk
-import pymunk.batch
 from numba.core import cgutils
 from numba.extending import intrinsic
 
@@ -38,7 +36,6 @@ from soccer.world import Pitches, World
 
 RUNNING, MAX_TICKS, GOAL_CAP, IDLE = 0, 1, 2, 3
 END_REASONS = ("running", "max-ticks", "goal-cap", "idle")
-_FIELDS = pymunk.batch.BodyFields.POSITION | pymunk.batch.BodyFields.VELOCITY
 
 
 class GameRules(NamedTuple):
@@ -193,6 +190,21 @@ def _without_reference(context, builder, typ, value):
     return value
 
 
+@intrinsic
+def _doubles_at(typingctx, address):
+    def codegen(context, builder, signature, args):
+        return builder.inttoptr(args[0], context.get_value_type(signature.return_type))
+    return numba.types.CPointer(numba.types.float64)(numba.types.uint64), codegen
+
+
+@numba.njit(cache=True, inline="always")
+def body_vectors(address):
+    """A body's (x, y, vx, vy) in pymunk units (global metres, metres per second), as an array over
+    Chipmunk's own memory at `address` (soccer/world.py, `vectors_address`). Like a borrowed view it
+    holds no reference: the World keeps the body."""
+    return numba.carray(_doubles_at(address), 4)
+
+
 @numba.njit(cache=True)
 def start_positions(states, constants):
     """Start of a game (the chapter, 5.1): player uniform in its own half, ball at rest on the centre line."""
@@ -220,35 +232,33 @@ def _noisy(states, g, vx, vy, rand):
 
 
 @numba.njit(cache=True, inline="always")
-def local_positions(g, bodies, pitches):
+def local_positions(g, player, ball, pitches):
     """Game g's player and ball in its pitch's own coordinates (metres, centre origin)."""
-    player_slot, ball_slot, offsets = pitches.player_slot, pitches.ball_slot, pitches.offsets
-    ps, bs = player_slot[g], ball_slot[g]
+    offsets = pitches.offsets
     ox, oy = offsets[g, 0], offsets[g, 1]
-    return bodies[ps, 0] - ox, bodies[ps, 1] - oy, bodies[bs, 0] - ox, bodies[bs, 1] - oy
+    return player[0] - ox, player[1] - oy, ball[0] - ox, ball[1] - oy
 
 
 @numba.njit(cache=True, inline="always")
-def close_step(g, px, py, bx, by, bodies, pitches, state, constants, rules):
+def close_step(g, px, py, bx, by, player, ball, pitches, state, constants, rules):
     """The books of the step just made: rcssserver's player-ball collision (see WorldConfig), goal and
     restart, closest approach, idleness, end conditions. Returns the positions after the collision
     and restart, and whether the game ended now."""
     c = constants
-    player_slot, ball_slot, offsets = pitches.player_slot, pitches.ball_slot, pitches.offsets
+    offsets = pitches.offsets
     facing, last_player, last_ball, min_distance = state.facing, state.last_player, state.last_ball, state.min_distance
     kicked, idle, goals, ticks = state.kicked, state.idle, state.goals, state.ticks
     end_reason, done, streams = state.end_reason, state.done, state.streams
-    ps, bs = player_slot[g], ball_slot[g]
     ox, oy = offsets[g, 0], offsets[g, 1]
     px, py, bx, by, collided = separate(px, py, bx, by, facing[g], c)
     if collided:
-        bodies[ps, 0] = ox + px
-        bodies[ps, 1] = oy + py
-        bodies[bs, 0] = ox + bx
-        bodies[bs, 1] = oy + by
-        for row in (ps, bs):
-            bodies[row, 2] *= c.collision_rebound
-            bodies[row, 3] *= c.collision_rebound
+        player[0] = ox + px
+        player[1] = oy + py
+        ball[0] = ox + bx
+        ball[1] = oy + by
+        for body in (player, ball):
+            body[2] *= c.collision_rebound
+            body[3] *= c.collision_rebound
     scored = False
     if last_ball[g, 0] <= c.half_length < bx:
         t = (c.half_length - last_ball[g, 0]) / (bx - last_ball[g, 0])
@@ -265,10 +275,10 @@ def close_step(g, px, py, bx, by, bodies, pitches, state, constants, rules):
         goals[g] += 1
         bx = 0.0
         by = uniform(streams, g, -c.half_width, c.half_width)
-        bodies[bs, 0] = ox + bx
-        bodies[bs, 1] = oy + by
-        bodies[bs, 2] = 0.0
-        bodies[bs, 3] = 0.0
+        ball[0] = ox + bx
+        ball[1] = oy + by
+        ball[2] = 0.0
+        ball[3] = 0.0
     reason = RUNNING
     if goals[g] >= rules.goal_cap:
         reason = GOAL_CAP
@@ -279,9 +289,9 @@ def close_step(g, px, py, bx, by, bodies, pitches, state, constants, rules):
     if reason != RUNNING:
         end_reason[g] = reason
         done[g] = True
-        for row in (ps, bs):
-            bodies[row, 2] = 0.0
-            bodies[row, 3] = 0.0
+        for body in (player, ball):
+            body[2] = 0.0
+            body[3] = 0.0
     return px, py, bx, by, reason != RUNNING
 
 
@@ -335,12 +345,11 @@ def act_step(g, action, perceived, speed, state, decision, layout, constants, ru
 
 
 @numba.njit(cache=True, inline="always")
-def physics_step(g, command, perceived, velocities, positions, bodies, pitches, state, constants, rules):
+def physics_step(g, command, perceived, velocities, positions, player, ball, state, constants, rules):
     """The command applied to game g's facing and (already decayed) velocities, noise, the velocities
     written back for pymunk's step; the positions kept to close the step."""
     c = constants
     dt = c.tick_seconds
-    player_slot, ball_slot = pitches.player_slot, pitches.ball_slot
     facing, kicked, kicks, streams = state.facing, state.kicked, state.kicks, state.streams
     last_player, last_ball, ticks = state.last_player, state.last_ball, state.ticks
     kind, value, direction, kickable = command
@@ -361,11 +370,10 @@ def physics_step(g, command, perceived, velocities, positions, bodies, pitches, 
     if rules.noise:
         pvx, pvy = cap_speed(*_noisy(streams, g, pvx, pvy, c.player_rand), c.player_speed_max)
         bvx, bvy = cap_speed(*_noisy(streams, g, bvx, bvy, c.ball_rand), c.ball_speed_max)
-    ps, bs = player_slot[g], ball_slot[g]
-    bodies[ps, 2] = pvx / dt
-    bodies[ps, 3] = pvy / dt
-    bodies[bs, 2] = bvx / dt
-    bodies[bs, 3] = bvy / dt
+    player[2] = pvx / dt
+    player[3] = pvy / dt
+    ball[2] = bvx / dt
+    ball[3] = bvy / dt
     px, py, bx, by = positions
     last_player[g, 0] = px
     last_player[g, 1] = py
@@ -375,12 +383,11 @@ def physics_step(g, command, perceived, velocities, positions, bodies, pitches, 
 
 
 @numba.njit(cache=True)
-def tick_kernel(bodies, layer, pitches, state, observation, decision, rulebases, scratch, layout, constants, rules):
-    """One tick for every live game in space `layer`; returns how many games finished now.
-    bodies[row] = (x, y, vx, vy) in pymunk units (global metres, metres per second); game g's rows are
-    pitches.player_slot[g] and pitches.ball_slot[g]. The named tuples arrive as plain ones (see
-    `plain`) and are named again here, as borrowed views (see `borrowed`)."""
-    bodies, pitches, state, observation = borrowed(bodies), borrowed(pitches), borrowed(state), borrowed(observation)
+def tick_kernel(pitches, state, observation, decision, rulebases, scratch, layout, constants, rules):
+    """One tick for every live game (of every space); returns how many games finished now. Game g's
+    bodies are read and written where Chipmunk keeps them (`body_vectors`). The named tuples arrive
+    as plain ones (see `plain`) and are named again here, as borrowed views (see `borrowed`)."""
+    pitches, state, observation = borrowed(pitches), borrowed(state), borrowed(observation)
     decision, rulebases, scratch, layout = borrowed(decision), borrowed(rulebases), borrowed(scratch), borrowed(layout)
     pitches, state, observation, decision = Pitches(*pitches), GameState(*state), Observation(*observation), \
         Decision(*decision)
@@ -388,41 +395,42 @@ def tick_kernel(bodies, layer, pitches, state, observation, decision, rulebases,
     scratch, layout = Scratch(*scratch), VocabularyLayout(*layout)
     constants, rules = WorldConstants(*constants), GameRules(*rules)
     dt = constants.tick_seconds
-    done, ticks, layers = state.done, state.ticks, pitches.layer
-    player_slot, ball_slot = pitches.player_slot, pitches.ball_slot
+    done, ticks = state.done, state.ticks
+    player_at, ball_at = pitches.player, pitches.ball
     finished = 0
     for g in range(done.shape[0]):
-        if done[g] or layers[g] != layer:
+        if done[g]:
             continue
-        px, py, bx, by = local_positions(g, bodies, pitches)
+        player, ball = body_vectors(player_at[g]), body_vectors(ball_at[g])
+        px, py, bx, by = local_positions(g, player, ball, pitches)
         if ticks[g] > 0:
-            px, py, bx, by, ended = close_step(g, px, py, bx, by, bodies, pitches, state, constants, rules)
+            px, py, bx, by, ended = close_step(g, px, py, bx, by, player, ball, pitches, state, constants, rules)
             if ended:
                 finished += 1
                 continue
         # velocities decay first (rcssserver does it at the end of the previous cycle)
-        ps, bs = player_slot[g], ball_slot[g]
-        pvx, pvy = decay(bodies[ps, 2] * dt, bodies[ps, 3] * dt, constants.player_decay)
-        bvx, bvy = decay(bodies[bs, 2] * dt, bodies[bs, 3] * dt, constants.ball_decay)
+        pvx, pvy = decay(player[2] * dt, player[3] * dt, constants.player_decay)
+        bvx, bvy = decay(ball[2] * dt, ball[3] * dt, constants.ball_decay)
         perceived = perceive_step(g, px, py, bx, by, state, observation, layout, constants)
         action = decide_step(g, observation, decision, rulebases, scratch)
         command = act_step(g, action, perceived, math.sqrt(pvx * pvx + pvy * pvy), state, decision, layout,
                            constants, rules)
-        physics_step(g, command, perceived, (pvx, pvy, bvx, bvy), (px, py, bx, by), bodies, pitches, state,
+        physics_step(g, command, perceived, (pvx, pvy, bvx, bvy), (px, py, bx, by), player, ball, state,
                      constants, rules)
     return finished
 
 
 @numba.njit(cache=True)
-def observe_kernel(bodies, layer, pitches, state, observation, layout, constants):
-    """Perception alone for every live game in space `layer`: the first observation of a new batch,
-    the very one its first tick perceives again. The named tuples arrive as plain ones (see `plain`)."""
+def observe_kernel(pitches, state, observation, layout, constants):
+    """Perception alone for every live game: the first observation of a new batch, the very one its
+    first tick perceives again. The named tuples arrive as plain ones (see `plain`)."""
     pitches, state, observation = Pitches(*pitches), GameState(*state), Observation(*observation)
     layout, constants = VocabularyLayout(*layout), WorldConstants(*constants)
-    done, layers = state.done, pitches.layer
+    done, player_at, ball_at = state.done, pitches.player, pitches.ball
     for g in range(done.shape[0]):
-        if not done[g] and layers[g] == layer:
-            px, py, bx, by = local_positions(g, bodies, pitches)
+        if not done[g]:
+            player, ball = body_vectors(player_at[g]), body_vectors(ball_at[g])
+            px, py, bx, by = local_positions(g, player, ball, pitches)
             perceive_step(g, px, py, bx, by, state, observation, layout, constants)
 
 
@@ -477,7 +485,6 @@ class GameBatch:
         self.world = World(config.world, seeds)
         for g in range(n):
             self.world.add_game(g, tuple(player[g]), tuple(ball[g]))
-        self.world.index_bodies()
 
         goal_dx = ball[:, 0] - self.constants.half_length
         self.state = GameState(
@@ -503,11 +510,9 @@ class GameBatch:
         self.decision = Decision(action=np.full(n, NO_ACTION, dtype=np.int64),
                                  values=np.zeros((n, len(vocabulary.output_names))), strengths=np.zeros((n, 1)))
         self.set_rulebases(rulebases)
-        self._buffers = [pymunk.batch.Buffer() for _ in self.world.spaces]
         self._live = n
         a = self._arguments
-        for layer in range(len(self.world.spaces)):
-            observe_kernel(self._bodies(layer), layer, a.pitches, a.state, a.observation, a.layout, a.constants)
+        observe_kernel(a.pitches, a.state, a.observation, a.layout, a.constants)
 
     def set_rulebases(self, rulebases: Sequence[Rulebase]) -> None:
         """Give the players (new) controllers; the games go on where they are."""
@@ -521,14 +526,6 @@ class GameBatch:
             scratch=plain(Scratch.for_rulebases(self.compiled)), layout=plain(self.layout),
             constants=plain(self.constants), rules=plain(self.rules))
 
-    def _bodies(self, layer: int) -> np.ndarray:
-        """Space `layer`'s bodies read into its buffer: bodies[row] = (x, y, vx, vy); written back by
-        `pymunk.batch.set_space_bodies` from the same buffer."""
-        buffer = self._buffers[layer]
-        buffer.clear()
-        pymunk.batch.get_space_bodies(self.world.spaces[layer], _FIELDS, buffer)
-        return np.frombuffer(buffer.float_buf(), dtype=np.float64).reshape(-1, 4)
-
     @property
     def finished(self) -> bool:
         return self._live == 0
@@ -538,18 +535,13 @@ class GameBatch:
         if self._live == 0:
             return
         world = self.world
-        finished = 0
         a = self._arguments
-        for layer in world.occupied_layers():
-            bodies = self._bodies(layer)
-            finished += tick_kernel(bodies, layer, a.pitches, a.state, a.observation, a.decision, a.rulebases,
-                                    a.scratch, a.layout, a.constants, a.rules)
-            pymunk.batch.set_space_bodies(world.spaces[layer], _FIELDS, self._buffers[layer])
+        finished = tick_kernel(a.pitches, a.state, a.observation, a.decision, a.rulebases, a.scratch, a.layout,
+                               a.constants, a.rules)
         if finished:
             self._live -= finished
-            for g in np.flatnonzero(self.state.done & (world.pitches.player_slot >= 0)):
+            for g in np.flatnonzero(self.state.done & (world.pitches.player != 0)):
                 world.remove_game(int(g))
-            world.index_bodies()
         for layer in world.occupied_layers():
             world.spaces[layer].step(self.constants.tick_seconds)
 

@@ -105,7 +105,7 @@ class SoccerEnv:
         """Current local positions (from pymunk, or the last known ones once the game left the space)."""
         batch = self._batch
         ox, oy = batch.world.pitches.offsets[0]
-        if batch.world.pitches.player_slot[0] < 0:
+        if batch.world.pitches.player[0] == 0:
             seen = batch.observation
             return (float(seen.player_x[0]), float(seen.player_y[0])), (float(seen.ball_x[0]), float(seen.ball_y[0]))
         player, _, ball, _ = batch.world.objects(0)

@@ -37,7 +37,7 @@ from typing import NamedTuple, Sequence
 
 import numpy as np
 import pymunk
-import pymunk.batch
+from pymunk._chipmunk import ffi
 
 from soccer.config import WorldConfig
 from soccer.random_stream import mix64
@@ -204,19 +204,45 @@ def give_back_spaces(spaces: list[PitchSpace]) -> None:
         _idle_spaces[spaces[0].outline].extend(spaces)
 
 
+_PROBE = (1.25, -2.5, 3.75, -5.0)  # a position and a velocity no other field of a new body holds
+_PROBE_BYTES = 128  # searched for the probe: a cpBody is larger, its position and velocity lie within these
+
+
+def _find_vectors_offset() -> int:
+    """Where a cpBody keeps its position and velocity (Chipmunk's p and v, side by side: x, y, vx,
+    vy), found in a probe body: pymunk declares the struct opaque."""
+    body = pymunk.Body(1.0, float("inf"))
+    body.position, body.velocity = _PROBE[:2], _PROBE[2:]
+    words = np.frombuffer(ffi.buffer(body._body, _PROBE_BYTES), dtype=np.float64)
+    found = [i for i in range(len(words) - 3) if tuple(words[i:i + 4]) == _PROBE]
+    if len(found) != 1:
+        raise RuntimeError("cannot find a pymunk body's position and velocity in Chipmunk's memory")
+    return 8 * found[0]
+
+
+_VECTORS_OFFSET = _find_vectors_offset()
+
+
+def vectors_address(body: pymunk.Body) -> int:
+    """The address of `body`'s (x, y, vx, vy) in Chipmunk's memory, valid while the body lives.
+    The engine's kernel reads and writes a game's bodies there (pymunk's own setters store the same
+    values: a body with its centre of gravity at its position), sparing a copy through pymunk of
+    every body each tick."""
+    return int(ffi.cast("uintptr_t", body._body)) + _VECTORS_OFFSET
+
+
 class Pitches(NamedTuple):
     """Where each game g is, as the engine's kernel reads it (arrays updated in place)."""
 
     layer: np.ndarray  # int64[n]: which space the game is in
-    player_slot: np.ndarray  # int64[n]: row of its player in its space's batch order (-1: left the space)
-    ball_slot: np.ndarray  # int64[n]
+    player: np.ndarray  # uint64[n]: the address of its player's (x, y, vx, vy) (`vectors_address`); 0: left
+    ball: np.ndarray  # uint64[n]: the same for its ball
     offsets: np.ndarray  # float64[n, 2]: its pitch's centre in the shared space
 
 
 class World:
-    """The shared space(s): games added at their seed's slot, removed when they finish, and the
-    mapping from pymunk's body order (which removal permutes) to (game, player or ball). The spaces
-    are borrowed (`borrow_spaces`) and given back when the last game has left them; `spaces` is
+    """The shared space(s): games added at their seed's slot, removed when they finish, and where
+    each game's bodies keep their positions and velocities (`Pitches`). The spaces are borrowed (`borrow_spaces`) and given back when the last game has left them; `spaces` is
     then empty."""
 
     def __init__(self, config: WorldConfig, seeds: Sequence[int]):
@@ -234,17 +260,14 @@ class World:
                 taken.append(set())
             taken[layer].add(slot)
             layers[g] = layer
-        unplaced = np.full(games, -1, dtype=np.int64)  # index_bodies fills the slots in
-        self.pitches = Pitches(layer=layers, player_slot=unplaced.copy(), ball_slot=unplaced.copy(), offsets=offsets)
+        self.pitches = Pitches(layer=layers, player=np.zeros(games, dtype=np.uint64),
+                               ball=np.zeros(games, dtype=np.uint64), offsets=offsets)
         self._slots = slots
         self._pitch_spaces = borrow_spaces(PitchOutline.of(config), max(len(taken), 1))
         self.spaces = [pitch_space.space for pitch_space in self._pitch_spaces]
         self._games_in_space = [0] * len(self.spaces)  # per layer
         self._objects: list[tuple[pymunk.Body, ...]] = [()] * games
         self._pitch: list[Pitch | None] = [None] * games
-        self._body_ids = np.zeros(2 * games, dtype=np.uintp)  # pymunk body id of game g's player [g], ball [games + g]
-        self._id_order: np.ndarray | None = None  # argsort of _body_ids, refreshed after games are added
-        self._id_buffer = pymunk.batch.Buffer()
 
     def add_game(self, game: int, player_xy: tuple[float, float], ball_xy: tuple[float, float]) -> None:
         ox, oy = self.pitches.offsets[game]
@@ -256,9 +279,8 @@ class World:
         self._objects[game] = (player, player_shape, ball, ball_shape)
         self._pitch[game] = pitch_space.take_pitch(self._slots[game])
         self._games_in_space[layer] += 1
-        self._body_ids[game] = player.id
-        self._body_ids[len(self._objects) + game] = ball.id
-        self._id_order = None
+        self.pitches.player[game] = vectors_address(player)
+        self.pitches.ball[game] = vectors_address(ball)
 
     def remove_game(self, game: int) -> None:
         pitch = self._pitch[game]
@@ -273,35 +295,16 @@ class World:
         pitch_space.give_back_body(self._ball_kind, ball, ball_shape)
         self._objects[game] = ()
         self._pitch[game] = None
-        self.pitches.player_slot[game] = self.pitches.ball_slot[game] = -1
+        self.pitches.player[game] = self.pitches.ball[game] = 0
         self._games_in_space[layer] -= 1
         if not any(self._games_in_space):
             give_back_spaces(self._pitch_spaces)
             self._pitch_spaces, self.spaces, self._games_in_space = [], [], []
 
     def occupied_layers(self) -> list[int]:
-        """The layers whose space still holds games (only their spaces need reading and stepping)."""
+        """The layers whose space still holds games (only their spaces need stepping)."""
         return [layer for layer, games in enumerate(self._games_in_space) if games]
 
     def objects(self, game: int) -> tuple[pymunk.Body, pymunk.Shape, pymunk.Body, pymunk.Shape]:
         """(player body, player shape, ball body, ball shape) of a game still in the space."""
         return self._objects[game]
-
-    def index_bodies(self) -> None:
-        """Refresh pitches.player_slot/ball_slot: each game's bodies' rows in its space's batch order."""
-        games = len(self._objects)
-        if games == 0:
-            return
-        if self._id_order is None:
-            self._id_order = np.argsort(self._body_ids)
-        known = self._body_ids[self._id_order]
-        for layer in self.occupied_layers():
-            self._id_buffer.clear()
-            pymunk.batch.get_space_bodies(self.spaces[layer], pymunk.batch.BodyFields.BODY_ID, self._id_buffer)
-            ids = np.frombuffer(self._id_buffer.int_buf(), dtype=np.uintp)
-            where = np.minimum(np.searchsorted(known, ids), len(known) - 1)
-            rows = np.flatnonzero(known[where] == ids)  # all but the space's static body
-            which = self._id_order[where[rows]]
-            player = which < games
-            self.pitches.player_slot[which[player]] = rows[player]
-            self.pitches.ball_slot[which[~player] - games] = rows[~player]

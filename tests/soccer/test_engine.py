@@ -4,6 +4,7 @@ import sys
 
 import numba
 import numpy as np
+import pymunk
 import pytest
 
 from fuzzy.random_rulebase import random_rulebase
@@ -11,8 +12,9 @@ from fuzzy.rule import Consequent, Premise, Rule, Rulebase
 from fuzzy.vocabulary import Vocabulary
 from soccer.config import GameConfig
 from soccer.demo import demo_rulebase
-from soccer.engine import GameBatch, borrowed, play_game, play_games
+from soccer.engine import GameBatch, body_vectors, borrowed, play_game, play_games
 from soccer.physics import COLLISION_GAP
+from soccer.world import vectors_address
 
 VOCABULARY = Vocabulary.default()
 
@@ -185,3 +187,20 @@ def test_borrowed_views_read_and_write_the_callers_arrays_and_keep_no_reference(
     assert _through_borrowed_views((first, (second, 5.0))) == 5.0 + 2.0 + 10.0
     assert first.tolist() == [5.0, 1.0, 1.0] and second.tolist() == [[0.0, 0.0], [0.0, 10.0]]
     assert (sys.getrefcount(first), sys.getrefcount(second)) == references
+
+
+@numba.njit
+def _swap_position_and_velocity(address):
+    body = body_vectors(address)
+    body[0], body[1], body[2], body[3] = body[2], body[3], body[0], body[1]
+
+
+def test_the_kernel_reads_and_writes_a_body_where_pymunk_keeps_it():
+    space = pymunk.Space()
+    body = pymunk.Body(1.0, float("inf"))
+    space.add(body, pymunk.Circle(body, 0.1))
+    body.position, body.velocity = (2.0**20 + 0.1, 3.5), (-1.5, 0.25)
+    _swap_position_and_velocity(np.uint64(vectors_address(body)))
+    assert tuple(body.velocity) == (2.0**20 + 0.1, 3.5)
+    space.step(0.5)  # pymunk moves the body from the position written, at the velocity written
+    assert tuple(body.position) == (-1.5 + (2.0**20 + 0.1) * 0.5, 0.25 + 3.5 * 0.5)
