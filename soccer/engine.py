@@ -2,13 +2,14 @@
 per tick over all live games (docs/design.md explains the data layout).
 
 Per tick: `tick_kernel` (reading and writing the bodies' positions and velocities where Chipmunk
-keeps them, soccer/world.py), remove finished games, `space.step(tick_seconds)`. The kernel's steps, each a numba
-function: `close_step` (the step just made: player-ball collision, goal and restart, statistics, end
-conditions), `perceive_step`, `decide_step` (the game's own fuzzy controller, `fuzzy.batched.decide`),
-`act_step` (the skill's body command) and `physics_step` (the command applied to velocities, noise).
+keeps them, soccer/world.py), remove finished games, `space.step(tick_seconds)`. The kernel's
+steps, each a numba function: `close_step` (the step just made: player-ball collision, goal and
+restart, statistics, end conditions), `perceive_step`, `decide_step` (the game's own fuzzy
+controller, `fuzzy.batched.decide`), `act_step` (the skill's body command) and `physics_step` (the
+command applied to velocities, noise).
 A single game is a batch of one: there is one code path. A game's result does not depend on its batch
 (soccer/world.py says how): games sharing a seed share a pitch slot and so play in separate spaces,
-one kernel call and one step each.
+each stepped in turn.
 """
 
 from __future__ import annotations
@@ -192,6 +193,7 @@ def _without_reference(context, builder, typ, value):
 
 @intrinsic
 def _doubles_at(typingctx, address):
+    # the memory address (an integer) as a pointer to float64s, for numba.carray
     def codegen(context, builder, signature, args):
         return builder.inttoptr(args[0], context.get_value_type(signature.return_type))
     return numba.types.CPointer(numba.types.float64)(numba.types.uint64), codegen

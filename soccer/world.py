@@ -242,8 +242,8 @@ class Pitches(NamedTuple):
 
 class World:
     """The shared space(s): games added at their seed's slot, removed when they finish, and where
-    each game's bodies keep their positions and velocities (`Pitches`). The spaces are borrowed (`borrow_spaces`) and given back when the last game has left them; `spaces` is
-    then empty."""
+    each game's bodies keep their positions and velocities (`Pitches`). The spaces are borrowed
+    (`borrow_spaces`) and given back when the last game has left them; `spaces` is then empty."""
 
     def __init__(self, config: WorldConfig, seeds: Sequence[int]):
         self.config = config
