@@ -3,7 +3,7 @@ played (a) together by the batched engine in one pymunk Space and (b) one Space 
 loop (each game its own batch of one, the same kernel), and the ratio, in one run.
 
     python benchmarks/sim_throughput.py [--games 200] [--rules 10] [--seed 0] [--loop-games 40] [--full-length]
-                                        [--skills strict|assisted]
+                                        [--skills strict|assisted|sighted]
 
 With the default game rules most random players never touch the ball and their games end after
 idle_ticks, so the last ticks of a batch carry only a few live games and the per-game-tick cost

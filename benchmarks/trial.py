@@ -6,7 +6,7 @@ temporary run folder: checkpoint, statistics.csv, best rules, the rerun recordin
 best player's game), and the time spent replaying those games is reported too.
 
     python benchmarks/trial.py [--workers 2] [--seed 0] [--population-size 200] [--generations 25] [--full]
-                               [--outputs] [--skills strict|assisted] [--roulette-weighting linear|inverse]
+                               [--outputs] [--skills strict|assisted|sighted] [--roulette-weighting linear|inverse]
 """
 
 from __future__ import annotations

@@ -17,7 +17,7 @@ SOCCER_VOCABULARY = Vocabulary.default()
 
 FitnessName = Literal["simple-composite", "goals-only", "robocup-composite"]
 FITNESS_NAMES: tuple[str, ...] = get_args(FitnessName)
-SkillSet = Literal["strict", "assisted"]  # soccer/skills.py says what each does
+SkillSet = Literal["strict", "assisted", "sighted"]  # soccer/skills.py says what each does
 SKILL_SET_NAMES: tuple[str, ...] = get_args(SkillSet)
 
 

@@ -48,11 +48,12 @@ class GameRules(NamedTuple):
     idle_distance: float
     noise: bool
     assisted_skills: bool
+    goal_in_view_only: bool  # the `sighted` skill set: the skills know the goal only while it is seen
 
     @classmethod
     def from_config(cls, config: GameConfig) -> "GameRules":
         return cls(config.max_ticks, config.goal_cap, config.idle_ticks, config.idle_distance, config.noise,
-                   config.skills == "assisted")
+                   config.skills == "assisted", config.skills == "sighted")
 
 
 class VocabularyLayout(NamedTuple):
@@ -335,7 +336,9 @@ def decide_step(g, observation, decision, rulebases, scratch):
 def act_step(g, action, perceived, speed, state, decision, layout, constants, rules):
     """The body command (kind, value, direction) the action's skill gives, and whether the ball is kickable."""
     last_side, values, skills = state.last_side, decision.values, layout.skills
-    ball_distance, ball_direction, ball_seen, _, goal_direction, _ = perceived
+    ball_distance, ball_direction, ball_seen, _, goal_direction, goal_seen = perceived
+    if rules.goal_in_view_only and not goal_seen:
+        goal_direction = np.nan
     if ball_seen:
         last_side[g] = LEFT if ball_direction < 0.0 else RIGHT
     kickable = is_kickable(ball_distance, constants)

@@ -1,16 +1,20 @@
 """The ten mid-level skills and the default hunt, free of pymunk.
 
-Two skill sets (`GameConfig.skills`): `strict`, where KICK, KICKTOWARDGOAL, DRIBBLETOWARDGOAL and
-DRIBBLE kick when the ball is kickable and otherwise do nothing (as rcssserver's kick does), and
+Three skill sets (`GameConfig.skills`): `strict`, where KICK, KICKTOWARDGOAL, DRIBBLETOWARDGOAL and
+DRIBBLE kick when the ball is kickable and otherwise do nothing (as rcssserver's kick does);
 `assisted`, where the last three fall back to GOTOBALL when the ball is out of reach (so one rule
-"if <anything> then KickTowardGoal High" is a whole striker).
+"if <anything> then KickTowardGoal High" is a whole striker); and `sighted`, `strict` for a player
+that knows where the goal is only while it sees it (the chapter, 2.2: SimpleSoccer players "are only
+aware of the location of the ball and the goal if they are in the player's field of vision"), so
+RUNTOWARDGOAL, KICKTOWARDGOAL and DRIBBLETOWARDGOAL do nothing while the goal is out of view.
 
 A skill turns the selected action's direction and power values, what the player perceives and its
 own state into ONE rcssserver body command `(kind, value, direction)`:
 TURN (value = moment), DASH (value = power), KICK (value = power, direction relative to the facing)
 or NONE. The SimpleSoccer engine applies it with soccer/physics.py; the rcssserver client sends it as
-`(turn m)`, `(dash p)`, `(kick p d)`. Skills steer by the goal's known position (the caller passes its
-direction computed from the player's own pose), even when the goal is out of view.
+`(turn m)`, `(dash p)`, `(kick p d)`. Under `strict` and `assisted` skills steer by the goal's known
+position (the caller passes its direction computed from the player's own pose), even when the goal is
+out of view; under `sighted` the caller passes NaN for a goal out of view.
 
 Skills have ids of their own (SKILL_TURN ... SKILL_DONOTHING, HUNT), fixed here. A vocabulary names
 actions in whatever order it likes; `skill_table` maps each of its action indices to the skill of the
@@ -19,6 +23,8 @@ ones the skill reads. The kernels take that table as data, so no vocabulary orde
 """
 
 from __future__ import annotations
+
+import math
 
 import numba
 import numpy as np
@@ -115,7 +121,10 @@ def skill_command(skill, direction, power, ball_visible, ball_distance, ball_dir
     `direction` and `power` values. `ball_*` is the perceived ball (valid when
     ball_visible), `goal_direction` the goal centre's direction from the player's own pose, `kickable`
     whether the ball is within kicking distance, `speed` the player's current speed (m/tick), `assisted`
-    whether the kicking skills fetch the ball first (the `assisted` skill set) or do nothing (`strict`)."""
+    whether the kicking skills fetch the ball first (the `assisted` skill set) or do nothing (`strict`).
+    A NaN `goal_direction` means the player does not know where the goal is (`sighted`, goal out of
+    view): the skills that need it do nothing."""
+    goal_known = not math.isnan(goal_direction)
     if skill == HUNT:
         return hunt(ball_visible, ball_direction, last_ball_side, speed, constants)
     if skill == SKILL_TURN:
@@ -127,12 +136,16 @@ def skill_command(skill, direction, power, ball_visible, ball_distance, ball_dir
             return KICK, power, direction
         return NONE, 0.0, 0.0
     if skill == SKILL_RUNTOWARDGOAL:
+        if not goal_known:
+            return NONE, 0.0, 0.0
         return run_toward(goal_direction, power, speed, constants)
     if skill == SKILL_RUNTOWARDBALL:
         if ball_visible:
             return run_toward(ball_direction, power, speed, constants)
         return hunt(ball_visible, ball_direction, last_ball_side, speed, constants)
     if skill == SKILL_KICKTOWARDGOAL or skill == SKILL_DRIBBLETOWARDGOAL or skill == SKILL_DRIBBLE:
+        if kickable and skill != SKILL_DRIBBLE and not goal_known:
+            return NONE, 0.0, 0.0
         if kickable:
             if skill == SKILL_KICKTOWARDGOAL:
                 return KICK, power, goal_direction

@@ -46,7 +46,7 @@ def experiment_command(
         "--seed", help=option_help(ExperimentOptions, "seed", "Experiment seed; each trial's seed derives from it."),
         show_default=False)] = None,
     skills: Annotated[Optional[str], typer.Option(
-        "--skills", help=option_help(ExperimentOptions, "skills", f"Skill set: {' or '.join(SKILL_SET_NAMES)}."),
+        "--skills", help=option_help(ExperimentOptions, "skills", f"Skill set: {', '.join(SKILL_SET_NAMES)}."),
         show_default=False)] = None,
     noise: Annotated[Optional[bool], typer.Option(
         "--noise/--no-noise", help=option_help(ExperimentOptions, "noise", "rcssserver-like movement noise."),

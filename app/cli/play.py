@@ -73,8 +73,9 @@ NoiseOption = Annotated[Optional[bool], typer.Option(
     show_default=False, rich_help_panel=GAME_PANEL)]
 
 SkillsOption = Annotated[Optional[str], typer.Option(
-    "--skills", help=option_help(GameConfig, "skills", f"Skill set: {' or '.join(SKILL_SET_NAMES)} (strict: the "
-                                 "kicking skills do nothing with the ball out of reach; assisted: they fetch it)."),
+    "--skills", help=option_help(GameConfig, "skills", f"Skill set: {', '.join(SKILL_SET_NAMES)} (strict: the "
+                                 "kicking skills do nothing with the ball out of reach; assisted: they fetch it; "
+                                 "sighted: strict, and the goal skills act only while the goal is in view)."),
     show_default=False, rich_help_panel=GAME_PANEL)]
 
 

@@ -44,7 +44,7 @@ class Perception(NamedTuple):
     ball_direction: float | None
     goal_distance: float | None
     goal_direction: float | None
-    goal_direction_known: float  # from the pose, even out of view: skills steer by it
+    goal_direction_known: float  # from the pose, even out of view: `strict` and `assisted` skills steer by it
     kickable: bool
     speed: float
 
@@ -120,6 +120,7 @@ class RcssPlayer:
         layout = VocabularyLayout.from_vocabulary(vocabulary)  # refuses a vocabulary the skills cannot play
         compiled = compile_rulebases([rulebase], vocabulary)
         self.assisted_skills = skills == "assisted"
+        self.goal_in_view_only = skills == "sighted"  # the skills know the goal only while it is seen
         self.params = params
         self.world = WorldModel(params)
         self.constants = world_constants(params)
@@ -142,7 +143,8 @@ class RcssPlayer:
             *self._kernel_arguments, ball_seen,
             perception.ball_distance if ball_seen else 0.0, perception.ball_direction if ball_seen else 0.0,
             goal_seen, perception.goal_distance if goal_seen else 0.0, perception.goal_direction if goal_seen else 0.0,
-            perception.goal_direction_known, perception.kickable, self.world.last_ball_side, perception.speed,
+            math.nan if self.goal_in_view_only and not goal_seen else perception.goal_direction_known,
+            perception.kickable, self.world.last_ball_side, perception.speed,
             self.assisted_skills)
         self.world.note_command(kind, value, perception.speed)
         if kind not in (TURN, DASH, KICK):

@@ -108,7 +108,7 @@ def test_rcss_without_a_server_or_an_executable_says_how_to_give_one(tmp_path, m
     (["--env", "rcss", "--games-per-evaluation", "3"], "--games-per-evaluation: SimpleSoccer only"),
     (["--env", "rcss", "--fitness", "style"], "--fitness: Input should be"),
     (["--env", "rcss", "--max-ticks", "0"], "--max-ticks: Input should be greater than 0"),
-    (["--env", "rcss", "--skills", "lazy"], "--skills: Input should be 'strict' or 'assisted'"),
+    (["--env", "rcss", "--skills", "lazy"], "--skills: Input should be 'strict', 'assisted' or 'sighted'"),
     (["--server", "127.0.0.1:6000"], "--server needs --env rcss"),
     (["--servers", "2", "--rcssserver", "/x"], "--rcssserver, --servers need --env rcss"),
     (["--env", "rcss", "--server", "127.0.0.1:6000", "--servers", "2"], "--server names servers you run; "

@@ -273,7 +273,7 @@ def test_a_small_evolution_shows_progress_and_its_best_player_can_be_loaded(ui, 
 
     assert session.evolve.game_config() == {"skills": GameConfig().skills, "noise": GameConfig().noise}
     page.get_by_text("Game options", exact=True).click()
-    field(page, "Skills (strict: kicks only within reach)", "input").click()
+    field(page, "Skills (strict: kicks only within reach; sighted: and sees the goal)", "input").click()
     page.get_by_role("option", name="assisted").click()
     wait_until(lambda: session.evolve.game_config()["skills"] == "assisted")
     page.get_by_role("button", name="Start").click()

@@ -7,6 +7,7 @@ import numpy as np
 import pymunk
 import pytest
 
+from fuzzy.parser import parse_rulebase
 from fuzzy.random_rulebase import random_rulebase
 from fuzzy.rule import Consequent, Premise, Rule, Rulebase
 from fuzzy.vocabulary import Vocabulary
@@ -204,3 +205,26 @@ def test_the_kernel_reads_and_writes_a_body_where_pymunk_keeps_it():
     assert tuple(body.velocity) == (2.0**20 + 0.1, 3.5)
     space.step(0.5)  # pymunk moves the body from the position written, at the velocity written
     assert tuple(body.position) == (-1.5 + (2.0**20 + 0.1) * 0.5, 0.25 + 3.5 * 0.5)
+
+
+def test_sighted_skills_shoot_only_at_a_goal_in_view():
+    """`sighted` differs from `strict` in one thing: KickTowardGoal with the goal out of view does
+    nothing. So the two games are the same tick for tick until the first time the striker has the
+    ball at its feet and the goal out of view; there `strict` shoots and `sighted` leaves the ball."""
+    striker = parse_rulebase("if Ball is At then KickTowardGoal High\nif Ball is not At then GoToBall VeryHigh",
+                             VOCABULARY)
+    kick_toward_goal = VOCABULARY.action_names.index("KICKTOWARDGOAL")
+    goal = VOCABULARY.object_names.index("GOAL")
+    diverged = 0
+    for seed in range(6):
+        _, strict = play_game(striker, seed, GameConfig(skills="strict", max_ticks=400))
+        _, sighted = play_game(striker, seed, GameConfig(skills="sighted", max_ticks=400))
+        ticks = min(len(strict), len(sighted))
+        same = (strict.ball_x[:ticks] == sighted.ball_x[:ticks]) & (strict.player_x[:ticks] == sighted.player_x[:ticks])
+        if same.all():
+            continue
+        first = int(np.argmin(same))  # the first tick whose positions differ: the command before it did
+        shot_blind = (strict.action[first - 1] == kick_toward_goal) and not strict.visible[first - 1, goal]
+        assert shot_blind, f"seed {seed}: the games part at tick {first} without a shot at an unseen goal"
+        diverged += 1
+    assert diverged >= 1

@@ -1,5 +1,7 @@
 """Each skill and the hunt in a scripted situation."""
 
+import math
+
 import pytest
 
 from soccer.config import WorldConfig
@@ -62,6 +64,25 @@ def test_strict_kicking_skills_do_nothing_with_the_ball_out_of_reach(action):
     assert kind == KICK and power > 0.0  # kickable: the same kick as assisted
     assert command(action, power=60.0, ball_distance=0.9, kickable=True, assisted=False) == command(
         action, power=60.0, ball_distance=0.9, kickable=True, assisted=True)
+
+
+@pytest.mark.parametrize("action", [SKILL_RUNTOWARDGOAL, SKILL_KICKTOWARDGOAL, SKILL_DRIBBLETOWARDGOAL])
+def test_goal_skills_do_nothing_when_the_goal_is_unknown(action):
+    """`sighted`: the caller passes NaN for a goal out of view, and the skills that need it do nothing,
+    even with the ball at the player's feet; with the goal known they act as under `strict`."""
+    unknown = command(action, power=60.0, ball_distance=0.9, kickable=True, goal_direction=math.nan, assisted=False)
+    assert unknown == (NONE, 0.0, 0.0)
+    known = command(action, power=60.0, ball_distance=0.9, kickable=True, goal_direction=5.0, assisted=False)
+    assert known[0] in (KICK, DASH) and known[1] > 0.0
+
+
+def test_goal_free_skills_do_not_need_the_goal():
+    for action, expected in ((SKILL_DRIBBLE, KICK), (SKILL_KICK, KICK), (SKILL_GOTOBALL, DASH)):
+        kickable = expected == KICK
+        args = dict(direction=-40.0, power=60.0, ball_distance=0.9 if kickable else 20.0, kickable=kickable,
+                    assisted=False)
+        assert command(action, goal_direction=math.nan, **args) == command(action, goal_direction=5.0, **args)
+        assert command(action, goal_direction=math.nan, **args)[0] == expected
 
 
 def test_do_nothing():

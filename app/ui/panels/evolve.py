@@ -41,7 +41,7 @@ LABELS = {  # what a teacher reads next to each field; fields missing here show 
     "target_fitness": "Target fitness (stop at or below)",
     "seed": "Seed",
     "workers": "Worker processes",
-    "skills": "Skills (strict: kicks only within reach)",
+    "skills": "Skills (strict: kicks only within reach; sighted: and sees the goal)",
     "noise": "Movement noise",
 }
 GAME_FIELDS = ("skills", "noise")  # the GameConfig choices the chapter leaves open; the rest are its rules
