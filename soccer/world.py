@@ -78,13 +78,16 @@ class PitchOutline(NamedTuple):
     def of(cls, world: WorldConfig) -> "PitchOutline":
         hl, hw, gw, t = world.pitch_length / 2, world.pitch_width / 2, world.goal_width / 2, WALL_THICKNESS
         back = hl + world.goal_depth
+        # Walls that meet overlap, each running through the corner: a body sliding along one wall into
+        # a corner must find the other wall's face nearest, not the seam between two boxes, or pymunk
+        # pushes it along the seam and out of the pitch.
         boxes = (
             (-hl - t, hw, back + t, hw + t),  # touch line, y > 0 (the player's right when attacking)
             (-hl - t, -hw - t, back + t, -hw),  # touch line, y < 0
-            (-hl - t, -hw, -hl, hw),  # own end line
-            (hl, gw, back + t, hw),  # attacked end line beside the goal, and the net's side
-            (hl, -hw, back + t, -gw),
-            (back, -gw, back + t, gw),  # back of the net
+            (-hl - t, -hw - t, -hl, hw + t),  # own end line
+            (hl, gw, back + t, hw + t),  # attacked end line beside the goal, and the net's side
+            (hl, -hw - t, back + t, -gw),
+            (back, -hw - t, back + t, hw + t),  # back of the net
         )
         return cls(boxes, tuple((hl, side * gw) for side in (-1.0, 1.0)), world.post_radius)
 

@@ -62,6 +62,30 @@ def test_ball_rebounds_from_end_line_beside_goal_and_does_not_score():
     assert x < 52.5 and vx < 0.0 and batch.state.goals[0] == 0
 
 
+@pytest.mark.parametrize("start, velocity", [
+    ((-45.0, -C.half_width + C.ball_size), (-1.0, 0.0)),  # along the touch line into the corner behind
+    ((-45.0, C.half_width - C.ball_size), (-1.0, 0.0)),
+    ((45.0, C.half_width - C.ball_size), (1.0, 0.0)),  # into a corner of the attacked end, beside the goal
+    ((-C.half_length + C.ball_size, -25.0), (0.0, -1.0)),  # along the end line into the corner
+    ((C.half_length + 0.1, C.goal_half_width - C.ball_size), (0.3, 0.0)),  # along the net's side to its back
+])
+def test_a_ball_sliding_along_a_wall_stops_in_the_corner(start, velocity):
+    """A ball rolling along a wall into a corner rebounds from the other wall as from the middle of it;
+    it does not slide between the two walls' shapes and out of the pitch (they overlap in the corner).
+    pymunk's contacts are soft: a ball hitting a wall at 1 m a tick sinks about 0.3 m into it for a tick."""
+    batch = scripted(start, velocity, player=(0.0, 0.0))
+    low_x, high_x = -C.half_length + C.ball_size, C.half_length + C.goal_depth - C.ball_size
+    deepest = 0.0
+    for _ in range(60):
+        batch.step()
+        x, y, _, _ = ball_position(batch)
+        deepest = max(deepest, low_x - x, x - high_x, abs(y) - (C.half_width - C.ball_size))
+    assert deepest < 0.5  # through the seam it went 2 m deep and stayed inside the wall
+    x, y, _, _ = ball_position(batch)
+    assert low_x - 1e-6 <= x <= high_x + 1e-6 and abs(y) <= C.half_width - C.ball_size + 1e-6  # resting on a wall
+    assert batch.state.goals[0] == 0
+
+
 def test_ball_rebounds_from_post():
     batch = scripted((51.0, 7.01), (0.3, 0.0))
     for _ in range(15):
