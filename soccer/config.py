@@ -154,9 +154,10 @@ class EvaluationRules(BaseModel):
     idle_ticks: PositiveInt = 100  # consecutive ticks without moving more than idle_distance nor kicking
     idle_distance: float = Field(0.01, ge=0.0)
     fitness: FitnessName = "simple-composite"
-    # What the kicking skills do with the ball out of reach (soccer/skills.py). `strict` by calibration:
-    # with `assisted` the GA reaches the 10-goal cap within a few generations (README, "Calibration").
-    skills: SkillSet = "strict"
+    # What the kicking skills do with the ball out of reach, and what the player knows of the goal
+    # (soccer/skills.py). `sighted` by calibration (README, "Calibration"): with `assisted` the GA
+    # reaches the 10-goal cap within a few generations; with `strict` goal scorers take populations over.
+    skills: SkillSet = "sighted"
 
 
 class GameConfig(EvaluationRules):

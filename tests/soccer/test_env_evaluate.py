@@ -42,7 +42,7 @@ def test_env_state_shows_what_the_player_sees():
     state = env.step()
     assert state.visible["GOAL"] and state.inputs["goal_distance"] > 50.0
     assert (state.inputs["ball_distance"] is None) == (not state.visible["BALL"])
-    assert len(state.strengths) == 2 and len(state.ball_trail) >= 1
+    assert len(state.strengths) == len(demo_rulebase()) and len(state.ball_trail) >= 1
 
 
 def test_env_set_rulebase_keeps_the_game_going():
