@@ -32,7 +32,8 @@ from soccer.fitness import fitness
 from soccer.perception import BALL, DIRECTION, DISTANCE, GOAL, perceive
 from soccer.physics import cap_speed, dash, decay, is_kickable, kick, separate, turn
 from soccer.random_stream import seed_states, uniform
-from soccer.skills import DASH, HUNT, KICK, LEFT, RIGHT, TURN, skill_command, skill_table
+from soccer.skills import (DASH, HUNT, KICK, LEFT, RIGHT, TURN, goal_direction_for_skills, skill_command, skill_set_flags,
+                           skill_table)
 from soccer.world import Pitches, World
 
 RUNNING, MAX_TICKS, GOAL_CAP, IDLE = 0, 1, 2, 3
@@ -53,7 +54,7 @@ class GameRules(NamedTuple):
     @classmethod
     def from_config(cls, config: GameConfig) -> "GameRules":
         return cls(config.max_ticks, config.goal_cap, config.idle_ticks, config.idle_distance, config.noise,
-                   config.skills == "assisted", config.skills == "sighted")
+                   *skill_set_flags(config.skills))
 
 
 class VocabularyLayout(NamedTuple):
@@ -337,8 +338,7 @@ def act_step(g, action, perceived, speed, state, decision, layout, constants, ru
     """The body command (kind, value, direction) the action's skill gives, and whether the ball is kickable."""
     last_side, values, skills = state.last_side, decision.values, layout.skills
     ball_distance, ball_direction, ball_seen, _, goal_direction, goal_seen = perceived
-    if rules.goal_in_view_only and not goal_seen:
-        goal_direction = np.nan
+    goal_direction = goal_direction_for_skills(goal_direction, goal_seen, rules.goal_in_view_only)
     if ball_seen:
         last_side[g] = LEFT if ball_direction < 0.0 else RIGHT
     kickable = is_kickable(ball_distance, constants)

@@ -74,6 +74,21 @@ def skill_table(vocabulary: Vocabulary) -> np.ndarray:
     return np.array([ids[action] for action in vocabulary.action_names], dtype=np.int64)
 
 
+def skill_set_flags(skills: str) -> tuple[bool, bool]:
+    """A skill set's two switches: (assisted, goal_in_view_only), as `skill_command` and
+    `goal_direction_for_skills` take them."""
+    return skills == "assisted", skills == "sighted"
+
+
+@numba.njit(cache=True)
+def goal_direction_for_skills(goal_direction, goal_seen, goal_in_view_only):
+    """The goal direction the skills steer by: the one worked out from the player's pose, or NaN (not
+    known) when the skills know the goal only in view (`sighted`) and it is out of view."""
+    if goal_in_view_only and not goal_seen:
+        return math.nan
+    return goal_direction
+
+
 @numba.njit(cache=True)
 def turn_toward(direction, speed, constants):
     """TURN whose moment, after the server's inertia, actually makes `direction` (as far as max_moment allows)."""

@@ -29,7 +29,7 @@ from soccer.rcss.client import PlayerCycle
 from soccer.rcss.localisation import Pose, goal_relative, localise, normalise_angle
 from soccer.rcss.messages import SenseBody, parse_message
 from soccer.rcss.params import VIEW_HALF_ANGLE, ServerParams
-from soccer.skills import DASH, HUNT, KICK, LEFT, RIGHT, TURN, skill_command
+from soccer.skills import DASH, HUNT, KICK, LEFT, RIGHT, TURN, goal_direction_for_skills, skill_command, skill_set_flags
 
 
 def world_constants(params: ServerParams, view_width: str = "normal") -> WorldConstants:
@@ -119,8 +119,7 @@ class RcssPlayer:
                  skills: str = GameConfig.model_fields["skills"].default):
         layout = VocabularyLayout.from_vocabulary(vocabulary)  # refuses a vocabulary the skills cannot play
         compiled = compile_rulebases([rulebase], vocabulary)
-        self.assisted_skills = skills == "assisted"
-        self.goal_in_view_only = skills == "sighted"  # the skills know the goal only while it is seen
+        self.skill_set = skill_set_flags(skills)  # (assisted, goal_in_view_only)
         self.params = params
         self.world = WorldModel(params)
         self.constants = world_constants(params)
@@ -143,9 +142,8 @@ class RcssPlayer:
             *self._kernel_arguments, ball_seen,
             perception.ball_distance if ball_seen else 0.0, perception.ball_direction if ball_seen else 0.0,
             goal_seen, perception.goal_distance if goal_seen else 0.0, perception.goal_direction if goal_seen else 0.0,
-            math.nan if self.goal_in_view_only and not goal_seen else perception.goal_direction_known,
-            perception.kickable, self.world.last_ball_side, perception.speed,
-            self.assisted_skills)
+            perception.goal_direction_known, perception.kickable, self.world.last_ball_side, perception.speed,
+            *self.skill_set)
         self.world.note_command(kind, value, perception.speed)
         if kind not in (TURN, DASH, KICK):
             return []
@@ -155,7 +153,7 @@ class RcssPlayer:
 @numba.njit(cache=True)
 def _command(inputs, visible, rulebases, scratch, strengths, outputs, layout, constants, ball_seen, ball_distance,
              ball_direction, goal_seen, goal_distance, goal_direction, goal_direction_known, kickable, last_ball_side,
-             speed, assisted):
+             speed, assisted, goal_in_view_only):
     """The body command (kind, value, direction) of the skill the fuzzy controller selects on what is
     perceived (HUNT when no rule fires); `inputs` and `visible` are its work arrays. The named tuples
     arrive plain (soccer.engine.plain) and are named here."""
@@ -166,8 +164,9 @@ def _command(inputs, visible, rulebases, scratch, strengths, outputs, layout, co
     visible[layout.ball], visible[layout.goal] = ball_seen, goal_seen
     action, _ = decide(0, inputs, visible, rulebases, scratch, strengths, outputs)
     skill = HUNT if action == NO_ACTION else layout.skills[action]
+    steer_by = goal_direction_for_skills(goal_direction_known, goal_seen, goal_in_view_only)
     return skill_command(skill, outputs[layout.direction], outputs[layout.power], ball_seen, ball_distance,
-                         ball_direction, goal_direction_known, kickable, last_ball_side, speed, assisted, constants)
+                         ball_direction, steer_by, kickable, last_ball_side, speed, assisted, constants)
 
 
 def load_compiled_skills() -> None:
