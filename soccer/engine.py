@@ -32,8 +32,8 @@ from soccer.fitness import fitness
 from soccer.perception import BALL, DIRECTION, DISTANCE, GOAL, perceive
 from soccer.physics import cap_speed, dash, decay, is_kickable, kick, separate, turn
 from soccer.random_stream import seed_states, uniform
-from soccer.skills import (DASH, HUNT, KICK, LEFT, RIGHT, TURN, goal_direction_for_skills, skill_command, skill_set_flags,
-                           skill_table)
+from soccer.skills import (DASH, HUNT, KICK, LEFT, RIGHT, TURN, goal_direction_for_skills, skill_command,
+                           skill_set_flags, skill_table)
 from soccer.world import Pitches, World
 
 RUNNING, MAX_TICKS, GOAL_CAP, IDLE = 0, 1, 2, 3
