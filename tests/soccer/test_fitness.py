@@ -15,6 +15,13 @@ def test_table_1(goals, value):
     assert simple_composite(goals, 5, 100, 0.0, FIELD) == 1 / (2 * goals)
 
 
+@pytest.mark.parametrize("goals", [1, 3])
+def test_a_goal_without_a_kick_still_counts_as_table_1_says(goals):
+    # A ball pushed over the line by the player's body: Table 1 gives goals their value whatever moved the ball.
+    for function in (simple_composite, goals_only, robocup_composite):
+        assert function(goals, 0, 400, 0.0, FIELD) == 1 / (2 * goals)
+
+
 def test_no_kick_is_worst():
     assert simple_composite(0, 0, 1000, 3.0, FIELD) == 1.0
     assert robocup_composite(0, 0, 1000, 3.0, FIELD) == 1.0
