@@ -1,6 +1,7 @@
 """Calibration: for one candidate setting of the choices the chapter leaves open (skill set, roulette
-weighting, noise), run the chapter's Table 2 trials and its GA against random search, and print the
-chapter's SimpleSoccer figures (as its text describes them) beside ours.
+weighting, noise, whether body pushes count as kicks), run the chapter's Table 2 trials and its GA
+against random search, and print the chapter's SimpleSoccer figures (as its text describes them)
+beside ours.
 
     python benchmarks/calibrate.py --skills strict --roulette-weighting linear       # full size
     python benchmarks/calibrate.py --skills assisted --trials 3 --population 50      # a quick look
@@ -52,6 +53,8 @@ def main() -> None:
     parser.add_argument("--skills", choices=SKILL_SET_NAMES, default=defaults.skills)
     parser.add_argument("--roulette-weighting", choices=("linear", "inverse"), default=defaults.roulette_weighting)
     parser.add_argument("--noise", action=argparse.BooleanOptionalAction, default=defaults.noise)
+    parser.add_argument("--count-touches", action=argparse.BooleanOptionalAction, default=defaults.count_touches,
+                        help="count every tick the player's body pushes the ball as a kick")
     parser.add_argument("--trials", type=int, help="trials per setting (default: the chapter's, 20 and 10)")
     parser.add_argument("--population", type=int, default=defaults.population)
     parser.add_argument("--generations", type=int, default=defaults.generations)
@@ -62,7 +65,8 @@ def main() -> None:
     arguments = parser.parse_args()
     options = ExperimentOptions(trials=arguments.trials, population=arguments.population,
                                 generations=arguments.generations, seed=arguments.seed, skills=arguments.skills,
-                                noise=arguments.noise, roulette_weighting=arguments.roulette_weighting)
+                                noise=arguments.noise, count_touches=arguments.count_touches,
+                                roulette_weighting=arguments.roulette_weighting)
     names = [INITIAL] if arguments.no_random else [INITIAL, RANDOM]
     if arguments.out is None:
         with tempfile.TemporaryDirectory() as folder:
@@ -83,7 +87,8 @@ def calibrate(options: ExperimentOptions, names: list[str], folder: Path, worker
     table = assemble(experiment, folder)
     evaluations = sum(spec.setting.evaluations for spec in experiment.specs)
     game = options.game()
-    print(f"candidate: skills {game.skills}, roulette weighting {options.roulette_weighting}, noise {game.noise}; "
+    print(f"candidate: skills {game.skills}, roulette weighting {options.roulette_weighting}, noise {game.noise}, "
+          f"touches counted as kicks {game.count_touches}; "
           f"population {options.population} x {options.generations} generations")
     print(f"{len(experiment.specs)} trials ({ran} run, {skipped} reused), {evaluations} evaluations, "
           f"{seconds:.0f} s on {workers} workers (load average before the report: {os.getloadavg()[0]:.1f})")

@@ -166,4 +166,9 @@ class GameConfig(EvaluationRules):
 
     games_per_evaluation: PositiveInt = 1
     noise: bool = False  # rcssserver-like velocity and turn noise
+    # What the fitness counts as a kick: the kicks that reached the ball (default), or also every tick the
+    # player's body pushes the ball (README, "Calibration": the chapter's 5.2.3 reads fitness 1.0 as "no ball
+    # movement", and a player that shoves the ball along moves it). SimpleSoccer only: on rcssserver the
+    # server counts the kicks.
+    count_touches: bool = False
     world: WorldConfig = WorldConfig()

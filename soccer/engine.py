@@ -50,11 +50,12 @@ class GameRules(NamedTuple):
     noise: bool
     assisted_skills: bool
     goal_in_view_only: bool  # the `sighted` skill set: the skills know the goal only while it is seen
+    count_touches: bool  # a player-ball collision counts as a kick (GameConfig.count_touches)
 
     @classmethod
     def from_config(cls, config: GameConfig) -> "GameRules":
         return cls(config.max_ticks, config.goal_cap, config.idle_ticks, config.idle_distance, config.noise,
-                   *skill_set_flags(config.skills))
+                   *skill_set_flags(config.skills), config.count_touches)
 
 
 class VocabularyLayout(NamedTuple):
@@ -251,7 +252,7 @@ def close_step(g, px, py, bx, by, player, ball, pitches, state, constants, rules
     c = constants
     offsets = pitches.offsets
     facing, last_player, last_ball, min_distance = state.facing, state.last_player, state.last_ball, state.min_distance
-    kicked, idle, goals, ticks = state.kicked, state.idle, state.goals, state.ticks
+    kicked, idle, goals, ticks, kicks = state.kicked, state.idle, state.goals, state.ticks, state.kicks
     end_reason, done, streams = state.end_reason, state.done, state.streams
     ox, oy = offsets[g, 0], offsets[g, 1]
     px, py, bx, by, collided = separate(px, py, bx, by, facing[g], c)
@@ -263,6 +264,8 @@ def close_step(g, px, py, bx, by, player, ball, pitches, state, constants, rules
         for body in (player, ball):
             body[2] *= c.collision_rebound
             body[3] *= c.collision_rebound
+        if rules.count_touches:
+            kicks[g] += 1
     scored = False
     if last_ball[g, 0] <= c.half_length < bx:
         t = (c.half_length - last_ball[g, 0]) / (bx - last_ball[g, 0])

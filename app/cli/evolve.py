@@ -15,7 +15,7 @@ from rich.console import Console
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
 
 from app.cli.common import fail
-from app.cli.play import (EnvOption, FitnessOption, GoalCapOption, IdleTicksOption, MaxTicksOption,
+from app.cli.play import (CountTouchesOption, EnvOption, FitnessOption, GoalCapOption, IdleTicksOption, MaxTicksOption,
                           NoiseOption, RcssserverOption, ServerOption, ServersOption, SkillsOption, chosen_env,
                           config_from_options, game_config, option_help, option_name, rcss_executable,
                           rcss_servers, trial_config)
@@ -87,7 +87,8 @@ def evolve_command(
     elite_fraction: EliteFraction = None, target_fitness: TargetFitness = None, seed: Seed = None,
     workers: Workers = None, fitness: FitnessOption = None, games_per_evaluation: GamesPerEvaluation = None,
     max_ticks: MaxTicksOption = None, goal_cap: GoalCapOption = None, idle_ticks: IdleTicksOption = None,
-    noise: NoiseOption = None, skills: SkillsOption = None, env: EnvOption = None, server: ServerOption = None,
+    noise: NoiseOption = None, skills: SkillsOption = None, count_touches: CountTouchesOption = None,
+    env: EnvOption = None, server: ServerOption = None,
     rcssserver: RcssserverOption = None, servers: ServersOption = None, out: Out = None, resume_dir: Resume = None,
 ) -> None:
     """Evolve a goal-scoring rulebase with the messy-coded GA (defaults: the chapter's Table 2)."""
@@ -108,7 +109,8 @@ def random_search_command(
     consequent_probability: ConsequentProbability = None, target_fitness: TargetFitness = None, seed: Seed = None,
     workers: Workers = None, fitness: FitnessOption = None, games_per_evaluation: GamesPerEvaluation = None,
     max_ticks: MaxTicksOption = None, goal_cap: GoalCapOption = None, idle_ticks: IdleTicksOption = None,
-    noise: NoiseOption = None, skills: SkillsOption = None, env: EnvOption = None, server: ServerOption = None,
+    noise: NoiseOption = None, skills: SkillsOption = None, count_touches: CountTouchesOption = None,
+    env: EnvOption = None, server: ServerOption = None,
     rcssserver: RcssserverOption = None, servers: ServersOption = None, out: Out = None,
 ) -> None:
     """The baseline: spend the same evaluations on fresh random rulebases (population x generations),
@@ -120,12 +122,12 @@ def random_search_command(
 def _settings(algorithm: str, options: dict[str, Any]) -> "RunSettings":
     """The run the options ask for, each checked with a message naming its option (before the run's
     machinery is imported: a bad option is refused at once)."""
+    game_options = {name: options.pop(name) for name in ("fitness", "max_ticks", "goal_cap", "idle_ticks", "skills")}
+    simple_options = {name: options.pop(name) for name in ("noise", "count_touches", "games_per_evaluation")}
     env = chosen_env(options.pop("env"), options.get("server"),
-                     {"--noise": options.get("noise"), "--games-per-evaluation": options.get("games_per_evaluation")},
+                     {option_name(name, {}): value for name, value in simple_options.items()},
                      {"--rcssserver": options.get("rcssserver"), "--servers": options.get("servers")})
-    game_options = [options.pop(name) for name in ("fitness", "max_ticks", "goal_cap", "idle_ticks")]
-    noise, games, servers = options.pop("noise"), options.pop("games_per_evaluation"), options.pop("server")
-    skills = options.pop("skills")
+    servers = options.pop("server")
     rcssserver, count = options.pop("rcssserver"), options.pop("servers")
     for name in ("out", "resume_dir"):
         options.pop(name, None)
@@ -133,7 +135,7 @@ def _settings(algorithm: str, options: dict[str, Any]) -> "RunSettings":
     if env == SIMPLE:
         if options["workers"] is None:
             options["workers"] = min(os.cpu_count() or 1, WORKERS_LIMIT)
-        where = {"game": game_config(*game_options, noise, games, skills)}
+        where = {"game": game_config(**game_options, **simple_options)}
     else:
         if options["workers"] is not None:
             try:
@@ -141,7 +143,7 @@ def _settings(algorithm: str, options: dict[str, Any]) -> "RunSettings":
             except ValueError as exc:
                 fail(f"--workers: {exc}")
         options["workers"] = RCSS_WORKERS
-        trial = trial_config(*game_options, skills)
+        trial = trial_config(**game_options)
         executable = rcss_executable(servers, rcssserver, count)
         where = {"env": RCSS, "trial": trial, "servers": tuple(rcss_servers(servers)) if servers else (),
                  "start_servers": 0 if servers else count or 1,

@@ -51,6 +51,10 @@ def experiment_command(
     noise: Annotated[Optional[bool], typer.Option(
         "--noise/--no-noise", help=option_help(ExperimentOptions, "noise", "rcssserver-like movement noise."),
         show_default=False)] = None,
+    count_touches: Annotated[Optional[bool], typer.Option(
+        "--count-touches/--no-count-touches", help=option_help(
+            ExperimentOptions, "count_touches", "Count every tick the player's body pushes the ball as a kick."),
+        show_default=False)] = None,
     roulette_weighting: Annotated[Optional[str], typer.Option(
         "--roulette-weighting", help=option_help(ExperimentOptions, "roulette_weighting",
                                                  "Roulette weight: linear (1 - fitness) or inverse (1 / fitness)."),
@@ -81,10 +85,12 @@ def experiment_command(
         fail(f"unknown preset {preset!r}; choose one of {', '.join(CHOICES)}")
     options: ExperimentOptions = config_from_options(ExperimentOptions, {
         "trials": trials, "population": population, "generations": generations, "max_ticks": max_ticks,
-        "seed": seed, "skills": skills, "noise": noise, "roulette_weighting": roulette_weighting})
+        "seed": seed, "skills": skills, "noise": noise, "count_touches": count_touches,
+        "roulette_weighting": roulette_weighting})
     folder = out or Path(DEFAULT_OUT_FOLDER) / f"{preset}-seed{options.seed}"
     _check_where_trials_run(preset, {"--server": server, "--rcssserver": rcssserver, "--servers": servers},
-                            {"--executor": executor, "--workers": workers, "--address": address, "--noise": noise})
+                            {"--executor": executor, "--workers": workers, "--address": address, "--noise": noise,
+                             "--count-touches": count_touches})
     try:
         with ExitStack() as stack:
             if preset == ROBOCUP:
@@ -112,8 +118,8 @@ def _check_where_trials_run(preset: str, rcss_options: dict[str, object], local_
     given = [option for option, value in (local_options if preset == ROBOCUP else rcss_options).items()
              if value is not None]
     if given and preset == ROBOCUP:
-        fail(f"{', '.join(given)}: {ROBOCUP} plays its trials on rcssservers (--servers sets how many, the noise is "
-             "the server's), not SimpleSoccer on an executor")
+        fail(f"{', '.join(given)}: {ROBOCUP} plays its trials on rcssservers (--servers sets how many, the noise and "
+             "the count of kicks are the server's), not SimpleSoccer on an executor")
     if given:
         fail(f"{', '.join(given)}: for the {ROBOCUP} preset only (the others play SimpleSoccer)")
 

@@ -79,12 +79,17 @@ SkillsOption = Annotated[Optional[str], typer.Option(
     show_default=False, rich_help_panel=GAME_PANEL)]
 
 
-def game_config(fitness: str | None, max_ticks: int | None, goal_cap: int | None, idle_ticks: int | None,
-                noise: bool | None, games_per_evaluation: int | None = None, skills: str | None = None) -> GameConfig:
-    return config_from_options(GameConfig, {
-        "fitness": fitness, "max_ticks": max_ticks, "goal_cap": goal_cap, "idle_ticks": idle_ticks,
-        "noise": noise, "games_per_evaluation": games_per_evaluation, "skills": skills,
-    })
+CountTouchesOption = Annotated[Optional[bool], typer.Option(
+    "--count-touches/--no-count-touches", help=option_help(
+        GameConfig, "count_touches", "Count every tick the player's body pushes the ball as a kick (the fitness's "
+        "ball movement), not only the kicks that reach it."),
+    show_default=False, rich_help_panel=GAME_PANEL)]
+
+
+def game_config(**options: Any) -> GameConfig:
+    """GameConfig from the game options given by name (fitness, max_ticks, ..., count_touches); unset (None)
+    ones keep GameConfig's defaults."""
+    return config_from_options(GameConfig, options)
 
 
 # The environment options, shared with `evolve` and `random-search`.
@@ -167,13 +172,12 @@ def rcss_servers(servers: list[str] | None) -> list[str]:
         fail(f"--server: {exc}")
 
 
-def trial_config(fitness: str | None, max_ticks: int | None, goal_cap: int | None,
-                 idle_ticks: int | None, skills: str | None = None) -> "TrialConfig":
-    """rcssserver trials (the chapter's, 5.3) from the game options; unset ones keep TrialConfig's (the chapter's)."""
+def trial_config(**options: Any) -> "TrialConfig":
+    """rcssserver trials (the chapter's, 5.3) from the game options they share with SimpleSoccer (fitness,
+    max_ticks, goal_cap, idle_ticks, skills) given by name; unset ones keep TrialConfig's (the chapter's)."""
     from soccer.rcss.trial import TrialConfig
 
-    return config_from_options(TrialConfig, {"fitness": fitness, "max_ticks": max_ticks, "goal_cap": goal_cap,
-                                             "idle_ticks": idle_ticks, "skills": skills})
+    return config_from_options(TrialConfig, options)
 
 
 def consecutive_seeds(seed: int, games: int) -> list[int]:
@@ -195,6 +199,7 @@ def play_command(
     idle_ticks: IdleTicksOption = None,
     noise: NoiseOption = None,
     skills: SkillsOption = None,
+    count_touches: CountTouchesOption = None,
     env: EnvOption = None,
     server: ServerOption = None,
     rcssserver: RcssserverOption = None,
@@ -203,15 +208,18 @@ def play_command(
     """Play RULEBASE in SimpleSoccer (or on rcssserver) from seeded random starts; print goals, kicks, ticks and fitness."""
     from soccer.engine import play_game, play_games
 
-    env = chosen_env(env, server, {"--noise": noise, "--rrd": rrd}, {"--rcssserver": rcssserver, "--servers": servers})
-    config = game_config(fitness, max_ticks, goal_cap, idle_ticks, noise, skills=skills)
+    env = chosen_env(env, server, {"--noise": noise, "--count-touches": count_touches, "--rrd": rrd},
+                     {"--rcssserver": rcssserver, "--servers": servers})
+    config = game_config(fitness=fitness, max_ticks=max_ticks, goal_cap=goal_cap, idle_ticks=idle_ticks, noise=noise,
+                         skills=skills, count_touches=count_touches)
     try:
         player = load_rulebase(rulebase)
     except RulebaseFileError as exc:
         fail(str(exc))
     seeds = consecutive_seeds(seed, games)
     if env == RCSS:
-        trial = trial_config(fitness, max_ticks, goal_cap, idle_ticks, skills)
+        trial = trial_config(fitness=fitness, max_ticks=max_ticks, goal_cap=goal_cap, idle_ticks=idle_ticks,
+                             skills=skills)
         with rcss_addresses(server, rcssserver, servers) as addresses:
             results = _play_on_rcss(player, seeds, addresses, trial)
         _print_table(seeds, results)

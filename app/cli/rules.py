@@ -12,8 +12,8 @@ from typing import TYPE_CHECKING, Optional
 import typer
 
 from app.cli.common import OneLineErrors, fail
-from app.cli.play import (FitnessOption, GoalCapOption, IdleTicksOption, MaxTicksOption, NoiseOption, SkillsOption,
-                          game_config)
+from app.cli.play import (CountTouchesOption, FitnessOption, GoalCapOption, IdleTicksOption, MaxTicksOption,
+                          NoiseOption, SkillsOption, game_config)
 from app.rule_inspection import DEFAULT_USAGE_GAMES
 from app.rulebase_files import JSON_SUFFIX
 from fuzzy.engine import Engine, Inference
@@ -185,13 +185,15 @@ def usage(
     idle_ticks: IdleTicksOption = None,
     noise: NoiseOption = None,
     skills: SkillsOption = None,
+    count_touches: CountTouchesOption = None,
     vocabulary: Optional[Path] = VOCABULARY_OPTION,
 ) -> None:
     """Play FILE in SimpleSoccer and show, per rule, how often it fired, won and decided, and its mean strength;
     per action how often it was performed; and how often the player hunted."""
     from app.rule_inspection import rule_usage, usage_document
 
-    config = game_config(fitness, max_ticks, goal_cap, idle_ticks, noise, skills=skills)
+    config = game_config(fitness=fitness, max_ticks=max_ticks, goal_cap=goal_cap, idle_ticks=idle_ticks, noise=noise,
+                         skills=skills, count_touches=count_touches)
     rulebase, vocab = _playable(file, vocabulary)
     result = _played(lambda: rule_usage(rulebase, vocab, games, seed, config))
     if as_json:
@@ -219,13 +221,15 @@ def simplify(
     idle_ticks: IdleTicksOption = None,
     noise: NoiseOption = None,
     skills: SkillsOption = None,
+    count_touches: CountTouchesOption = None,
     vocabulary: Optional[Path] = VOCABULARY_OPTION,
 ) -> None:
     """A shorter rulebase that plays the same: exact steps (proved on every input), then, with --games, the rules
     that never won in those games (kept only when every game replays identically)."""
     from app.rule_inspection import simplification, simplification_document
 
-    config = game_config(fitness, max_ticks, goal_cap, idle_ticks, noise, skills=skills)
+    config = game_config(fitness=fitness, max_ticks=max_ticks, goal_cap=goal_cap, idle_ticks=idle_ticks, noise=noise,
+                         skills=skills, count_touches=count_touches)
     rulebase, vocab = _playable(file, vocabulary) if games else load_rulebase(file, vocabulary)
     result = _played(lambda: simplification(rulebase, vocab, games, seed, config, drop_unused_fields))
     simplified = result.simplification.rulebase

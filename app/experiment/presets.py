@@ -69,6 +69,8 @@ class ExperimentOptions(BaseModel):
     # The choices the chapter leaves open, for every setting of the study (defaults: GameConfig's, GAConfig's).
     skills: SkillSet = Field(GameConfig.model_fields["skills"].default, description="the skill set (soccer/skills.py)")
     noise: bool = Field(GameConfig.model_fields["noise"].default, description="rcssserver-like movement noise")
+    count_touches: bool = Field(GameConfig.model_fields["count_touches"].default,
+                                description="every tick the player's body pushes the ball counts as a kick")
     roulette_weighting: RouletteWeighting = Field(GAConfig.model_fields["roulette_weighting"].default,
                                                   description="roulette weight: 1 - fitness or 1 / fitness")
 
@@ -87,11 +89,12 @@ class ExperimentOptions(BaseModel):
         return max(1, round(chapter_generations * self.generation_scale))
 
     def game(self) -> GameConfig:
-        return GameConfig(max_ticks=self.max_ticks, skills=self.skills, noise=self.noise)
+        return GameConfig(max_ticks=self.max_ticks, skills=self.skills, noise=self.noise,
+                          count_touches=self.count_touches)
 
     def trial(self) -> TrialConfig:
         """The rcssserver trials: the chapter's (1200 cycles) unless max_ticks was given, with the skill set
-        (noise is the server's own)."""
+        (noise is the server's own, and so is the count of kicks)."""
         from soccer.rcss.trial import TrialConfig
 
         length = {"max_ticks": self.max_ticks} if "max_ticks" in self.model_fields_set else {}

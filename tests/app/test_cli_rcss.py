@@ -105,6 +105,7 @@ def test_rcss_without_a_server_or_an_executable_says_how_to_give_one(tmp_path, m
     (["--env", "rcss", "--server", "127.0.0.1:6000", "--server", "127.0.0.1:6000"], "a server is listed twice"),
     (["--env", "rcss", "--workers", "2"], "--workers: with env rcss the GA runs 1 worker"),
     (["--env", "rcss", "--noise"], "--noise: SimpleSoccer only"),
+    (["--env", "rcss", "--count-touches"], "--count-touches: SimpleSoccer only"),
     (["--env", "rcss", "--games-per-evaluation", "3"], "--games-per-evaluation: SimpleSoccer only"),
     (["--env", "rcss", "--fitness", "style"], "--fitness: Input should be"),
     (["--env", "rcss", "--max-ticks", "0"], "--max-ticks: Input should be greater than 0"),

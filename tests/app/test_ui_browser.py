@@ -268,14 +268,19 @@ def test_a_small_evolution_shows_progress_and_its_best_player_can_be_loaded(ui, 
     field(page, "Generations (max)", "input").press("Tab")
     session = session_of(ui)
     wait_until(lambda: session.evolve.config()["population_size"] == 12 and session.evolve.config()["max_generations"] == 2)
-    # The skill set is a Game choice of the panel: the default is GameConfig's, and a pick reaches the run.
+    # The skill set and counting touches are Game choices of the panel: the defaults are GameConfig's, and a
+    # pick reaches the run.
     from soccer.config import GameConfig
 
-    assert session.evolve.game_config() == {"skills": GameConfig().skills, "noise": GameConfig().noise}
+    defaults = GameConfig()
+    assert session.evolve.game_config() == {"skills": defaults.skills, "noise": defaults.noise,
+                                            "count_touches": defaults.count_touches}
     page.get_by_text("Game options", exact=True).click()
     field(page, "Skills (strict: kicks only within reach; sighted: and sees the goal)", "input").click()
     page.get_by_role("option", name="assisted").click()
-    wait_until(lambda: session.evolve.game_config()["skills"] == "assisted")
+    field(page, "Body pushes count as kicks", "input").check()
+    wait_until(lambda: session.evolve.game_config()["skills"] == "assisted"
+               and session.evolve.game_config()["count_touches"] is True)
     page.get_by_role("button", name="Start").click()
     status = page.locator(".evolve-status")
     wait_until(lambda: "generation 0 of 0–1" in status.inner_text() or "finished" in status.inner_text(), timeout=60)
@@ -285,7 +290,8 @@ def test_a_small_evolution_shows_progress_and_its_best_player_can_be_loaded(ui, 
     wait_until(lambda: session.game.name.startswith("run #"))
     wait_until(lambda: "finished" in status.inner_text(), timeout=60)
     assert len(session.evolve.best) == 2  # generation 0 (the initial population) and generation 1
-    assert session.evolve.store.get_run(session.evolve.run_id).config["game"]["skills"] == "assisted"
+    game = session.evolve.store.get_run(session.evolve.run_id).config["game"]
+    assert game["skills"] == "assisted" and game["count_touches"] is True
     assert all(0.0 <= b <= m <= 1.0 for b, m in zip(session.evolve.best, session.evolve.mean))
     shot(page, "5-evolve")
     page.get_by_role("tab", name="Population").click()

@@ -199,6 +199,22 @@ def test_strict_kicking_skills_leave_an_unreachable_ball_alone():
     assert all(result.kicks == 0 and result.fitness == 1.0 and result.end_reason == "idle" for result in strict)
 
 
+def test_counting_touches_changes_what_counts_as_a_kick_not_the_game():
+    """A ball chaser that never kicks shoves the ball along with its body: fitness 1.0 ("no ball movement")
+    when only kicks count, ball movement (0.5 + closest approach / 210) when its pushes count as kicks;
+    the game itself, tick for tick, is the same."""
+    chaser = parse_rulebase("if Ball is VeryFar or Ball is not VeryFar then RunTowardBall High", VOCABULARY)
+    for seed in (1, 2):
+        kicks_only, plain = play_game(chaser, seed, GameConfig())
+        touches, counted = play_game(chaser, seed, GameConfig(count_touches=True))
+        for field in ("player_x", "player_y", "ball_x", "ball_y", "action"):
+            assert np.array_equal(getattr(plain, field), getattr(counted, field))
+        assert kicks_only.kicks == 0 and kicks_only.fitness == 1.0 and kicks_only.goals == touches.goals == 0
+        assert touches.kicks > 100  # a push most ticks once it reaches the ball
+        assert touches.fitness == 0.5 + touches.min_ball_goal_distance / (2 * GameConfig().world.pitch_length)
+        assert touches.fitness < 0.8 and touches.min_ball_goal_distance == kicks_only.min_ball_goal_distance
+
+
 @numba.njit
 def _through_borrowed_views(values):
     first, (second, scale) = borrowed(values)

@@ -43,8 +43,9 @@ LABELS = {  # what a teacher reads next to each field; fields missing here show 
     "workers": "Worker processes",
     "skills": "Skills (strict: kicks only within reach; sighted: and sees the goal)",
     "noise": "Movement noise",
+    "count_touches": "Body pushes count as kicks",
 }
-GAME_FIELDS = ("skills", "noise")  # the GameConfig choices the chapter leaves open; the rest are its rules
+GAME_FIELDS = ("skills", "noise", "count_touches")  # the GameConfig choices the chapter leaves open; the rest are its rules
 
 
 def ga_fields() -> dict[str, Any]:
@@ -153,7 +154,7 @@ class EvolvePanel:
             ga, game, where = self.config(), self.game_config(), {}
             if self.where.value == RCSSSERVER:  # the GA evaluates in this process, trials over the servers
                 where = {"env": RCSS, "start_servers": int(self.servers.value), "trial": {"skills": game["skills"]}}
-                ga, game = {**ga, "workers": RCSS_WORKERS}, None  # the server has its own noise
+                ga, game = {**ga, "workers": RCSS_WORKERS}, None  # the server has its own noise and kick count
             record = self.runs.start(self.name.value.strip() or None, ga=ga, game=game,
                                      algorithm=ALGORITHMS[self.algorithm.value], **where)
         except (ValueError, RunStateError) as exc:  # pydantic's ValidationError is a ValueError
