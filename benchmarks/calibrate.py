@@ -8,8 +8,10 @@ beside ours.
 
 Full size is the chapter's: `initial` (20 Table 2 trials: Figs. 11-13, 16-17 at 64 genes) and `random`
 (10 trials each of the 100-generation elitist GA and of random search at 20,000 evaluations: Figs. 28,
-31). The trials run through the experiment machinery (app/experiment/), into --out when given, so a
-second call with the same options reuses them; the report's own verdicts on these two presets follow.
+31). `--also selection long ...` adds other presets of the study, for their verdicts. The trials run
+through the experiment machinery (app/experiment/), into --out when given, so a second call with the
+same options reuses them; a table of every setting's outcome and the report's own verdicts on the
+presets run follow.
 """
 
 from __future__ import annotations
@@ -24,8 +26,8 @@ from pathlib import Path
 import numpy as np
 
 from app.experiment.executors import LocalExecutor
-from app.experiment.presets import ExperimentOptions
-from app.experiment.report import GOAL_SCORING, assess_findings
+from app.experiment.presets import PRESET_NAMES, ExperimentOptions
+from app.experiment.report import GOAL_SCORING, NEVER_KICKING, SCORERS_SPREAD, assess_findings
 from app.experiment.runner import Plan, assemble, plan, prepare_folder, run_trials
 from app.experiment.table import StatisticsTable
 from ga.config import GAConfig
@@ -60,6 +62,9 @@ def main() -> None:
     parser.add_argument("--generations", type=int, default=defaults.generations)
     parser.add_argument("--seed", type=int, default=defaults.seed)
     parser.add_argument("--no-random", action="store_true", help="skip the GA against random search (Figs. 28, 31)")
+    parser.add_argument("--also", nargs="+", default=[], metavar="PRESET",
+                        choices=[name for name in PRESET_NAMES if name not in (INITIAL, RANDOM)],
+                        help="other presets of the study to run, for their verdicts (e.g. selection long)")
     parser.add_argument("--workers", type=int, default=os.cpu_count() or 1)
     parser.add_argument("--out", type=Path, help="experiment folder to keep (and reuse) the trials in")
     arguments = parser.parse_args()
@@ -67,7 +72,7 @@ def main() -> None:
                                 generations=arguments.generations, seed=arguments.seed, skills=arguments.skills,
                                 noise=arguments.noise, count_touches=arguments.count_touches,
                                 roulette_weighting=arguments.roulette_weighting)
-    names = [INITIAL] if arguments.no_random else [INITIAL, RANDOM]
+    names = ([INITIAL] if arguments.no_random else [INITIAL, RANDOM]) + arguments.also
     if arguments.out is None:
         with tempfile.TemporaryDirectory() as folder:
             calibrate(options, names, Path(folder), arguments.workers)
@@ -99,11 +104,31 @@ def calibrate(options: ExperimentOptions, names: list[str], folder: Path, worker
     for row in rows:
         print("| " + " | ".join(row) + " |")
     print()
+    print(f"| preset | setting | trials | final average: median (quartiles) | run's best: median (std) | kicking never "
+          f"spread (final average >= {NEVER_KICKING}) | taken over by goal scorers (<= {SCORERS_SPREAD}) |")
+    print("|---|---|---|---|---|---|---|")
+    for row in outcome_rows(table, experiment):
+        print("| " + " | ".join(row) + " |")
+    print()
     print("| report finding | verdict | measured |")
     print("|---|---|---|")
     for finding, assessment in assess_findings(table, experiment.presets):
         if finding.preset in names:
             print(f"| {finding.where}: {finding.claim} | {assessment.verdict} | {assessment.measured} |")
+
+
+def outcome_rows(table: StatisticsTable, experiment: Plan) -> list[list[str]]:
+    """Each setting of each preset run: where its trials ended (the report's outcome columns)."""
+    rows = []
+    for preset in experiment.presets:
+        for setting in table.settings(preset.name):
+            final = table.final(preset.name, setting, "mean")
+            best = table.best_so_far(preset.name, setting)
+            low, high = np.percentile(final, [25, 75])
+            rows.append([preset.name, setting, str(len(final)), f"{np.median(final):.3f} ({low:.3f}-{high:.3f})",
+                         f"{np.median(best):.3f} ({np.std(best):.3f})", str(int(np.sum(final >= NEVER_KICKING))),
+                         str(int(np.sum(final <= SCORERS_SPREAD)))])
+    return rows
 
 
 def figure_rows(table: StatisticsTable, experiment: Plan) -> list[list[str]]:
