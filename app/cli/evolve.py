@@ -15,9 +15,9 @@ from rich.console import Console
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
 
 from app.cli.common import fail
-from app.cli.play import (CountTouchesOption, EnvOption, FitnessOption, GoalCapOption, IdleTicksOption, MaxTicksOption,
-                          NoiseOption, RcssserverOption, ServerOption, ServersOption, SkillsOption, chosen_env,
-                          config_from_options, game_config, option_help, option_name, rcss_executable,
+from app.cli.play import (CountTouchesOption, EnvOption, FitnessOption, GoalCapOption, IdleTicksOption,
+                          MaxTicksOption, NoiseOption, RcssserverOption, ServerOption, ServersOption, SkillsOption,
+                          chosen_env, config_from_options, game_config, option_help, option_name, rcss_executable,
                           rcss_servers, trial_config)
 from app.environments import RCSS, RCSS_WORKERS, SIMPLE, checked_workers
 from app.rulebase_files import rulebase_text

@@ -45,7 +45,8 @@ LABELS = {  # what a teacher reads next to each field; fields missing here show 
     "noise": "Movement noise",
     "count_touches": "Body pushes count as kicks",
 }
-GAME_FIELDS = ("skills", "noise", "count_touches")  # the GameConfig choices the chapter leaves open; the rest are its rules
+# The GameConfig choices the chapter leaves open; the rest are its rules.
+GAME_FIELDS = ("skills", "noise", "count_touches")
 
 
 def ga_fields() -> dict[str, Any]:
