@@ -100,6 +100,29 @@ def field(page, label: str, kind: str):
     ).first
 
 
+def choose(page, label: str, option: str, *, exact: bool = False, attempts: int = 3) -> None:
+    """Pick `option` in the viser dropdown labelled `label`, as a user does: open it, click the option.
+
+    On a slow CI machine the option list once stayed mounted but never visible for 60 s (the input had just
+    come into view in a folder still expanding). So this waits for the input to be wholly in view before
+    clicking it and, where the list still does not show, closes it and clicks again, as a user would."""
+    from playwright.sync_api import TimeoutError as PlaywrightTimeout
+    from playwright.sync_api import expect
+
+    select = field(page, label, "input")
+    target = page.get_by_role("option", name=option, exact=exact)
+    for _ in range(attempts):
+        select.scroll_into_view_if_needed()
+        expect(select).to_be_in_viewport(ratio=1.0)
+        select.click()
+        try:
+            target.click(timeout=10_000)
+            return
+        except PlaywrightTimeout:
+            page.keyboard.press("Escape")  # close the hidden dropdown; the next click opens it afresh
+    raise AssertionError(f"option {option!r} of {label!r} never became clickable")
+
+
 def tick(page) -> int:
     return int(page.locator(".game-status").get_attribute("data-tick"))
 
@@ -276,8 +299,7 @@ def test_a_small_evolution_shows_progress_and_its_best_player_can_be_loaded(ui, 
     assert session.evolve.game_config() == {"skills": defaults.skills, "noise": defaults.noise,
                                             "count_touches": defaults.count_touches}
     page.get_by_text("Game options", exact=True).click()
-    field(page, "Skills (strict: kicks only within reach; sighted: and sees the goal)", "input").click()
-    page.get_by_role("option", name="assisted").click()
+    choose(page, "Skills (strict: kicks only within reach; sighted: and sees the goal)", "assisted")
     field(page, "Body pushes count as kicks", "input").check()
     wait_until(lambda: session.evolve.game_config()["skills"] == "assisted"
                and session.evolve.game_config()["count_touches"] is True)

@@ -6,7 +6,7 @@ from pathlib import Path
 
 from fuzzy.export import export_rulebase
 from fuzzy.parser import parse_rulebase
-from tests.app.test_ui_browser import browser, field, page, pytestmark, session_of, shot, ui, wait_until  # noqa: F401
+from tests.app.test_ui_browser import browser, choose, page, pytestmark, session_of, shot, ui, wait_until  # noqa: F401
 
 TEXT = "if Ball is At then Kick SlightlyRight High\nif Ball is not At then GoToBall High\n"
 
@@ -17,13 +17,11 @@ def test_library_downloads_a_saved_rulebase_in_the_chosen_format(ui, page):
     page.get_by_role("tab", name="Library").click()
     page.get_by_role("button", name="Refresh", exact=True).click()
     wait_until(lambda: any(o.endswith("export me") for o in session.library.rulebases.options))
-    field(page, "Rulebase", "input").click()
-    page.get_by_role("option", name=f"#{record.id} export me").click()
+    choose(page, "Rulebase", f"#{record.id} export me")
     wait_until(lambda: session.library.rulebases.value.endswith("export me"))
     vocabulary = ui.context.vocabulary
     for fmt in ("fis", "fcl"):
-        field(page, "Export as", "input").click()
-        page.get_by_role("option", name=fmt, exact=True).click()
+        choose(page, "Export as", fmt, exact=True)
         wait_until(lambda: session.library.export_format.value == fmt)
         with page.expect_download() as download:
             page.get_by_role("button", name="Download", exact=True).click()
