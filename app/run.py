@@ -105,6 +105,15 @@ class RunSettings:
             return RcssTrials(self.servers, self.trial, self.start_servers, self.rcssserver)
         return SimpleSoccerGames(self.game)
 
+    @property
+    def pitch_game(self) -> GameConfig:
+        """The SimpleSoccer game the UI plays this run's players in (its pitch and population view): the
+        run's own game, or for an rcss run SimpleSoccer's with the trial's skill set (the server's noise and
+        kick counting have no SimpleSoccer setting to carry over)."""
+        if self.env == RCSS:
+            return GameConfig(skills=self.trial.skills)
+        return self.game
+
     def with_servers(self, servers: Sequence[str]) -> "RunSettings":
         """The same rcss run on other servers the user runs (a resumed run may play on other servers or ports)."""
         return replace(self, servers=tuple(checked_servers(self.env, servers)), start_servers=0)

@@ -253,6 +253,11 @@ class RunManager:
             return False
         return resolved != root and resolved.is_relative_to(root) and not folder.is_symlink() and resolved.is_dir()
 
+    def pitch_game(self, run_id: int) -> GameConfig:
+        """The SimpleSoccer game the UI plays a run's players in (RunSettings.pitch_game). ValueError when
+        the stored settings no longer validate."""
+        return RunSettings.from_dict(self.store.get_run(run_id).config).pitch_game
+
     def best_rulebase(self, run_id: int) -> Rulebase:
         """The best individual so far (also while the run goes on), ready to play."""
         return parse_rulebase(self.store.best_individual(run_id).rules, SOCCER_VOCABULARY)

@@ -12,16 +12,20 @@ from app.ui.pitch import PitchFrame
 from fuzzy.engine import Engine, Inference
 from fuzzy.printer import format_rule
 from fuzzy.rule import Rulebase
+from soccer.config import GameConfig
 from soccer.env import SoccerEnv
 from soccer.perception import BALL  # the ball's visibility colours the view cone
 
 
 class Game:
-    def __init__(self, context: UiContext, rulebase: Rulebase, name: str, seed: int):
+    """`config`: the game's rules (default: the app's); a run's players play in their run's game."""
+
+    def __init__(self, context: UiContext, rulebase: Rulebase, name: str, seed: int, config: GameConfig | None = None):
         self.context = context
         self.vocabulary = context.vocabulary
-        self.env = SoccerEnv(rulebase, context.game, context.vocabulary)
-        self.view_half_angle = context.game.world.view_width / 2
+        self.config = config if config is not None else context.game
+        self.env = SoccerEnv(rulebase, self.config, context.vocabulary)
+        self.view_half_angle = self.config.world.view_width / 2
         self.set_rulebase(rulebase, name)
         self.restart(seed)
 
@@ -83,7 +87,18 @@ class Game:
             f'<div style="font-size:{style.FONT_SIZE + 10}px; font-weight:700">Goals {s.goals}'
             f'<span style="font-weight:400; font-size:{style.FONT_SIZE + 2}px; color:{style.MUTED}"> '
             f"kicks {s.kicks}</span></div>"
-            f"<div>tick {s.tick} / {self.context.game.max_ticks}{over}</div>"
+            f"<div>tick {s.tick} / {self.config.max_ticks}{over}</div>"
             f'<div style="color:{style.MUTED}">seed {self.seed} · playing <b style="color:{style.INK}">'
-            f"{escape(self.name)}</b></div></div>"
+            f"{escape(self.name)}</b></div>"
+            f'<div class="game-rules" style="color:{style.MUTED}">{escape(rules_summary(self.config))}</div></div>'
         )
+
+
+def rules_summary(config: GameConfig) -> str:
+    """The open choices of a game (README, "Calibration") in a line, e.g. "sighted skills · noise"."""
+    parts = [f"{config.skills} skills"]
+    if config.noise:
+        parts.append("noise")
+    if config.count_touches:
+        parts.append("body pushes count as kicks")
+    return " · ".join(parts)

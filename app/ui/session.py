@@ -7,7 +7,6 @@ tick. Evolution runs elsewhere (the RunManager's threads); the session only list
 
 from __future__ import annotations
 
-import functools
 import logging
 import threading
 import time
@@ -27,8 +26,10 @@ from app.ui.panels.library import LibraryPanel
 from app.ui.panels.play import PlayControls
 from app.ui.panels.policy_view import PolicyPanel
 from app.ui.panels.population import PopulationPanel
+from app.store import NotFound
 from app.ui.pitch import PitchGeometry, PitchView
 from fuzzy.rule import Rulebase
+from soccer.config import GameConfig
 
 log = logging.getLogger(__name__)
 GAME_OVER_PAUSE = 2.0  # seconds the final position stays on screen before the next start
@@ -88,7 +89,6 @@ class Session:
 
     def _build_panels(self) -> None:
         gui, context = self.client.gui, self.context
-        play = functools.partial(self.load_rulebase, restart=True)  # a new player starts a new game
         # Tabs and buttons without icons: viser reads each icon from a 2 MB zip file the first time it
         # is used, seconds that the first visitor after a start would wait for.
         tabs = gui.add_tab_group()
@@ -104,14 +104,14 @@ class Session:
             )
         with tabs.add_tab("Evolve"):
             self.evolve = EvolvePanel(
-                gui, context.runs, context.store, on_load=play,
+                gui, context.runs, context.store, on_load=self.play_player,
                 on_generation=lambda *finished: self.population.generation_finished(*finished),
                 on_run_ended=lambda run_id, status: self.population.run_ended(run_id, status),
                 on_runs_changed=lambda: self.library.refresh(),
             )
         with tabs.add_tab("Library"):
             self.library = LibraryPanel(gui, context.store, context.runs, context.vocabulary, context.api_url,
-                                        on_load=play)
+                                        on_load=self.play_player)
         # The panels themselves (docked, sized, the right one's tabs) are the server's: see layout.py.
         with self.layout.right_tab("Inference"):
             self.inference = InferencePanel(gui, context.vocabulary, on_change=self.refresh,
@@ -120,8 +120,8 @@ class Session:
             self.policy = PolicyPanel(gui, context.vocabulary, self.game.rulebase, self.game.view_half_angle,
                                       on_change=self.refresh)
         with self.layout.right_tab("Population"):
-            self.population = PopulationPanel(gui, context.game, context.vocabulary,
-                                              start_seed=lambda: self.game.seed)
+            self.population = PopulationPanel(gui, context.game.world, context.vocabulary,
+                                              start_seed=lambda: self.game.seed, game_of_run=self.run_game)
         self._render()
 
     # ---- controls -------------------------------------------------------------------------
@@ -144,11 +144,38 @@ class Session:
             self._render()
 
     def load_rulebase(self, rulebase: Rulebase, name: str, *, restart: bool = False) -> None:
-        """Put `rulebase` on the pitch (the game goes on from where it is unless `restart`)."""
+        """Put `rulebase` on the pitch in the same game's rules (the game goes on from where it is unless
+        `restart`): the editor's rules."""
         with self.lock:
             self.game.set_rulebase(rulebase, name)
             if restart:
                 self.game.restart(self.game.seed)
+            self._show_rulebase(rulebase, name)
+
+    def play_player(self, rulebase: Rulebase, name: str, run_id: int | None = None) -> None:
+        """A new player on the pitch, from a new start of the same seed: a run's player in its run's game
+        (run_game), a saved rulebase (`run_id` None) in the app's."""
+        config = self.context.game if run_id is None else self.run_game(run_id)
+        with self.lock:
+            if config == self.game.config:
+                self.game.set_rulebase(rulebase, name)
+                self.game.restart(self.game.seed)
+            else:
+                self.game = Game(self.context, rulebase, name, self.game.seed, config)
+            self._show_rulebase(rulebase, name)
+
+    def run_game(self, run_id: int) -> GameConfig:
+        """The game a run's players play in on this tab: the run's rules (skills, noise, kick counting,
+        limits, fitness) in the app's world, which the pitch is drawn to; the app's game when the stored
+        settings no longer validate."""
+        try:
+            game = self.context.runs.pitch_game(run_id)
+        except (NotFound, ValueError):
+            game = self.context.game
+        return game.model_copy(update={"world": self.context.game.world})
+
+    def _show_rulebase(self, rulebase: Rulebase, name: str) -> None:
+        with self.lock:
             self.editor.show_rulebase(rulebase, name)
             self.inference.show_usage(None)  # it counted the rules of the previous rulebase
             self.policy.show_rulebase(rulebase)
@@ -158,8 +185,8 @@ class Session:
         """Rule usage over `games` games from the pitch's seed, shown beside the rules. The games are
         played outside the lock, so the pitch goes on meanwhile."""
         with self.lock:
-            rulebase, seed = self.game.rulebase, self.game.seed
-        usage = rule_usage(rulebase, self.context.vocabulary, games, seed, self.context.game)
+            rulebase, seed, config = self.game.rulebase, self.game.seed, self.game.config
+        usage = rule_usage(rulebase, self.context.vocabulary, games, seed, config)
         with self.lock:
             if self.game.rulebase is rulebase:
                 self.inference.show_usage(usage)
@@ -167,7 +194,9 @@ class Session:
 
     def simplify(self, rulebase: Rulebase, games: int):
         """The rules simplified: exact steps, then checked on `games` games from the pitch's seed."""
-        return simplification(rulebase, self.context.vocabulary, games, self.game.seed, self.context.game)
+        with self.lock:
+            seed, config = self.game.seed, self.game.config
+        return simplification(rulebase, self.context.vocabulary, games, seed, config)
 
     def refresh(self) -> None:
         with self.lock:

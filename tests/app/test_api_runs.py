@@ -255,6 +255,20 @@ def test_a_run_is_named_by_its_settings_unless_named(tmp_path):
         f"GA 200x25 roulette/{weighting} {TrialConfig().skills} on rcssserver seed 0"
 
 
+def test_a_runs_players_are_watched_in_the_game_they_were_evaluated_in(tmp_path):
+    game = {**SHORT_GAMES, "skills": "assisted", "count_touches": True, "noise": True}
+    assert RunSettings.build(game=game).pitch_game == GameConfig(**game)
+    # An rcss run's players are watched in SimpleSoccer with the trial's skill set: the server's own
+    # noise and kick count have no SimpleSoccer setting to carry over.
+    assert RunSettings.build(env="rcss", trial={"skills": "strict"}).pitch_game == GameConfig(skills="strict")
+    store = Store(tmp_path / DATABASE_FILE)
+    runs = RunManager(store, tmp_path)
+    record = runs.start("assisted", TINY_GA, game)
+    runs.wait(record.id, timeout=120)
+    assert runs.pitch_game(record.id) == GameConfig(**game)
+    store.close()
+
+
 def test_generations_are_numbered_from_0_alike_in_the_api_the_csv_and_the_recording(tmp_path):
     from rerun.chunk import RrdReader
 

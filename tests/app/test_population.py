@@ -84,8 +84,13 @@ GAME = GameConfig(max_ticks=200)
 SEED = 5  # the main pitch's seed, where every small pitch starts
 
 
-def population_panel() -> PopulationPanel:
-    return PopulationPanel(FakeGui(), GAME, VOCABULARY, start_seed=lambda: SEED)
+def population_panel(games: dict[int, GameConfig] | None = None, asked: list[int] | None = None) -> PopulationPanel:
+    """A panel whose runs play in `games` (by run id; GAME for any other run), noting each run asked for."""
+    def game_of_run(run_id: int) -> GameConfig:
+        (asked if asked is not None else []).append(run_id)
+        return (games or {}).get(run_id, GAME)
+
+    return PopulationPanel(FakeGui(), GAME.world, VOCABULARY, start_seed=lambda: SEED, game_of_run=game_of_run)
 
 
 def test_panel_plays_the_published_players_in_one_batch_from_one_start(monkeypatch):
@@ -132,3 +137,34 @@ def test_the_caption_says_when_the_run_has_ended():
     panel.advance(1)
     assert 'data-ended="true"' in panel.caption.content and "evaluated" not in panel.caption.content
     assert "the run finished after this generation" in panel.caption.content
+
+
+def test_each_run_plays_in_its_own_game():
+    assisted = GameConfig(max_ticks=200, skills="assisted", count_touches=True)
+    asked: list[int] = []
+    panel = population_panel({4: assisted}, asked)
+    rulebases = [CODEC.decode(parse_compact(text, VOCABULARY)) for text in (SCORER, CHASER)]
+    players = tuple(SampledPlayer(r, 0.5) for r in rulebases)
+    for run_id, game in ((4, assisted), (9, GAME)):
+        for generation in range(2):
+            panel.generation_finished(run_id, generation, players)
+            panel.advance(40)
+            reference = GameBatch(rulebases, [SEED] * 2, game, VOCABULARY)
+            for _ in range(40):
+                reference.step()
+            for seen, expected in zip(panel.batch.observation, reference.observation):
+                np.testing.assert_array_equal(seen, expected)
+            np.testing.assert_array_equal(panel.batch.state.kicks, reference.state.kicks)
+        words = "assisted skills · body pushes count as kicks" if game is assisted else f"({GAME.skills} skills)"
+        assert words in panel.caption.content
+    assert asked == [4, 9]  # once per run: its settings do not change while it runs
+    # Which matters: far from the ball, KickTowardGoal fetches it with assisted skills only.
+    fetcher = [CODEC.decode(parse_compact("(B,nF,A)(KG,n,H)", VOCABULARY))]
+    moved = []
+    for game in (GAME, assisted):
+        batch = GameBatch(fetcher, [SEED], game, VOCABULARY)
+        start = batch.observation.player_x.copy()
+        for _ in range(40):
+            batch.step()
+        moved.append(not np.array_equal(batch.observation.player_x, start))
+    assert moved == [False, True]

@@ -310,6 +310,9 @@ def test_a_small_evolution_shows_progress_and_its_best_player_can_be_loaded(ui, 
     wait_until(lambda: load.is_enabled())
     load.click()
     wait_until(lambda: session.game.name.startswith("run #"))
+    # The run's best plays in the game it was evaluated in, and the pitch's status says which.
+    assert session.game.config.skills == "assisted" and session.game.config.count_touches is True
+    page.locator(".game-rules", has_text="assisted skills · body pushes count as kicks").wait_for(state="attached")
     wait_until(lambda: "finished" in status.inner_text(), timeout=60)
     assert len(session.evolve.best) == 2  # generation 0 (the initial population) and generation 1
     game = session.evolve.store.get_run(session.evolve.run_id).config["game"]
@@ -348,6 +351,7 @@ def test_after_a_run_every_view_numbers_its_generations_alike_and_says_it_ended(
     wait_until(lambda: caption.get_attribute("data-ended") == "true")
     assert caption.get_attribute("data-generation") == "1"
     assert "evaluated" not in caption.inner_text() and "finished after this generation" in caption.inner_text()
+    assert "assisted skills · body pushes count as kicks" in caption.inner_text()  # the run's game
 
 
 def test_save_to_library_then_open_it_again(ui, page):
@@ -356,6 +360,7 @@ def test_save_to_library_then_open_it_again(ui, page):
     field(page, "Rules", "textarea").fill("if Ball is At then KickTowardGoal VeryHigh\nif Ball is not At then GoToBall High")
     page.get_by_role("button", name="Apply").click()
     wait_until(lambda: len(session.game.rulebase) == 2 and session.game.name == "edited")
+    assert session.game.config.skills == "assisted"  # edited rules stay in the game on the pitch (the run's)
     field(page, "Name", "input").fill("my striker")
     page.get_by_role("button", name="Save").click()
     page.locator(".editor-message", has_text="my striker").wait_for()
@@ -368,6 +373,8 @@ def test_save_to_library_then_open_it_again(ui, page):
     page.get_by_role("button", name="Open").click()
     wait_until(lambda: session.game.name == "my striker")
     assert "GoToBall High" in "\n".join(session.game.rule_texts)
+    assert session.game.config == ui.context.game  # a saved rulebase plays in the app's game
+    page.locator(".game-rules", has_text=f"{ui.context.game.skills} skills").wait_for(state="attached")
 
 
 def test_the_rule_editor_shows_a_whole_rulebase(ui, page):

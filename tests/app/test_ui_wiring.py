@@ -80,10 +80,27 @@ def test_library_opens_a_saved_rulebase_through_on_load(gui, store, tmp_path):
     record = store.create_rulebase("striker", format_rulebase(DEMO, VOCABULARY))
     loaded = []
     library = LibraryPanel(gui, store, RunManager(store, tmp_path), VOCABULARY, None,
-                           on_load=lambda r, n: loaded.append((format_rulebase(r, VOCABULARY), n)))
+                           on_load=lambda r, n, run_id: loaded.append((format_rulebase(r, VOCABULARY), n, run_id)))
     assert library.rulebases.value == f"#{record.id} striker"
     library.open_rulebase()
-    assert loaded == [(format_rulebase(DEMO, VOCABULARY), "striker")]
+    assert loaded == [(format_rulebase(DEMO, VOCABULARY), "striker", None)]  # no run: the app's game
+
+
+def test_library_watches_a_runs_best_naming_the_run(gui, store, tmp_path):
+    from app.runs import RunManager
+    from app.ui.panels.library import LibraryPanel
+    from tests.app.api_client import SHORT_GAMES, TINY_GA
+
+    runs = RunManager(store, tmp_path)
+    record = runs.start("assisted", TINY_GA, {**SHORT_GAMES, "skills": "assisted"})
+    runs.wait(record.id, timeout=120)
+    loaded = []
+    library = LibraryPanel(gui, store, runs, VOCABULARY, None, on_load=lambda r, n, run_id: loaded.append(run_id))
+    library.refresh()
+    assert library.runs.value.startswith(f"#{record.id} ")
+    library.watch_run()
+    assert loaded == [record.id]  # the session plays it in the run's game (runs.pitch_game)
+    runs.shutdown()
 
 
 def test_policy_map_redraws_for_a_control_change_and_a_new_rulebase(gui):
@@ -107,7 +124,7 @@ def test_library_lists_newest_first_and_selects_what_was_just_made(gui, store, t
     from app.ui.panels.library import LibraryPanel
 
     first = store.create_rulebase("first", format_rulebase(DEMO, VOCABULARY))
-    library = LibraryPanel(gui, store, RunManager(store, tmp_path), VOCABULARY, None, on_load=lambda r, n: None)
+    library = LibraryPanel(gui, store, RunManager(store, tmp_path), VOCABULARY, None, on_load=lambda *_: None)
     assert library.rulebases.value == f"#{first.id} first"
     second = store.create_rulebase("second", format_rulebase(DEMO, VOCABULARY))
     library.refresh()

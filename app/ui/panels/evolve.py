@@ -61,8 +61,8 @@ def game_fields() -> dict[str, Any]:
 
 class EvolvePanel:
     """Starts and follows this tab's evolution. Generations are numbered from 0, the evaluated initial
-    population, as everywhere else. Callbacks: `on_load(rulebase, name)` puts the best player so far on
-    the pitch; `on_generation(run_id, generation, players)` hands each finished generation's best
+    population, as everywhere else. Callbacks: `on_load(rulebase, name, run_id)` puts the best player so far
+    on the pitch (in its run's game); `on_generation(run_id, generation, players)` hands each finished generation's best
     players on and `on_run_ended(run_id, status)` says the run is over (both from the run's thread);
     `on_runs_changed()` follows a run starting or ending."""
 
@@ -72,7 +72,7 @@ class EvolvePanel:
         runs: RunManager,
         store: Store,
         *,
-        on_load: Callable[[Rulebase, str], None],
+        on_load: Callable[[Rulebase, str, int], None],
         on_generation: Callable[[int, int, Sequence[SampledPlayer]], None],
         on_run_ended: Callable[[int, RunStatus], None],
         on_runs_changed: Callable[[], None],
@@ -190,7 +190,7 @@ class EvolvePanel:
             self.status.content = self._status_html(f"No best player yet: {exc}", error=True)
             return
         name = f"run #{self.run_id} best (gen {best.generation}, fitness {best.fitness:.3f})"
-        self.on_load(rulebase, name)
+        self.on_load(rulebase, name, self.run_id)
 
     def close(self) -> None:
         self._remove_listener()

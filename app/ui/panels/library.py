@@ -36,8 +36,8 @@ def _id_of(label: str) -> int | None:
 
 
 class LibraryPanel:
-    """`on_load(rulebase, name)` puts a saved rulebase or a run's best player on the pitch. `api_url`:
-    where the JSON API answers, for links to the files it serves (None: no links)."""
+    """`on_load(rulebase, name, run_id)` puts a saved rulebase (run_id None) or a run's best player on the
+    pitch. `api_url`: where the JSON API answers, for links to the files it serves (None: no links)."""
 
     def __init__(
         self,
@@ -47,7 +47,7 @@ class LibraryPanel:
         vocabulary: Vocabulary,
         api_url: str | None,
         *,
-        on_load: Callable[[Rulebase, str], None],
+        on_load: Callable[[Rulebase, str, int | None], None],
     ):
         self.store = store
         self.run_manager = runs
@@ -162,7 +162,7 @@ class LibraryPanel:
         if selected is None:
             return
         record, rulebase = selected
-        self.on_load(rulebase, record.name)
+        self.on_load(rulebase, record.name, None)
         self._say(f"“{record.name}” is on the pitch.")
 
     def rename_rulebase(self) -> None:
@@ -212,7 +212,7 @@ class LibraryPanel:
             self._say(f"No best player yet: {exc}", error=True)
             return
         name = f"run #{record_id} best (gen {best.generation}, fitness {best.fitness:.3f})"
-        self.on_load(rulebase, name)
+        self.on_load(rulebase, name, record_id)
         self._say(f"Watching {name}.")
 
     def rename_run(self) -> None:

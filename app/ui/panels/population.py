@@ -13,10 +13,11 @@ import numpy as np
 import viser
 
 from app.ui import style
+from app.ui.game import rules_summary
 from app.ui.panels.svg import escape, svg_open
 from app.ui.pitch import PitchGeometry
 from fuzzy.vocabulary import Vocabulary
-from soccer.config import GameConfig
+from soccer.config import GameConfig, WorldConfig
 from soccer.engine import GameBatch, Observation
 
 if TYPE_CHECKING:
@@ -80,14 +81,16 @@ def _mini_pitch(geometry: PitchGeometry, observation: Observation, g: int, goals
 
 class PopulationPanel:
     """`start_seed()`: the seed every small pitch starts from (the main pitch's, so the class sees a
-    start it knows)."""
+    start it knows); `game_of_run(run_id)`: the game a run's players play in (its own skills and rules, so
+    the grid shows them as they were evaluated). The small pitches are drawn to `world`."""
 
-    def __init__(self, gui: viser.GuiApi, game: GameConfig, vocabulary: Vocabulary, *,
-                 start_seed: Callable[[], int]):
-        self.game = game
+    def __init__(self, gui: viser.GuiApi, world: WorldConfig, vocabulary: Vocabulary, *,
+                 start_seed: Callable[[], int], game_of_run: Callable[[int], GameConfig]):
         self.vocabulary = vocabulary
         self.start_seed = start_seed
-        self.geometry = PitchGeometry.from_world(game.world)
+        self.game_of_run = game_of_run
+        self.game: GameConfig | None = None  # the shown run's
+        self.geometry = PitchGeometry.from_world(world)
         self.caption = gui.add_html("")
         self.grid = gui.add_html(
             f'<div style="{style.FONT}; color:{style.MUTED}; font-size:{style.FONT_SIZE}px">{escape(EMPTY_TEXT)}</div>'
@@ -136,6 +139,8 @@ class PopulationPanel:
     def _rebuild(self, run_id: int, generation: int, players: Sequence["SampledPlayer"]) -> None:
         shown = list(players)[: style.POPULATION_GRID[0] * style.POPULATION_GRID[1]]
         seed = self.start_seed()  # one start for all, so the players are compared fairly
+        if self._shown is None or self._shown[0] != run_id:  # a run's settings do not change while it runs
+            self.game = self.game_of_run(run_id)
         self.batch = GameBatch([p.rulebase for p in shown], [seed] * len(shown), self.game, self.vocabulary)
         self.labels = [f"#{rank} · {player.fitness:.2f}" for rank, player in enumerate(shown, start=1)]
         self._shown = (run_id, generation, len(shown), seed)
@@ -152,5 +157,6 @@ class PopulationPanel:
             f'<div class="population-caption" data-run="{run_id}" data-generation="{generation}" '
             f'data-ended="{str(status is not None).lower()}" style="{style.FONT}; font-size:{style.FONT_SIZE}px">'
             f"Run #{run_id}, generation {generation}: its {count} best players (rank · fitness), all from the "
-            f"start of seed {seed}, played together by the batched engine{when}. Top right: goals.</div>"
+            f"start of seed {seed} in the run's game ({escape(rules_summary(self.game))}), played together by "
+            f"the batched engine{when}. Top right: goals.</div>"
         )
