@@ -93,6 +93,16 @@ def population_panel(games: dict[int, GameConfig] | None = None, asked: list[int
     return PopulationPanel(FakeGui(), GAME.world, VOCABULARY, start_seed=lambda: SEED, game_of_run=game_of_run)
 
 
+def assert_plays(panel: PopulationPanel, rulebases, game: GameConfig, ticks: int) -> None:
+    """The panel's batch is the very games the engine plays for `rulebases` in `game`, from the session's start."""
+    reference = GameBatch(rulebases, [SEED] * len(rulebases), game, VOCABULARY)
+    for _ in range(ticks):
+        reference.step()
+    for seen, expected in zip(panel.batch.observation, reference.observation):
+        np.testing.assert_array_equal(seen, expected)
+    np.testing.assert_array_equal(panel.batch.state.kicks, reference.state.kicks)
+
+
 def test_panel_plays_the_published_players_in_one_batch_from_one_start(monkeypatch):
     monkeypatch.setattr(style, "POPULATION_REFRESH_SECONDS", 0.0)
     panel = population_panel()
@@ -105,13 +115,7 @@ def test_panel_plays_the_published_players_in_one_batch_from_one_start(monkeypat
     assert panel.batch.games == 3 and panel.labels == ["#1 · 0.25", "#2 · 0.50", "#3 · 0.75"]
     assert 'data-run="9" data-generation="4"' in panel.caption.content
     assert panel.grid.content.count('class="mini-pitch"') == 3
-    # The very games the engine plays for these rulebases from the session's start.
-    reference = GameBatch(rulebases, [SEED] * 3, GAME, VOCABULARY)
-    for _ in range(30):
-        reference.step()
-    for seen, expected in zip(panel.batch.observation, reference.observation):
-        np.testing.assert_array_equal(seen, expected)
-    np.testing.assert_array_equal(panel.batch.state.kicks, reference.state.kicks)
+    assert_plays(panel, rulebases, GAME, ticks=30)
 
 
 def test_panel_shows_at_most_the_grid_and_ignores_an_empty_generation():
@@ -149,12 +153,7 @@ def test_each_run_plays_in_its_own_game():
         for generation in range(2):
             panel.generation_finished(run_id, generation, players)
             panel.advance(40)
-            reference = GameBatch(rulebases, [SEED] * 2, game, VOCABULARY)
-            for _ in range(40):
-                reference.step()
-            for seen, expected in zip(panel.batch.observation, reference.observation):
-                np.testing.assert_array_equal(seen, expected)
-            np.testing.assert_array_equal(panel.batch.state.kicks, reference.state.kicks)
+            assert_plays(panel, rulebases, game, ticks=40)
         words = "assisted skills · body pushes count as kicks" if game is assisted else f"({GAME.skills} skills)"
         assert words in panel.caption.content
     assert asked == [4, 9]  # once per run: its settings do not change while it runs
