@@ -227,10 +227,14 @@ def test_the_tick_label_follows_the_game(ui, page):
 
 
 def test_stepping_changes_membership_and_rule_panels(ui, page):
-    pause(page)
-    time.sleep(0.3)
     session = session_of(ui)
-    start = tick(page)
+    pause(page)
+    wait_until(lambda: not session.playing)
+    # From a fresh start, so the five steps stay in one game (at a game's end a step starts the next).
+    page.get_by_role("button", name="New random start").click()
+    wait_until(lambda: session.game.state.tick == 0)
+    start = 0
+    wait_until(lambda: tick(page) == start)  # the page has the paused tick, not one still on its way
     membership = page.locator(".membership-input").first.inner_html()
     step = page.get_by_role("button", name="Step one tick")
     for clicks in range(1, 6):
