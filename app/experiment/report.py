@@ -182,8 +182,10 @@ def trend(column: str, what: str, rising: bool, from_share: float = 0.0) -> Call
         part = curve[int(from_share * len(curve)):]
         if len(part) < MIN_TRIALS:
             return Assessment(f"{what}: {len(part)} generations", INCONCLUSIVE, "too few generations for a trend")
-        rho, p = stats.spearmanr(np.arange(len(part)), part)
-        rho, p = (0.0, 1.0) if np.isnan(rho) else (float(rho), float(p))
+        if np.ptp(part) == 0 or np.isnan(part).any():  # a flat (or gapped) curve has no rank correlation: no trend
+            rho, p = 0.0, 1.0
+        else:
+            rho, p = (float(value) for value in stats.spearmanr(np.arange(len(part)), part))
         measured = f"{what}: {part[0]:.1f} -> {part[-1]:.1f}, Spearman rho = {rho:+.2f}"
         right_way = rho > 0 if rising else rho < 0
         verdict = AGREES if right_way and p < ALPHA else DISAGREES if not right_way else INCONCLUSIVE

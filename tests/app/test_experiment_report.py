@@ -133,3 +133,23 @@ def test_fitness_equal_but_for_float_noise_is_no_difference():
     assert _p_between({"ga": noisy["50"], "random": noisy["500"]}, alternative="less")[0] == 1.0
     different = {"a": np.array([0.05] * 10), "b": np.array([0.25] * 10)}
     assert _p_between(different)[0] < 0.05
+
+
+def test_a_flat_curve_has_no_trend_and_says_so_without_warnings(tmp_path):
+    """Rules per chromosome that stop changing: no rank correlation exists, so the claim of a rise
+    disagrees with rho 0, and scipy is never asked for an undefined correlation."""
+    import warnings
+
+    from app.experiment.report import trend
+
+    long = preset("long", OPTIONS)
+    flat = {"100 generations": {"rules_mean": np.full((10, 10), 15.0), "mean": np.full((10, 10), 0.7)}}
+    table = StatisticsTable(fabricated("long", flat))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assessment = trend("rules_mean", "rules per chromosome (second half)", rising=True, from_share=0.5)(table, long)
+    assert assessment.verdict == DISAGREES
+    assert "15.0 -> 15.0, Spearman rho = +0.00" in assessment.measured
+    rising = {"100 generations": {"rules_mean": np.tile(np.linspace(10, 20, 10), (10, 1))}}
+    assessment = trend("rules_mean", "rules", rising=True)(StatisticsTable(fabricated("long", rising)), long)
+    assert assessment.verdict == AGREES
