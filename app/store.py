@@ -220,7 +220,8 @@ class Store:
         return RulebaseRecord(**dict(rows[0]))
 
     def list_rulebases(self) -> list[RulebaseRecord]:
-        return [RulebaseRecord(**dict(row)) for row in self._query("SELECT * FROM rulebases ORDER BY id")]
+        """Newest first, as every list of the store."""
+        return [RulebaseRecord(**dict(row)) for row in self._query("SELECT * FROM rulebases ORDER BY id DESC")]
 
     def update_rulebase(self, rulebase_id: int, *, name: str | None = None, text: str | None = None) -> RulebaseRecord:
         current = self.get_rulebase(rulebase_id)
@@ -381,7 +382,8 @@ class Store:
         return _experiment_record(rows[0])
 
     def list_experiments(self) -> list[ExperimentRecord]:
-        return [_experiment_record(row) for row in self._query("SELECT * FROM experiments ORDER BY id")]
+        """Newest first."""
+        return [_experiment_record(row) for row in self._query("SELECT * FROM experiments ORDER BY id DESC")]
 
 
 def _run_record(row: sqlite3.Row) -> RunRecord:

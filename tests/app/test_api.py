@@ -42,7 +42,7 @@ def test_rulebase_create_list_read_update_delete(client):
     rulebase = created.json()
     assert rulebase["name"] == "near" and rulebase["text"] == NEAR_DASH
     other = client.post("/api/rulebases", json={"name": "two", "text": TWO_RULES}).json()
-    assert [r["id"] for r in client.get("/api/rulebases").json()] == [rulebase["id"], other["id"]]
+    assert [r["id"] for r in client.get("/api/rulebases").json()] == [other["id"], rulebase["id"]]  # newest first
     assert client.get(f"/api/rulebases/{rulebase['id']}").json() == rulebase
 
     renamed = client.put(f"/api/rulebases/{rulebase['id']}", json={"name": "renamed"}).json()

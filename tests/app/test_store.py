@@ -50,7 +50,7 @@ def test_rulebase_crud(store):
     assert renamed.text == created.text and renamed.name == "better"
     assert renamed.updated >= created.updated
     other = store.create_rulebase("other", "")
-    assert [r.id for r in store.list_rulebases()] == [created.id, other.id]
+    assert [r.id for r in store.list_rulebases()] == [other.id, created.id]  # newest first
     store.delete_rulebase(created.id)
     with pytest.raises(NotFound, match=f"no rulebase with id {created.id}"):
         store.get_rulebase(created.id)
@@ -173,4 +173,4 @@ def test_experiments(store):
     again = store.record_experiment("initial", "/tmp/exp", {"trials": 20, "agrees": [True, True]})
     other = store.record_experiment("initial", "/tmp/exp2", {"trials": 2})
     assert again.id == record.id and again.summary["agrees"] == [True, True]
-    assert [e.id for e in store.list_experiments()] == [record.id, other.id]
+    assert [e.id for e in store.list_experiments()] == [other.id, record.id]  # newest first

@@ -25,10 +25,6 @@ def _label(record_id: int, name: str) -> str:
     return f"#{record_id} {name}"
 
 
-def _newest_first(records: list) -> list:
-    return sorted(records, key=lambda record: record.id, reverse=True)
-
-
 def _id_of(label: str) -> int | None:
     if not label.startswith("#"):
         return None
@@ -103,11 +99,11 @@ class LibraryPanel:
 
     def refresh(self) -> None:
         # Newest first (the highest id); a record just made is selected.
-        rulebases = [_label(r.id, r.name) for r in _newest_first(self.store.list_rulebases())]
-        runs = [_label(r.id, f"{r.name} ({r.status})") for r in _newest_first(self.store.list_runs())]
+        rulebases = [_label(r.id, r.name) for r in self.store.list_rulebases()]
+        runs = [_label(r.id, f"{r.name} ({r.status})") for r in self.store.list_runs()]
         self._set_options(self.rulebases, rulebases)
         self._set_options(self.runs, runs)
-        experiments = [experiment_label(e) for e in _newest_first(self.store.list_experiments())]
+        experiments = [experiment_label(e) for e in self.store.list_experiments()]
         self._set_options(self.experiments, experiments)
         self.show_experiment()
 
