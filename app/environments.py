@@ -140,9 +140,11 @@ class RcssTrials:
         return {"servers": list(self.servers), "start_servers": self.start_servers, "trial": self.trial.model_dump()}
 
     @property
-    def world(self) -> None:
-        """No replays are drawn (see `replay`)."""
-        return None
+    def world(self) -> WorldConfig:
+        """Where replays are drawn: rcssserver's own pitch (the default server parameters)."""
+        from soccer.rcss.params import ServerParams
+
+        return ServerParams().world
 
     @contextmanager
     def evaluator(self, announce: Announce | None = None) -> Iterator["Evaluator"]:
@@ -158,12 +160,14 @@ class RcssTrials:
                 servers = pool.addresses
                 if announce is not None:
                     announce(describe(pool.servers))
-            evaluate = stack.enter_context(RcssEvaluator(servers, self.trial))
+            evaluate = stack.enter_context(RcssEvaluator(servers, self.trial, trace=True))
             evaluate.connect()
             yield evaluate
 
     def replay(self, rulebase: "Rulebase", seed: int, vocabulary: "Vocabulary") -> Replay | None:
-        """No replay: it would hold a server for one more trial (play the best with `soccer-lab play --env rcss`)."""
+        """None: a trial cannot be played again the same (the server has noise of its own, and another
+        trial would hold a server). The evaluator traces every trial instead (`traced`), and a run keeps each
+        living individual's first trial to replay (app/run.py, GenerationReplays)."""
         return None
 
 

@@ -196,7 +196,7 @@ class Run:
         environment = self.settings.environment
         recorder = RunRecorder(self.folder.recording, history=history, world=environment.world)
         try:
-            replays = GenerationReplays(environment, recorder, vocabulary)
+            replays = GenerationReplays(environment, recorder, vocabulary, evaluate)
             for generation, best in bests:
                 replays.replay(generation, best)
             everything = [outputs, recorder, replays, *callbacks]
@@ -226,20 +226,41 @@ class Run:
 
 
 class GenerationReplays:
-    """Callback replaying each generation's best player's game into the recording, where the environment
-    can replay games: the game of its first evaluation (individuals keep that game's seed, and a game
-    depends only on rulebase and seed), so it costs one game a generation. A best that an earlier
-    generation already had (an elite, say) is the same game: it is logged again, not played again."""
+    """Callback replaying each generation's best player's game into the recording: the game of its first
+    evaluation (individuals keep that game's seed). A SimpleSoccer game depends only on rulebase and seed,
+    so it is played again, one game a generation. An rcssserver trial cannot be played again the same, so
+    the evaluator traces every trial (`evaluate.traced`: the last generation's, by rulebase and seed) and
+    each living individual's first trial is kept while it lives (about 70 KB a trial). A best that an
+    earlier generation already had (an elite, say) is the same game: it is logged again, not played again."""
 
-    def __init__(self, environment: Environment, recorder: RunRecorder, vocabulary: Vocabulary):
+    def __init__(self, environment: Environment, recorder: RunRecorder, vocabulary: Vocabulary,
+                 evaluate: Evaluator | None = None):
         self.environment = environment
         self.recorder = recorder
         self.vocabulary = vocabulary
+        self.evaluate = evaluate
         self.codec = ChromosomeCodec(vocabulary)
         self.games: dict[tuple[bytes, int], Replay] = {}
+        self.first_trials: dict[tuple[bytes, int], Replay] = {}  # traced first evaluations of the living
 
     def on_generation(self, stats: Any, population: list[Individual]) -> None:
+        self._keep_first_trials(population)
         self.replay(stats.generation, generation_best(population))
+
+    def _keep_first_trials(self, population: list[Individual]) -> None:
+        traced = getattr(self.evaluate, "traced", None)
+        if not traced:
+            return
+        living = {}
+        for individual in population:
+            key = (individual.chromosome.tobytes(), individual.first_seed)
+            if key in self.first_trials:
+                living[key] = self.first_trials[key]
+            elif individual.evaluations == 1:  # its first evaluation was this generation's
+                result = traced.get((self.codec.decode(individual.chromosome), individual.first_seed))
+                if result is not None and result.trace is not None:
+                    living[key] = Replay(individual.first_seed, result, result.trace)
+        self.first_trials = living
 
     def replay(self, generation: int, individual: Individual) -> None:
         game = self.game_of(individual)
@@ -247,11 +268,13 @@ class GenerationReplays:
             self.recorder.log_generation_replay(generation, game.trace, game.result)
 
     def game_of(self, individual: Individual) -> Replay | None:
-        """The individual's first game; None where it cannot be replayed (rcss, no valid rule to play,
-        a checkpoint from before individuals kept their seed)."""
+        """The individual's first game; None where it cannot be replayed (an rcss trial not traced in this
+        process, no valid rule to play, a checkpoint from before individuals kept their seed)."""
         if individual.first_seed is None:
             return None
         key = (individual.chromosome.tobytes(), individual.first_seed)
+        if key in self.first_trials:
+            self.games[key] = self.first_trials[key]
         if key not in self.games:
             rulebase = self.codec.decode(individual.chromosome)
             game = self.environment.replay(rulebase, individual.first_seed, self.vocabulary) if len(rulebase) else None

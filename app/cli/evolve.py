@@ -252,17 +252,22 @@ def _summary(run: "Run", result: RunResult) -> None:
 
 
 def _replay_line(run: "Run") -> str:
-    game = run.best_game
-    if run.settings.env == RCSS:  # no replay: it would hold the servers for one more trial
+    game, rcss = run.best_game, run.settings.env == RCSS
+    played = "trial" if rcss else "game"
+    if game is None:
+        why = ("it was not traced in this process: the run was resumed" if rcss
+               else "its seed was not kept by the run it comes from")
+        line = f"the best player's first {played} cannot be replayed ({why})"
+    else:
+        line = (f"replay of the best player's first {played} (seed {game.seed}) in the recording: {game.result.goals} "
+                f"goals, {game.result.kicks} kicks, {game.result.ticks} ticks, fitness {game.result.fitness:.4f}")
+    if rcss:
         settings = run.settings
         servers = " ".join(f"--server {server}" for server in settings.servers)
         if settings.start_servers:  # those it started are gone: play starts its own
             servers = f"--rcssserver {settings.rcssserver} --servers {settings.start_servers}"
-        return f"play the best on rcssserver: soccer-lab play {run.folder.best_rules} --env {RCSS} {servers}"
-    if game is None:
-        return "the best player's first game cannot be replayed (its seed was not kept by the run it comes from)"
-    return (f"replay of the best player's first game (seed {game.seed}): {game.result.goals} goals, "
-            f"{game.result.kicks} kicks, {game.result.ticks} ticks, fitness {game.result.fitness:.4f}")
+        line += f"\nplay the best on rcssserver: soccer-lab play {run.folder.best_rules} --env {RCSS} {servers}"
+    return line
 
 
 def _outputs(folder: RunFolder) -> list[Path]:

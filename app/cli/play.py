@@ -191,8 +191,9 @@ def play_command(
     games: Annotated[int, typer.Option("--games", "-n", min=1, help="Games to play.")] = DEFAULT_GAMES,
     seed: Annotated[int, typer.Option("--seed", min=0, help="Seed of the first game's start; game i uses seed + i.")]
     = DEFAULT_SEED,
-    rrd: Annotated[Optional[Path], typer.Option("--rrd", help="Write every game's replay to this rerun file.",
-                                                show_default=False)] = None,
+    rrd: Annotated[Optional[Path], typer.Option(
+        "--rrd", help="Write every game's replay to this rerun file (on rcssserver: where the server put player and "
+                      "ball, cycle by cycle).", show_default=False)] = None,
     fitness: FitnessOption = None,
     max_ticks: MaxTicksOption = None,
     goal_cap: GoalCapOption = None,
@@ -208,7 +209,7 @@ def play_command(
     """Play RULEBASE in SimpleSoccer (or on rcssserver) from seeded random starts; print goals, kicks, ticks and fitness."""
     from soccer.engine import play_game, play_games
 
-    env = chosen_env(env, server, {"--noise": noise, "--count-touches": count_touches, "--rrd": rrd},
+    env = chosen_env(env, server, {"--noise": noise, "--count-touches": count_touches},
                      {"--rcssserver": rcssserver, "--servers": servers})
     config = game_config(fitness=fitness, max_ticks=max_ticks, goal_cap=goal_cap, idle_ticks=idle_ticks, noise=noise,
                          skills=skills, count_touches=count_touches)
@@ -217,36 +218,36 @@ def play_command(
     except RulebaseFileError as exc:
         fail(str(exc))
     seeds = consecutive_seeds(seed, games)
-    if env == RCSS:
+    stream = _open_replay_file(rrd) if rrd is not None else None
+    if env == RCSS:  # a trial's replay is its trace: where the trainer's see_global put player and ball
+        from soccer.rcss.params import ServerParams
+
         trial = trial_config(fitness=fitness, max_ticks=max_ticks, goal_cap=goal_cap, idle_ticks=idle_ticks,
                              skills=skills)
         with rcss_addresses(server, rcssserver, servers) as addresses:
-            results = _play_on_rcss(player, seeds, addresses, trial)
-        _print_table(seeds, results)
-        return
-    if rrd is None:
-        results = play_games([player] * games, seeds, config)
+            results = _play_on_rcss(player, seeds, addresses, trial, trace=stream is not None)
+        traces, world = [result.trace for result in results], ServerParams().world
+    elif stream is None:
+        results, traces, world = play_games([player] * games, seeds, config), [], config.world
     else:
-        stream = _open_replay_file(rrd)
-        results = []
-        for number, game_seed in enumerate(seeds, start=1):
-            result, trace = play_game(player, game_seed, config, trace=True)
-            log_replay(stream, trace, config.world, entity=f"game_{number}")
-            results.append(result)
+        played = [play_game(player, game_seed, config, trace=True) for game_seed in seeds]
+        results, traces, world = [result for result, _ in played], [trace for _, trace in played], config.world
+    _print_table(seeds, results)
+    if stream is not None:
+        for number, trace in enumerate(traces, start=1):
+            log_replay(stream, trace, world, entity=f"game_{number}")
         stream.flush()
         stream.disconnect()  # writes the file's footer
-    _print_table(seeds, results)
-    if rrd is not None:
         typer.echo(f"replays written to {rrd} (open with: rerun {rrd})")
 
 
-def _play_on_rcss(player, seeds: list[int], servers: list[str], trial: "TrialConfig") -> list[Any]:
-    """Trials on real servers, in parallel over the servers."""
+def _play_on_rcss(player, seeds: list[int], servers: list[str], trial: "TrialConfig", trace: bool) -> list[Any]:
+    """Trials on real servers, in parallel over the servers (each with its trace when `trace`)."""
     from soccer.rcss.errors import RcssError
     from soccer.rcss.evaluate import RcssEvaluator
 
     try:
-        with RcssEvaluator(servers, trial) as evaluate:
+        with RcssEvaluator(servers, trial, trace=trace) as evaluate:
             return evaluate([player] * len(seeds), seeds)
     except RcssError as exc:
         fail(str(exc))

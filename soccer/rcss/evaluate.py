@@ -33,7 +33,10 @@ class RcssEvaluator:
         team: str = DEFAULT_TEAM,
         timeouts: Timeouts = Timeouts(),
         trainer_ports: Sequence[int | None] | None = None,
+        trace: bool = False,
     ):
+        """With `trace`, every trial is traced and `traced` holds the last call's results by (rulebase,
+        seed), traces included: where a run finds its generation bests' trials to replay."""
         if not servers:
             raise ValueError("at least one server is needed, e.g. 127.0.0.1:6000")
         for server in servers:
@@ -43,6 +46,8 @@ class RcssEvaluator:
         self.config = config
         self.team = team
         self.timeouts = timeouts
+        self.trace = trace
+        self.traced: dict[tuple[Rulebase, int], TrialResult] = {}
         self._sessions: dict[int, Session] = {}  # one server: its session, in this process
         self._clients: dict[int, tuple[multiprocessing.process.BaseProcess, Connection]] = {}  # several
 
@@ -63,7 +68,8 @@ class RcssEvaluator:
             ours, theirs = multiprocessing.Pipe()
             process = multiprocessing.get_context("spawn").Process(
                 target=_client_process, daemon=True, name=f"rcss client {self.servers[index]}",
-                args=(theirs, self.servers[index], self.trainer_ports[index], self.team, self.timeouts, self.config))
+                args=(theirs, self.servers[index], self.trainer_ports[index], self.team, self.timeouts, self.config,
+                      self.trace))
             process.start()
             theirs.close()
             self._clients[index] = (process, ours)
@@ -98,9 +104,15 @@ class RcssEvaluator:
     def __call__(self, rulebases: Sequence[Rulebase], seeds: Sequence[int]) -> list[TrialResult]:
         if len(rulebases) != len(seeds):
             raise ValueError(f"{len(rulebases)} rulebases but {len(seeds)} seeds")
+        results = self._play(rulebases, seeds)
+        if self.trace:
+            self.traced = dict(zip(zip(rulebases, seeds), results))
+        return results
+
+    def _play(self, rulebases: Sequence[Rulebase], seeds: Sequence[int]) -> list[TrialResult]:
         if len(self.servers) == 1:
             try:
-                return [run_trial(self._session(0), r, s, self.config) for r, s in zip(rulebases, seeds)]
+                return [run_trial(self._session(0), r, s, self.config, self.trace) for r, s in zip(rulebases, seeds)]
             except Exception:  # a session that failed is not reused
                 self._drop(0)
                 raise
@@ -155,7 +167,7 @@ class RcssEvaluator:
 
 
 def _client_process(connection: Connection, server: str, trainer_port: int | None, team: str, timeouts: Timeouts,
-                    config: TrialConfig) -> None:
+                    config: TrialConfig, trace: bool) -> None:
     """One server's client: opens its session, answers ("ok", None), then plays each (rulebase, seed) it
     receives and answers ("ok", result) or ("error", exception); ends when the pipe closes."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl+C is the caller's to handle: it closes the pipe
@@ -170,7 +182,7 @@ def _client_process(connection: Connection, server: str, trainer_port: int | Non
                 rulebase, seed = connection.recv()
             except (EOFError, OSError):
                 return
-            connection.send(("ok", run_trial(session, rulebase, seed, config)))
+            connection.send(("ok", run_trial(session, rulebase, seed, config, trace)))
     except Exception as exc:  # not only RcssError: the caller must hear of every failure
         try:
             connection.send(("error", exc))

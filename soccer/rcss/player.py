@@ -120,6 +120,8 @@ class RcssPlayer:
         layout = VocabularyLayout.from_vocabulary(vocabulary)  # refuses a vocabulary the skills cannot play
         compiled = compile_rulebases([rulebase], vocabulary)
         self.skill_set = skill_set_flags(skills)  # (assisted, goal_in_view_only)
+        self.vocabulary = vocabulary
+        self.last_action = NO_ACTION  # the vocabulary's action index of the last decision (NO_ACTION: the hunt)
         self.params = params
         self.world = WorldModel(params)
         self.constants = world_constants(params)
@@ -138,7 +140,7 @@ class RcssPlayer:
         self.view_half_angle = VIEW_HALF_ANGLE.get(cycle.sense_body.view_width, self.view_half_angle)
         perception = self.world.perceive(cycle.sense_body.speed, self.view_half_angle)
         ball_seen, goal_seen = perception.ball_distance is not None, perception.goal_distance is not None
-        kind, value, kick_direction = _command(
+        kind, value, kick_direction, self.last_action = _command(
             *self._kernel_arguments, ball_seen,
             perception.ball_distance if ball_seen else 0.0, perception.ball_direction if ball_seen else 0.0,
             goal_seen, perception.goal_distance if goal_seen else 0.0, perception.goal_direction if goal_seen else 0.0,
@@ -155,7 +157,8 @@ def _command(inputs, visible, rulebases, scratch, strengths, outputs, layout, co
              ball_direction, goal_seen, goal_distance, goal_direction, goal_direction_known, kickable, last_ball_side,
              speed, assisted, goal_in_view_only):
     """The body command (kind, value, direction) of the skill the fuzzy controller selects on what is
-    perceived (HUNT when no rule fires); `inputs` and `visible` are its work arrays. The named tuples
+    perceived (HUNT when no rule fires), and the selected action (NO_ACTION: none fired, the hunt);
+    `inputs` and `visible` are its work arrays. The named tuples
     arrive plain (soccer.engine.plain) and are named here."""
     rulebases = CompiledRulebases(*(rulebases[:-1] + (VocabularyTables(*rulebases[-1]),)))
     scratch, layout, constants = Scratch(*scratch), VocabularyLayout(*layout), WorldConstants(*constants)
@@ -165,8 +168,10 @@ def _command(inputs, visible, rulebases, scratch, strengths, outputs, layout, co
     action, _ = decide(0, inputs, visible, rulebases, scratch, strengths, outputs)
     skill = HUNT if action == NO_ACTION else layout.skills[action]
     steer_by = goal_direction_for_skills(goal_direction_known, goal_seen, goal_in_view_only)
-    return skill_command(skill, outputs[layout.direction], outputs[layout.power], ball_seen, ball_distance,
-                         ball_direction, steer_by, kickable, last_ball_side, speed, assisted, constants)
+    kind, value, direction = skill_command(skill, outputs[layout.direction], outputs[layout.power], ball_seen,
+                                           ball_distance, ball_direction, steer_by, kickable, last_ball_side, speed,
+                                           assisted, constants)
+    return kind, value, direction, action
 
 
 def load_compiled_skills() -> None:

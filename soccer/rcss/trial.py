@@ -13,13 +13,14 @@ own count of kicks that reached the ball (sense_body's kick counter).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 from pydantic import PositiveInt, model_validator
 
 from fuzzy.rule import Rulebase
+from fuzzy.vocabulary import Vocabulary
 from soccer.config import EvaluationRules, FitnessName
 from soccer.fitness import fitness as fitness_of
 from soccer.rcss.client import PlayerCycle, Session, TrainerCycle
@@ -50,6 +51,25 @@ class TrialConfig(EvaluationRules):
 
 
 @dataclass(frozen=True)
+class TrialTrace:
+    """A trial cycle by cycle: where the trainer's see_global put player and ball, the action the player
+    chose on that cycle, and the goals before it; the fields a replay draws (app/recording.py, log_replay),
+    named as soccer.engine.GameTrace's."""
+
+    player_x: np.ndarray
+    player_y: np.ndarray
+    facing: np.ndarray  # degrees: the body's global angle
+    ball_x: np.ndarray
+    ball_y: np.ndarray
+    action: np.ndarray  # int: the vocabulary's action index of the latest decision, NO_ACTION (-1) the hunt
+    goals: np.ndarray  # goals scored before this cycle
+    vocabulary: Vocabulary
+
+    def __len__(self) -> int:
+        return len(self.action)
+
+
+@dataclass(frozen=True)
 class TrialResult:
     fitness: float
     goals: int
@@ -57,6 +77,7 @@ class TrialResult:
     ticks: int
     end: str  # why the trial ended: "time", "goal cap", "idle", "out of play (MODE)", "no rules"
     seed: int
+    trace: TrialTrace | None = field(default=None, compare=False, repr=False)  # when the trial was traced
 
 
 def start_position(rng: np.random.Generator) -> tuple[float, float]:
@@ -71,7 +92,8 @@ def centre_line_point(rng: np.random.Generator) -> tuple[float, float]:
 class Trial:
     """One trial's bookkeeping: goals, kicks, idleness, the restart after a goal, and the end."""
 
-    def __init__(self, session: Session, rulebase: Rulebase, seed: int, config: TrialConfig = TrialConfig()):
+    def __init__(self, session: Session, rulebase: Rulebase, seed: int, config: TrialConfig = TrialConfig(),
+                 trace: bool = False):
         self.session = session
         self.config = config
         self.seed = seed
@@ -82,6 +104,8 @@ class Trial:
         self.end: str | None = None
         self.kick_count = session.last_player_cycle.sense_body.kick_count if session.last_player_cycle else 0
         self.position: tuple[float, float] | None = None
+        # with `trace`: per cycle player x, y, body angle, ball x, y (see_global), action, goals before
+        self.rows: list[tuple[float, float, float, float, float, int, int]] | None = [] if trace else None
 
     def run(self) -> TrialResult:
         """Place ball and player (answering the cycle we are in), then play until the trial ends."""
@@ -93,10 +117,33 @@ class Trial:
         commands: list[str] = []
         while self.end is None:
             player_cycle, trainer_cycle = self.session.step(commands)
+            goals_before = self.goals
             self.ticks += 1
             self.observe(player_cycle, trainer_cycle)
             commands = self.respond(player_cycle) if self.end is None else []
-        return TrialResult(self.score(), self.goals, self.kicks, self.ticks, self.end, self.seed)
+            if self.rows is not None:
+                self._note_row(trainer_cycle, goals_before)
+        return TrialResult(self.score(), self.goals, self.kicks, self.ticks, self.end, self.seed, self._trace())
+
+    def _note_row(self, trainer_cycle: TrainerCycle, goals_before: int) -> None:
+        seen = trainer_cycle.see_global
+        me = seen.player(self.session.player.team, self.session.player.unum) if seen else None
+        ball = seen.ball if seen else None
+        if me is not None and ball is not None:
+            places = (me.x, me.y, me.body, ball.x, ball.y)
+        elif self.rows:
+            places = self.rows[-1][:5]  # nothing seen this cycle: where they were
+        else:
+            return
+        self.rows.append(places + (self.player.last_action, goals_before))
+
+    def _trace(self) -> TrialTrace | None:
+        if self.rows is None:
+            return None
+        columns = list(zip(*self.rows)) if self.rows else [()] * 7
+        floats = [np.array(column, dtype=np.float64) for column in columns[:5]]
+        action, goals = (np.array(column, dtype=np.int64) for column in columns[5:])
+        return TrialTrace(*floats, action, goals, self.player.vocabulary)
 
     def observe(self, player_cycle: PlayerCycle, trainer_cycle: TrainerCycle) -> None:
         config = self.config
@@ -147,8 +194,10 @@ class Trial:
         return fitness_of(self.config.fitness, self.goals, self.kicks, max(self.ticks, 1), math.inf, 2 * PITCH_HALF_LENGTH)
 
 
-def run_trial(session: Session, rulebase: Rulebase, seed: int, config: TrialConfig = TrialConfig()) -> TrialResult:
-    """Play one trial on an open session. A rulebase without rules scores the worst fitness unplayed."""
+def run_trial(session: Session, rulebase: Rulebase, seed: int, config: TrialConfig = TrialConfig(),
+              trace: bool = False) -> TrialResult:
+    """Play one trial on an open session (with `trace`, its TrialTrace too). A rulebase without rules
+    scores the worst fitness unplayed."""
     if len(rulebase) == 0:
         return TrialResult(fitness_of(config.fitness, 0, 0, 1, math.inf, 2 * PITCH_HALF_LENGTH), 0, 0, 0, "no rules", seed)
-    return Trial(session, rulebase, seed, config).run()
+    return Trial(session, rulebase, seed, config, trace).run()

@@ -8,6 +8,7 @@ import socket
 from contextlib import ExitStack, contextmanager
 from typing import Iterator
 
+from soccer.rcss.client import DEFAULT_TEAM
 from tests.rcss.replay import Line, ReplayServer, read_transcript
 from tests.rcss.conftest import GOALS, OUT_OF_PLAY, TRANSCRIPTS, player_thinks, without_error_probes
 
@@ -17,14 +18,18 @@ GOALS_CYCLES = player_thinks(without_error_probes(read_transcript(GOALS))) - 1 i
 GOALS_FITNESS = 1 / 6
 KICK_IN_FITNESS = 1 - 1 / 24
 COACH_PORT = re.compile(r"\(coach_port \d+\)")
+RECORDED_TEAM = '"LabTeam"'  # as the transcripts' see_global names the player's team
 
 
 def replay_server(path) -> ReplayServer:
-    """A server replaying `path`; its server_param names the replay's own trainer port."""
+    """A server replaying `path`; its server_param names the replay's own trainer port, and its see_global
+    our client's team (a real server names the team the player gave in its init; the recording's player
+    gave RECORDED_TEAM)."""
     lines = without_error_probes(read_transcript(path))
     server = ReplayServer(lines, client_timeout=30.0)  # a client process starts in seconds on a busy machine
     coach_port = f"(coach_port {server.trainer_port})"
-    server.lines = [Line(l.number, l.sent, l.role, COACH_PORT.sub(coach_port, l.text)) for l in lines]
+    server.lines = [Line(l.number, l.sent, l.role, COACH_PORT.sub(coach_port, l.text).replace(RECORDED_TEAM, f'"{DEFAULT_TEAM}"'))
+                    for l in lines]
     return server
 
 

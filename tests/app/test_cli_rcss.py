@@ -7,15 +7,19 @@ import csv
 import json
 import time
 
+import numpy as np
 import pytest
 from typer.testing import CliRunner
 
 from app.cli import _register, app
 from soccer.rcss import client as rcss_client
 from soccer.rcss import servers as rcss_servers
-from tests.app.rcss_fakes import (GOALS_CYCLES, GOALS_FITNESS, KICK_IN_FITNESS, silent_server, transcripts_missing,
-                                  two_recorded_trials)
-from tests.app.test_cli_evolve import assert_one_line_error
+from soccer.rcss.messages import SeeGlobal, parse_message
+from tests.app.rcss_fakes import (GOALS_CYCLES, GOALS_FITNESS, KICK_IN_FITNESS, replay_server, silent_server,
+                                  transcripts_missing, two_recorded_trials)
+from tests.app.test_cli_evolve import assert_one_line_error, read_recording
+from tests.rcss.conftest import GOALS
+from tests.rcss.replay import read_transcript
 
 _register()
 # Two rulebases (both with rules at this seed), one generation: one trial on each of two servers.
@@ -41,6 +45,12 @@ def evolved_on_rcss(tmp_path_factory):
     return folder, result, logs, servers
 
 
+def recorded_ball(transcript) -> list[tuple[float, float]]:
+    """The ball where the recorded server's see_global put it, cycle by cycle (a replay keeps it as float32)."""
+    messages = map(parse_message, (line.text for line in read_transcript(transcript) if not line.sent and line.role == "T"))
+    return [(message.ball.x, message.ball.y) for message in messages if isinstance(message, SeeGlobal)]
+
+
 def test_evolve_on_two_servers_plays_one_trial_on_each(evolved_on_rcss):
     folder, result, (goals_log, kick_in_log), servers = evolved_on_rcss
     assert result.exit_code == 0, result.output
@@ -54,6 +64,18 @@ def test_evolve_on_two_servers_plays_one_trial_on_each(evolved_on_rcss):
     assert f"best fitness {GOALS_FITNESS:.4f}" in result.output and "3 goals" in result.output
     assert (f"play the best on rcssserver: soccer-lab play {folder / 'best.rules'} --env rcss "
             f"--server {servers[0]} --server {servers[1]}") in result.output
+
+
+def test_the_recording_replays_the_best_trial_as_the_server_played_it(evolved_on_rcss):
+    """The goals trial was the best: its replay is the ball where the server's see_global put it, cycle by
+    cycle, and the goals it scored."""
+    folder, result, _, _ = evolved_on_rcss
+    entities = read_recording(folder / "run.rrd")
+    replayed = [tuple(p[0]) for p in entities["/replay/generation_0/ball"]["columns"]["Points2D:positions"]]
+    np.testing.assert_array_equal(np.array(replayed), np.array(recorded_ball(GOALS), dtype=np.float32))
+    goals = [v[0] for v in entities["/replay/generation_0/score/goals"]["columns"]["Scalars:scalars"]]
+    assert (goals[0], goals[-1]) == (0, 3) and sorted(goals) == goals
+    assert "replay of the best player's first trial" in result.output and "3 goals" in result.output
 
 
 def test_the_run_folder_records_where_it_played(evolved_on_rcss):
@@ -145,12 +167,27 @@ def test_resume_keeps_its_settings_but_a_simple_run_takes_no_server(tmp_path):
 def test_play_shares_the_environment_options(tmp_path):
     rules = tmp_path / "kick.rules"
     rules.write_text("if Ball is At then Kick Straight High\n")
-    assert_one_line_error(run("play", rules, "--env", "rcss", "--rrd", tmp_path / "x.rrd"), "--rrd: SimpleSoccer only")
     assert_one_line_error(run("play", rules, "--env", "rcss", "--server", "nohost:x"), "--server: bad server address")
     assert_one_line_error(run("play", rules, "--server", "127.0.0.1:6000"), "--server needs --env rcss")
     with silent_server() as server:
         assert_one_line_error(run("play", rules, "--env", "rcss", "--server", server, "-n", "1"),
                               f"no reply from rcssserver at {server}")
+
+
+def test_play_on_rcss_writes_each_trials_replay_as_the_server_played_it(tmp_path):
+    reason = transcripts_missing()
+    if reason:
+        pytest.skip(reason)
+    rules, rrd = tmp_path / "kick.rules", tmp_path / "trials.rrd"
+    rules.write_text("if Ball is At then Kick Straight High\n")
+    with replay_server(GOALS) as goals:
+        result = run("play", rules, "--env", "rcss", "--server", goals.server, "-n", "1", "--max-ticks", GOALS_CYCLES,
+                     "--rrd", rrd)
+        assert goals.wait().error is None
+    assert result.exit_code == 0, result.output
+    assert f"replays written to {rrd}" in result.output
+    replayed = [tuple(p[0]) for p in read_recording(rrd)["/game_1/ball"]["columns"]["Points2D:positions"]]
+    np.testing.assert_array_equal(np.array(replayed), np.array(recorded_ball(GOALS), dtype=np.float32))
 
 
 def test_help_says_how_workers_and_servers_go_together():

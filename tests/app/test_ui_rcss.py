@@ -3,11 +3,19 @@ viser server (no browser) and real servers."""
 
 from __future__ import annotations
 
+from pathlib import Path
+
+import numpy as np
 import pytest
 
+from app.run_outputs import RECORDING
 from app.runs import RunManager
 from app.store import RunStatus, Store
+from ga.codec import ChromosomeCodec
+from soccer.config import SOCCER_VOCABULARY
+from soccer.rcss.trial import start_position
 from tests.app.api_client import wait_for
+from tests.app.test_cli_evolve import generation_bests, read_recording
 from tests.app.test_ui_wiring import gui  # noqa: F401  (fixture)
 from tests.rcss.real_server import rcssserver_children
 
@@ -39,3 +47,16 @@ def test_a_run_on_two_rcssservers_from_the_evolve_panel(gui, runs):  # noqa: F81
     assert done.status == RunStatus.FINISHED, done.error
     assert len(store.statistics(panel.run_id)) == 2
     assert rcssserver_children() == before  # the run's servers went with it
+    # The recording replays each generation's best player's first trial (where it has a rule to play),
+    # as the server played it: from where the trainer put the player for that trial's seed, the ball on
+    # the centre spot.
+    folder = Path(done.folder)
+    entities = read_recording(folder / RECORDING)
+    codec = ChromosomeCodec(SOCCER_VOCABULARY)
+    playable = [(g, best) for g, best in generation_bests(folder) if len(codec.decode(best.chromosome))]
+    assert playable
+    for generation, best in playable:
+        player = entities[f"/replay/generation_{generation}/player"]["columns"]["Points2D:positions"]
+        ball = entities[f"/replay/generation_{generation}/ball"]["columns"]["Points2D:positions"]
+        assert player[0][0] == pytest.approx(start_position(np.random.default_rng(best.first_seed)), abs=0.01)
+        assert ball[0][0] == pytest.approx((0.0, 0.0), abs=0.01)

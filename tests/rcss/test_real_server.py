@@ -9,6 +9,7 @@ import statistics
 import threading
 import time
 
+import numpy as np
 import pytest
 
 from fuzzy.parser import parse_rulebase
@@ -17,7 +18,7 @@ from soccer.rcss.client import Session
 from soccer.rcss.errors import RcssConfigError, RcssError
 from soccer.rcss.evaluate import RcssEvaluator
 from soccer.rcss.player import RcssPlayer
-from soccer.rcss.trial import TrialConfig, run_trial
+from soccer.rcss.trial import TrialConfig, run_trial, start_position
 
 from .conftest import VOCABULARY
 from .real_server import connected_players, kill
@@ -136,3 +137,25 @@ def test_a_server_started_without_a_required_option_is_named(start_servers, opti
     with pytest.raises(RcssConfigError, match=fragment):
         Session(pool.addresses[0]).open()
     assert time.monotonic() - started < 3.0
+
+
+def test_a_traced_trial_is_where_the_server_put_player_and_ball_cycle_by_cycle(start_servers, chaser):
+    """What a run's recording replays of an rcss trial (app/run.py, GenerationReplays): one row a cycle,
+    from the trainer's see_global, traced in the clients' own processes and sent back with the result."""
+    pool = start_servers(2)
+    with RcssEvaluator(pool.addresses, SHORT, trace=True) as evaluate:
+        results = evaluate([chaser, chaser], [1, 2])
+    assert [evaluate.traced[(chaser, seed)] for seed in (1, 2)] == results
+    for result in results:
+        trace = result.trace
+        assert len(trace) == result.ticks == SHORT.max_ticks
+        # The first cycle, before the player's first command: where the trainer put it, the ball on the spot.
+        start = start_position(np.random.default_rng(result.seed))
+        assert (trace.player_x[0], trace.player_y[0]) == pytest.approx(start, abs=0.01)
+        assert (trace.ball_x[0], trace.ball_y[0]) == pytest.approx((0.0, 0.0), abs=0.01)
+        assert np.all(np.abs(trace.player_x) < 60) and np.all(np.abs(trace.ball_y) < 40)  # on the pitch
+        # The goals before each cycle rise one at a time up to the trial's; the striker's chosen actions.
+        assert trace.goals[0] == 0 and set(np.diff(trace.goals)) <= {0, 1} and trace.goals[-1] <= result.goals
+        chosen = {VOCABULARY.action_names[a] for a in trace.action if a >= 0}
+        assert chosen and chosen <= {rule.consequent.action for rule in chaser}
+    assert not RcssEvaluator(pool.addresses, SHORT).trace  # untraced unless asked: results carry no trace
