@@ -273,12 +273,13 @@ class GenerationReplays:
         if individual.first_seed is None:
             return None
         key = (individual.chromosome.tobytes(), individual.first_seed)
-        if key in self.first_trials:
-            self.games[key] = self.first_trials[key]
         if key not in self.games:
-            rulebase = self.codec.decode(individual.chromosome)
-            game = self.environment.replay(rulebase, individual.first_seed, self.vocabulary) if len(rulebase) else None
+            game = self.first_trials.get(key) or self._played_again(individual)
             if game is None:
                 return None
             self.games[key] = game
         return self.games[key]
+
+    def _played_again(self, individual: Individual) -> Replay | None:
+        rulebase = self.codec.decode(individual.chromosome)
+        return self.environment.replay(rulebase, individual.first_seed, self.vocabulary) if len(rulebase) else None

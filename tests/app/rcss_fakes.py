@@ -28,7 +28,8 @@ def replay_server(path) -> ReplayServer:
     lines = without_error_probes(read_transcript(path))
     server = ReplayServer(lines, client_timeout=30.0)  # a client process starts in seconds on a busy machine
     coach_port = f"(coach_port {server.trainer_port})"
-    server.lines = [Line(l.number, l.sent, l.role, COACH_PORT.sub(coach_port, l.text).replace(RECORDED_TEAM, f'"{DEFAULT_TEAM}"'))
+    team = f'"{DEFAULT_TEAM}"'
+    server.lines = [Line(l.number, l.sent, l.role, COACH_PORT.sub(coach_port, l.text).replace(RECORDED_TEAM, team))
                     for l in lines]
     return server
 

@@ -47,7 +47,8 @@ def evolved_on_rcss(tmp_path_factory):
 
 def recorded_ball(transcript) -> list[tuple[float, float]]:
     """The ball where the recorded server's see_global put it, cycle by cycle (a replay keeps it as float32)."""
-    messages = map(parse_message, (line.text for line in read_transcript(transcript) if not line.sent and line.role == "T"))
+    trainer = (line.text for line in read_transcript(transcript) if not line.sent and line.role == "T")
+    messages = map(parse_message, trainer)
     return [(message.ball.x, message.ball.y) for message in messages if isinstance(message, SeeGlobal)]
 
 
