@@ -298,7 +298,9 @@ class TrainerClient:
                 message = self.endpoint.receive(deadline, "(think)")
             except RcssTimeoutError:
                 if self.pending:
-                    raise RcssCommandError(f"trainer: no reply from rcssserver to {self.pending[0]}") from None
+                    raise RcssCommandError(  # named as the other timeouts: a server killed mid-trial lands here too
+                        f"trainer: rcssserver at {self.endpoint.where} did not answer {self.pending[0]} within "
+                        f"{self.timeouts.cycle:g} s (did the server quit?)") from None
                 raise
             if not isinstance(message, Think):
                 self._take(message)

@@ -137,3 +137,14 @@ def test_empty_rulebase_scores_worst_without_playing():
 def test_bad_server_address():
     with pytest.raises(ValueError, match="expected HOST:PORT"):
         RcssEvaluator(["localhost:notaport"])
+
+
+def test_server_silent_before_acknowledging_a_trainer_command(goals_lines, chaser):
+    """A server that quits between the trainer's command and its (ok ...): one line naming the server and
+    the command, as every other timeout names the server (a killed server's error says where it was)."""
+    quit_at = next(l.number for l in goals_lines if l.role == TRAINER and l.text.startswith("(ok move"))
+    with pytest.raises(RcssCommandError) as raised:
+        play(goals_lines, chaser, TrialConfig(), stop_before_line=quit_at)
+    message = str(raised.value)
+    assert message.startswith("trainer: rcssserver at 127.0.0.1:") and "did not answer (move (ball)" in message
+    assert message.endswith("within 1 s (did the server quit?)")
