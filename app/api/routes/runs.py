@@ -22,7 +22,7 @@ def _out(record: RunRecord, store: Store, request: Request) -> RunOut:
     recording = None
     if RunFolder(Path(record.folder)).recording.is_file():
         recording = str(request.url_for("run_recording", run_id=record.id))
-    return RunOut.of(record, store.statistics(record.id), recording)
+    return RunOut.of(record, store.statistics(record.id), recording, request.app.state.runs.progress(record.id))
 
 
 @router.post("", status_code=201, summary="Start a GA or random-search run in the background", responses=CONFLICT)
@@ -58,7 +58,8 @@ def statistics(run_id: RecordId, store: StoreDependency) -> list[dict[str, Any]]
     return store.statistics(run_id)
 
 
-@router.post("/{run_id}/stop", summary="Stop a run after its current generation", responses=CONFLICT)
+@router.post("/{run_id}/stop", summary="Stop a run within about a second: the generation in progress is abandoned, "
+             "every finished one kept (resume plays on as if never stopped)", responses=CONFLICT)
 def stop(run_id: RecordId, runs: RunsDependency, store: StoreDependency, request: Request) -> RunOut:
     return _out(runs.stop(run_id), store, request)
 

@@ -102,6 +102,7 @@ class EvolvePanel:
                 self.game_inputs[name] = self._input(gui, name, field)
         buttons = gui.add_button_group("Evolution", ("Start", "Stop"))
         self.progress = gui.add_progress_bar(0.0)
+        self.within = gui.add_html("")  # the generation in progress: players evaluated of the population
         self.status = gui.add_html(self._status_html("Not started. Press Start: the chapter's defaults are set."))
         self.plot = gui.add_uplot(
             data=self._plot_data(),
@@ -174,7 +175,7 @@ class EvolvePanel:
         if self.run_id is None or not self.runs.is_active(self.run_id):
             self.status.content = self._status_html("No evolution of this tab is running.", error=True)
             return
-        self.status.content = self._status_html(f"Stopping run #{self.run_id} after this generation …")
+        self.status.content = self._status_html(f"Stopping run #{self.run_id} …")
         try:
             self.runs.stop(self.run_id, wait=0.0)
         except (RunStateError, NotFound) as exc:
@@ -200,7 +201,11 @@ class EvolvePanel:
         if event.run_id != self.run_id:
             return
         total = int(self.inputs["max_generations"].value)  # generations 0 .. total - 1
-        if event.stats is not None:
+        if event.progress is not None:
+            self.within.content = self._status_html(
+                f"Generation {event.progress.generation}: {event.progress.evaluated:,} of "
+                f"{event.progress.population:,} players evaluated")
+        elif event.stats is not None:
             stats = event.stats
             generation = int(stats["generation"])
             self.generations.append(generation)
@@ -216,6 +221,7 @@ class EvolvePanel:
             )
         elif event.status is not RunStatus.RUNNING:
             self.progress.animated = False
+            self.within.content = ""
             if event.status is RunStatus.FINISHED:
                 self.progress.value = 100.0
             best = f" — best {min(self.best):.3f}" if self.best else ""
