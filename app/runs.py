@@ -247,10 +247,9 @@ class RunManager:
         active.thread.join(wait)
         return self.store.get_run(run_id)
 
-    def shutdown(self, *, wait: float = SHUTDOWN_WAIT_SECONDS) -> None:
-        """Stop every run as 'interrupted' (resumable when the app starts again): marked so in the store at
-        once, then each run's thread is given `wait` s in all to end (they are daemon threads: one still
-        busy ends with the process, its last checkpoint kept)."""
+    def interrupt_all(self) -> None:
+        """Ask every run to stop as 'interrupted' (resumable when the app starts again), marked so in the
+        store at once: the app is ending. Returns without waiting (safe in a signal handler's thread)."""
         with self._lock:
             active = dict(self._active)
         for run_id, run in active.items():
@@ -260,8 +259,15 @@ class RunManager:
                 self.store.set_run_status(run_id, RunStatus.INTERRUPTED)
             except NotFound:
                 pass
+
+    def shutdown(self, *, wait: float = SHUTDOWN_WAIT_SECONDS) -> None:
+        """interrupt_all, then give the runs' threads `wait` s in all to end (they are daemon threads: one
+        still busy ends with the process, its last checkpoint kept)."""
+        with self._lock:
+            active = list(self._active.values())
+        self.interrupt_all()
         deadline = time.monotonic() + wait
-        for run in active.values():
+        for run in active:
             run.thread.join(max(0.0, deadline - time.monotonic()))
 
     def progress(self, run_id: int) -> GenerationProgress | None:

@@ -4,7 +4,9 @@ server, started together on checked ports and stopped together."""
 from __future__ import annotations
 
 import errno
+import signal
 import socket
+import threading
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable
@@ -23,6 +25,8 @@ DEFAULT_PORT = 8000
 DEFAULT_UI_PORT = 8080
 DEFAULT_RERUN_PORT = 9090
 RERUN_VIEWER_LOG = "rerun-viewer.log"  # in the data folder
+# Requests still open when serve is told to stop get this long: serve exits within 3 s of Ctrl+C or SIGTERM
+GRACEFUL_SHUTDOWN_SECONDS = 1
 
 
 class ServeError(RuntimeError):
@@ -67,8 +71,26 @@ def check_ports(options: ServeOptions) -> None:
     check_port_free(options.host, options.rerun_port, "rerun viewer", "--rerun-port")
 
 
+class _Server(uvicorn.Server):
+    """uvicorn's server, telling `on_exit` as soon as a signal (Ctrl+C, SIGTERM) asks it to stop."""
+
+    def __init__(self, config: uvicorn.Config, on_exit: Callable[[], None]):
+        super().__init__(config)
+        self.on_exit = on_exit
+
+    def handle_exit(self, sig: int, frame: object) -> None:
+        self.on_exit()
+        super().handle_exit(sig, frame)
+
+
+def _cleanup_after_sigterm(signum: int, frame: object) -> None:
+    """Where uvicorn's re-raised SIGTERM lands once it has shut down: nowhere, so that serve's own cleanup
+    runs (the default action would end the process at once, runs still 'running', the viewer orphaned)."""
+
+
 def serve(options: ServeOptions, echo: Callable[[str], None] = print) -> None:
-    """Run everything until Ctrl+C; runs still going are then marked interrupted (resumable)."""
+    """Run everything until Ctrl+C or SIGTERM; runs still going are then marked interrupted (resumable) at
+    once, and everything stops within about 3 s."""
     check_ports(options)
     try:
         options.data_dir.mkdir(parents=True, exist_ok=True)
@@ -97,7 +119,11 @@ def serve(options: ServeOptions, echo: Callable[[str], None] = print) -> None:
         if runs.interrupted_at_start:
             listed = ", ".join(map(str, runs.interrupted_at_start))
             echo(f"  runs cut off last time, now interrupted and resumable: {listed}")
-        uvicorn.run(app, host=options.host, port=options.port, log_level="warning")
+        config = uvicorn.Config(app, host=options.host, port=options.port, log_level="warning",
+                                timeout_graceful_shutdown=GRACEFUL_SHUTDOWN_SECONDS)
+        if threading.current_thread() is threading.main_thread():
+            signal.signal(signal.SIGTERM, _cleanup_after_sigterm)
+        _Server(config, on_exit=runs.interrupt_all).run()
     finally:
         runs.shutdown()
         viewer.stop()
