@@ -19,10 +19,11 @@ import threading
 import time
 from dataclasses import replace
 from pathlib import Path
-from typing import Any, Iterable
+from typing import Any, Iterable, Sequence
 
 import numpy as np
 
+from fuzzy.rule import Rulebase
 from fuzzy.vocabulary import Vocabulary
 from ga.checkpoint import load_checkpoint, save_checkpoint
 from ga.codec import ChromosomeCodec
@@ -122,10 +123,26 @@ def _next_population(state: RunState, space: GeneSpace, rng: np.random.Generator
     return [Individual(chromosome) for chromosome in chromosomes]
 
 
+class _Decoded(Sequence[Rulebase]):
+    """The population's rulebases, each decoded when the evaluation reaches its chunk (a large population's
+    rulebases would take seconds to decode up front, with no stop obeyed meanwhile)."""
+
+    def __init__(self, population: list[Individual], codec: ChromosomeCodec):
+        self.population, self.codec = population, codec
+
+    def __len__(self) -> int:
+        return len(self.population)
+
+    def __getitem__(self, index):  # type: ignore[override]
+        if isinstance(index, slice):
+            return [self.codec.decode(individual.chromosome) for individual in self.population[index]]
+        return self.codec.decode(self.population[index].chromosome)
+
+
 def _evaluated(population: list[Individual], evaluation: Evaluation, codec: ChromosomeCodec,
                rng: np.random.Generator) -> list[Individual]:
     seeds = rng.integers(0, SEED_BOUND, size=len(population)).tolist()
-    scores = evaluation([codec.decode(individual.chromosome) for individual in population], seeds)
+    scores = evaluation(_Decoded(population, codec), seeds)
     return [individual.evaluated(score.fitness, score.goals, seed)
             for individual, score, seed in zip(population, scores, seeds)]
 

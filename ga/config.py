@@ -9,13 +9,17 @@ from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 
 SEED_BOUND = 2**63  # seeds (the run's and its games') lie in [0, SEED_BOUND)
+# Breeding and scoring a generation are not interrupted by a stop (evaluation is, between chunks): at this
+# size they take about a second, and the app's whole process stays near 300 MB in generation 0 (100,000 took
+# 12 s to breed and 490 MB; docs/reference/limits.md, benchmarks/stop_latency.py)
+MAX_POPULATION = 10_000
 RouletteWeighting = Literal["linear", "inverse"]  # ga/selection.py roulette_weights says what each does
 
 
 class GAConfig(BaseModel):
     model_config = ConfigDict(frozen=True, extra="forbid")
 
-    population_size: int = Field(200, ge=2, le=100_000, description="individuals per generation")
+    population_size: int = Field(200, ge=2, le=MAX_POPULATION, description="individuals per generation")
     max_generations: int = Field(25, ge=1, le=100_000,
                                  description="generations evaluated, the initial population (generation 0) included")
     max_length: int = Field(64, ge=2, le=10_000, description="maximum genes per chromosome")

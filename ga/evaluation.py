@@ -79,44 +79,46 @@ class Evaluation:
             self._pool = None
         gc.unfreeze()
 
-    def __call__(self, rulebases: list[Rulebase], seeds: list[int]) -> list[Score]:
+    def __call__(self, rulebases: Sequence[Rulebase], seeds: Sequence[int]) -> list[Score]:
         """One Score per rulebase; empty (invalid) rulebases score INVALID_SCORE without being played.
-        EvaluationStopped when the stop event is set before the last chunk is played."""
+        `rulebases` may decode each on access: only a chunk's are held at a time. EvaluationStopped when
+        the stop event is set before the last chunk is played."""
         start_generation = getattr(self.evaluate, "start_generation", None)
         if start_generation is not None:  # an evaluator keeping something per generation (rcss traces)
             start_generation()
-        playable = [i for i, rulebase in enumerate(rulebases) if len(rulebase)]
         scores = [INVALID_SCORE] * len(rulebases)
-        spans = [(lo, min(lo + self.chunk_size, len(playable))) for lo in range(0, len(playable), self.chunk_size)]
-        done = len(rulebases) - len(playable)
+        spans = [range(lo, min(lo + self.chunk_size, len(rulebases))) for lo in range(0, len(rulebases), self.chunk_size)]
         group = self.workers if self._pool is not None else 1
         for first in range(0, len(spans), group):
             self._check_stop()
-            chunks = [[playable[i] for i in range(lo, hi)] for lo, hi in spans[first:first + group]]
-            for chunk, results in zip(chunks, self._play_group(rulebases, seeds, chunks)):
-                for i, result in zip(chunk, results):
+            chunks = [[(i, rulebase) for i in span if len(rulebase := rulebases[i])] for span in spans[first:first + group]]
+            for chunk, results in zip(chunks, self._play_group(chunks, seeds)):
+                for (i, _), result in zip(chunk, results):
                     scores[i] = _score(result)
-                done += len(chunk)
             if self.progress is not None:
-                self.progress(done, len(rulebases))
+                self.progress(spans[min(first + group, len(spans)) - 1].stop, len(rulebases))
         return scores
 
     def _check_stop(self) -> None:
         if self.stop is not None and self.stop.is_set():
             raise EvaluationStopped()
 
-    def _play_group(self, rulebases: list[Rulebase], seeds: list[int], chunks: list[list[int]]) -> list[Sequence[Any]]:
-        """The results of each chunk (indices into rulebases), in order: the first played here, the others
+    def _play_group(self, chunks: list[list[tuple[int, Rulebase]]], seeds: Sequence[int]) -> list[Sequence[Any]]:
+        """The results of each chunk ((index, rulebase) pairs), in order: the first played here, the others
         by the worker processes meanwhile."""
-        futures = [self._pool.submit(self.evaluate, [rulebases[i] for i in chunk], [seeds[i] for i in chunk])
+        def play(chunk: list[tuple[int, Rulebase]]) -> Sequence[Any]:
+            return _checked(self.evaluate([r for _, r in chunk], [seeds[i] for i, _ in chunk]), len(chunk)) if chunk else []
+
+        futures = [self._pool.submit(self.evaluate, [r for _, r in chunk], [seeds[i] for i, _ in chunk]) if chunk else None
                    for chunk in chunks[1:]] if self._pool is not None else []
         try:
-            first = _checked(self.evaluate([rulebases[i] for i in chunks[0]], [seeds[i] for i in chunks[0]]),
-                             len(chunks[0]))
-            return [first, *(_checked(future.result(), len(chunk)) for chunk, future in zip(chunks[1:], futures))]
+            first = play(chunks[0])
+            return [first, *(_checked(future.result(), len(chunk)) if future is not None else []
+                             for chunk, future in zip(chunks[1:], futures))]
         finally:
             for future in futures:
-                future.cancel()  # only what has not started: an error or interruption leaves nothing queued
+                if future is not None:
+                    future.cancel()  # only what has not started: an error or interruption leaves nothing queued
 
 
 def _checked(results: Sequence[Any], expected: int) -> Sequence[Any]:
