@@ -14,6 +14,8 @@ from typing import Callable
 import uvicorn
 
 from app.api import create_app
+from app.api.ui_page import UI_PATH
+from app.origins import SiteAddresses
 from app.paths import DATABASE_FILE
 from app.rerun_viewer import RerunViewer, RerunViewerError, viewer_home
 from app.runs import RunManager
@@ -103,13 +105,17 @@ def serve(options: ServeOptions, echo: Callable[[str], None] = print) -> None:
     api_url = options.url(options.port)
     try:
         try:
-            ui = start_ui(store, runs, options.host, options.ui_port, api_url=api_url)
+            # The UI's page is served from the API's address (no other site can frame it there), and only
+            # that page may open the UI's websocket (docs/design.md, "Security")
+            ui = start_ui(store, runs, options.host, options.ui_port, api_url=api_url, page_port=options.port)
             viewer.start()
         except (PortBusyError, RerunViewerError) as exc:  # a port taken between the check and now
             raise ServeError(str(exc)) from exc
-        ui_url = options.url(options.ui_port)
+        ui_url = f"{api_url}{UI_PATH}"
         viewer_url = options.url(options.rerun_port)
-        app = create_app(store, runs, ui_url=ui_url, viewer_url=viewer_url)
+        app = create_app(store, runs, ui_url=ui_url, viewer_url=viewer_url,
+                         site=SiteAddresses.of(options.host, {options.port}, {options.port}),
+                         ui_websocket=f"ws://{options.host}:{options.ui_port}")
         echo("soccer-lab is running (Ctrl+C to stop)")
         echo(f"  home          {api_url}/")
         echo(f"  UI            {ui_url}")

@@ -49,6 +49,19 @@ LABELS = {  # what a teacher reads next to each field; fields missing here show 
 GAME_FIELDS = ("skills", "noise", "count_touches")
 
 
+JS_SAFE_INTEGER = 2**53  # the browser's numbers hold integers exactly below this (a seed's bound does not fit)
+
+
+def field_bounds(field: Any) -> dict[str, int]:
+    """min and max of an integer pydantic field, from its ge/gt/le/lt constraints."""
+    bounds = {}
+    for constraint in field.metadata:
+        for attribute, key, shift in (("ge", "min", 0), ("gt", "min", 1), ("le", "max", 0), ("lt", "max", -1)):
+            if (value := getattr(constraint, attribute, None)) is not None and abs(value) < JS_SAFE_INTEGER:
+                bounds[key] = int(value) + shift
+    return bounds
+
+
 def ga_fields() -> dict[str, Any]:
     """Field name -> pydantic FieldInfo of GAConfig, the one place the parameters and defaults live."""
     return dict(GAConfig.model_fields)
@@ -133,8 +146,8 @@ class EvolvePanel:
             return gui.add_dropdown(label, tuple(choices), initial_value=default)
         if isinstance(default, bool):
             return gui.add_checkbox(label, default)
-        if isinstance(default, int):
-            return gui.add_number(label, initial_value=default, step=1)
+        if isinstance(default, int):  # the field's own bounds (a population over the limit cannot be typed)
+            return gui.add_number(label, initial_value=default, step=1, **field_bounds(field))
         return gui.add_number(label, initial_value=float(default), step=0.01)
 
     def config(self) -> dict[str, Any]:
