@@ -69,12 +69,19 @@ def admit_only(server: viser.ViserServer, site: SiteAddresses) -> None:
 
     told: set[str] = set()
 
+    def refusal_of(websocket: Any) -> str | None:
+        try:
+            headers = websocket.request.headers
+            hosts, origins = headers.get_all("Host"), headers.get_all("Origin")
+        except Exception:  # fail closed: a handshake this code cannot read is refused
+            return "the handshake cannot be read"
+        if len(hosts) != 1 or len(origins) > 1:
+            return "a handshake with several Host or Origin headers is refused"
+        return site.host_refusal(hosts[0]) or site.origin_refusal(origins[0] if origins else None)
+
     async def admit(connection: Any) -> None:
         websocket = live.get(connection.client_id)
-        request = getattr(websocket, "request", None)
-        headers = getattr(request, "headers", None)
-        refusal = ("the handshake cannot be read" if headers is None
-                   else site.host_refusal(headers.get("Host")) or site.origin_refusal(headers.get("Origin")))
+        refusal = refusal_of(websocket)
         if refusal is not None:
             if refusal not in told:  # a refused page's client retries every few seconds: say it once
                 told.add(refusal)
