@@ -358,7 +358,7 @@ class ExperimentOut(BaseModel):
     id: int
     preset: str
     created: str
-    folder: str
+    folder: str  # the folder's name (the API returns no filesystem path)
     available: bool  # the folder is still there
     presets: list[str]
     trials: int | None
