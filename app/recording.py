@@ -217,6 +217,7 @@ class RunRecorder:
         self.path = Path(path)
         self.world = world
         self.replays: list[tuple[int, str]] = []  # (generation, tab name) of each replay logged
+        self._blueprint_sent = 0  # replay tabs in the last blueprint sent
         self.stream = open_stream(self.path, recording_id, run_blueprint())
         log_series_styles(self.stream)
         if world is not None:
@@ -230,18 +231,30 @@ class RunRecorder:
         self.stream.flush()  # a killed run keeps what it logged
 
     def log_generation_replay(self, generation: int, trace: Any, result: Any) -> None:
-        """A generation's best player's game (`result` its GameResult) under replay/generation_<g>, and
-        the blueprint with its tab added."""
+        """A generation's best player's game (`result` its GameResult) under replay/generation_<g>; its tab
+        joins the blueprint (sent when the tabs double, and when the recording closes)."""
         if self.world is None:
             raise ValueError("this recording has no world to draw replays in")
         log_replay(self.stream, trace, self.world, entity=replay_entity(generation), generation=generation,
                    pitch=False)
         self.replays.append((generation, f"generation {generation} ({result.goals} goals)"))
-        send_blueprint(self.stream, run_blueprint(self.replays, self.world))
+        if len(self.replays) & (len(self.replays) - 1) == 0:  # 1, 2, 4, 8 ... tabs: see _blueprint_sent
+            self._send_blueprint()
         self.stream.flush()
 
+    def _send_blueprint(self) -> None:
+        """The blueprint with a tab per replay so far. A blueprint grows by a tab a replay, so sending it
+        after each would make a recording grow with the square of its generations (a 117-generation run
+        wrote 82 MB, most of it blueprints); sent when the tabs double and when the recording closes, its
+        share stays about twice the last one's (docs/reference/limits.md)."""
+        send_blueprint(self.stream, run_blueprint(self.replays, self.world))
+        self._blueprint_sent = len(self.replays)
+
     def close(self) -> None:
-        stream, self.stream = self.stream, None
+        stream = self.stream
+        if stream is not None and self.world is not None and self.replays and self._blueprint_sent != len(self.replays):
+            self._send_blueprint()  # every replay's tab, at the end
+        self.stream = None
         if stream is not None:
             stream.flush()
             stream.disconnect()
