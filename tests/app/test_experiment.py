@@ -112,7 +112,7 @@ def test_same_seed_same_statistics_whatever_the_number_of_workers(tmp_path):
 
 
 def test_ray_gives_the_same_statistics_as_local_processes(tmp_path):
-    ray = pytest.importorskip("ray")
+    ray = pytest.importorskip("ray", reason="Ray is not installed: pip install -e '.[test]' (or '.[ray]')")
     from app.experiment.executors import RayExecutor
 
     run_experiment("crossover", TINY, tmp_path / "local", LocalExecutor(1))
