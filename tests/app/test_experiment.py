@@ -13,7 +13,7 @@ from pathlib import Path
 import pytest
 from typer.testing import CliRunner
 
-from app.cli import _register, app
+from app.cli import app
 from app.experiment.executors import LocalExecutor
 from app.experiment.figures import FIGURES_FOLDER
 from app.experiment.presets import ALL, PRESET_NAMES, ExperimentOptions, preset, presets, trial_seed
@@ -151,7 +151,6 @@ def test_a_killed_experiment_resumes_skipping_finished_trials(tmp_path):
 # ---- command line --------------------------------------------------------------------------------------
 @pytest.fixture(scope="module")
 def cli():
-    _register()
     return CliRunner()
 
 
