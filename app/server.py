@@ -11,16 +11,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable
 
-import uvicorn
-
-from app.api import create_app
-from app.api.ui_page import UI_PATH
-from app.origins import SiteAddresses
 from app.paths import DATABASE_FILE
-from app.rerun_viewer import RerunViewer, RerunViewerError, viewer_home
-from app.runs import RunManager
-from app.store import Store
-from app.ui import PortBusyError, start_ui
 
 DEFAULT_HOST = "127.0.0.1"
 DEFAULT_PORT = 8000
@@ -73,18 +64,6 @@ def check_ports(options: ServeOptions) -> None:
     check_port_free(options.host, options.rerun_port, "rerun viewer", "--rerun-port")
 
 
-class _Server(uvicorn.Server):
-    """uvicorn's server, telling `on_exit` as soon as a signal (Ctrl+C, SIGTERM) asks it to stop."""
-
-    def __init__(self, config: uvicorn.Config, on_exit: Callable[[], None]):
-        super().__init__(config)
-        self.on_exit = on_exit
-
-    def handle_exit(self, sig: int, frame: object) -> None:
-        self.on_exit()
-        super().handle_exit(sig, frame)
-
-
 def _cleanup_after_sigterm(signum: int, frame: object) -> None:
     """Where uvicorn's re-raised SIGTERM lands once it has shut down: nowhere, so that serve's own cleanup
     runs (the default action would end the process at once, runs still 'running', the viewer orphaned)."""
@@ -93,6 +72,28 @@ def _cleanup_after_sigterm(signum: int, frame: object) -> None:
 def serve(options: ServeOptions, echo: Callable[[str], None] = print) -> None:
     """Run everything until Ctrl+C or SIGTERM; runs still going are then marked interrupted (resumable) at
     once, and everything stops within about 3 s."""
+    # Imported here: the command's help and its option checks do without the app (FastAPI, viser, rerun).
+    import uvicorn
+
+    from app.api import create_app
+    from app.api.ui_page import UI_PATH
+    from app.origins import SiteAddresses
+    from app.rerun_viewer import RerunViewer, RerunViewerError, viewer_home
+    from app.runs import RunManager
+    from app.store import Store
+    from app.ui import PortBusyError, start_ui
+
+    class Server(uvicorn.Server):
+        """uvicorn's server, telling `on_exit` as soon as a signal (Ctrl+C, SIGTERM) asks it to stop."""
+
+        def __init__(self, config: uvicorn.Config, on_exit: Callable[[], None]):
+            super().__init__(config)
+            self.on_exit = on_exit
+
+        def handle_exit(self, sig: int, frame: object) -> None:
+            self.on_exit()
+            super().handle_exit(sig, frame)
+
     check_ports(options)
     try:
         options.data_dir.mkdir(parents=True, exist_ok=True)
@@ -129,7 +130,7 @@ def serve(options: ServeOptions, echo: Callable[[str], None] = print) -> None:
                                 timeout_graceful_shutdown=GRACEFUL_SHUTDOWN_SECONDS)
         if threading.current_thread() is threading.main_thread():
             signal.signal(signal.SIGTERM, _cleanup_after_sigterm)
-        _Server(config, on_exit=runs.interrupt_all).run()
+        Server(config, on_exit=runs.interrupt_all).run()
     finally:
         runs.shutdown()
         viewer.stop()
