@@ -9,9 +9,8 @@ from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 
 SEED_BOUND = 2**63  # seeds (the run's and its games') lie in [0, SEED_BOUND)
-# Breeding and scoring a generation are not interrupted by a stop (evaluation is, between chunks): at this
-# size they take about a second, and the app's whole process stays near 300 MB in generation 0 (100,000 took
-# 12 s to breed and 490 MB; docs/reference/limits.md, benchmarks/stop_latency.py)
+# Breeding a generation is not interrupted by a stop (evaluation is, between chunks): at this size it takes
+# about a second, at 100,000 tens of seconds (docs/reference/limits.md, benchmarks/stop_latency.py)
 MAX_POPULATION = 10_000
 # Each worker is a process of about 180 MB (the game kernels): 32 take about 6 GB, two runs at once 12 GB
 MAX_WORKERS = 32
