@@ -147,6 +147,7 @@ class ProgressWatcher:
 class _ActiveRun:
     thread: threading.Thread
     servers: frozenset[tuple[str, int]]  # the rcssservers it plays on: one run at a time on each
+    owner: int | None = None  # the student who started it (classroom mode)
     stop: threading.Event = field(default_factory=threading.Event)
     stop_status: RunStatus = RunStatus.STOPPED  # what a stop means: the user's stop, or the app ending
     watcher: ProgressWatcher | None = None
@@ -166,6 +167,9 @@ class RunManager:
         self._active: dict[int, _ActiveRun] = {}
         self._listeners: list[Listener] = []
         self._lock = threading.RLock()
+        # Classroom mode: a student's run's settings as it may play them (app/classroom/settings.py), or
+        # RunStateError saying which bound they pass
+        self.student_bounds: Callable[[RunSettings], RunSettings] | None = None
         # Runs the previous app left 'running' were cut off: they resume from their checkpoints.
         self.interrupted_at_start = store.mark_interrupted()
 
@@ -204,19 +208,22 @@ class RunManager:
         servers: Sequence[str] | None = None,
         trial: TrialConfig | dict[str, Any] | None = None,
         start_servers: int | None = None,
+        owner: int | None = None,
     ) -> RunRecord:
         """Start a new run of `algorithm` ("ga" or "random-search"), named `name` or, when None, by its
         settings. `ga`/`game`/`trial`: a GAConfig/GameConfig/TrialConfig or a dict of their fields (missing
         fields take the chapter's defaults). env "rcss" plays trials, with ga.workers 1, on `servers`
         (HOST:PORT, servers the user runs) or on `start_servers` (default 1) servers the run starts
         itself. Invalid values raise ValueError before anything is saved; a server another run plays on, or
-        no rcssserver to start, raises RunStateError."""
-        settings = self._with_executable(RunSettings.build(ga, game, env, servers, trial, algorithm, start_servers))
+        no rcssserver to start, raises RunStateError. `owner`: the student starting it (classroom mode), whose
+        run is bounded by `student_bounds` and who runs one at a time."""
+        settings = RunSettings.build(ga, game, env, servers, trial, algorithm, start_servers)
         with self._lock:
+            settings = self._with_executable(self._check_student(owner, settings))
             self._check_capacity()
             self._check_servers_free(settings)
             record = self.store.create_run(name if name is not None else settings.default_name(),
-                                           settings.to_dict(), self.runs_dir / "{id}")
+                                           settings.to_dict(), self.runs_dir / "{id}", owner=owner)
             self._launch(record, settings, resume_run=False)
         return record
 
@@ -229,7 +236,8 @@ class RunManager:
                 raise RunStateError(f"run {run_id} is running")
             if not record.status.resumable:
                 raise RunStateError(f"run {run_id} is {record.status}: there is nothing to resume")
-            settings = self._with_executable(RunSettings.from_dict(record.config))
+            settings = RunSettings.from_dict(record.config)
+            settings = self._with_executable(self._check_student(record.owner, settings))
             self._check_capacity()
             self._check_servers_free(settings)
             record = self.store.set_run_status(run_id, RunStatus.RUNNING)
@@ -314,6 +322,13 @@ class RunManager:
         """The best individual so far (also while the run goes on), ready to play."""
         return parse_rulebase(self.store.best_individual(run_id).rules, SOCCER_VOCABULARY)
 
+    def _check_student(self, owner: int | None, settings: RunSettings) -> RunSettings:
+        if owner is None:
+            return settings
+        if any(active.owner == owner for active in self._active.values()):
+            raise RunStateError("you have a run going already: stop it first (one run at a time each)")
+        return settings if self.student_bounds is None else self.student_bounds(settings)
+
     def _check_capacity(self) -> None:
         if len(self._active) >= self.max_concurrent_runs:
             raise RunStateError(
@@ -345,7 +360,8 @@ class RunManager:
         thread = threading.Thread(
             target=self._run, args=(record, settings, resume_run), name=f"run-{record.id}", daemon=True
         )
-        self._active[record.id] = _ActiveRun(thread, frozenset(parse_server(server) for server in settings.servers))
+        self._active[record.id] = _ActiveRun(thread, frozenset(parse_server(server) for server in settings.servers),
+                                             owner=record.owner)
         self._notify(RunEvent(record.id, RunStatus.RUNNING))
         thread.start()
 

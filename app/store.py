@@ -59,6 +59,32 @@ MIGRATIONS: tuple[tuple[str, ...], ...] = (
             created TEXT NOT NULL,
             summary TEXT NOT NULL)""",
     ),
+    (  # classroom mode (docs/teaching/classroom.md): who owns a rulebase or run, the class's students,
+        # its tournament's entries and rounds
+        "ALTER TABLE rulebases ADD COLUMN owner INTEGER",  # a student's id; NULL: the teacher's, shared
+        "ALTER TABLE runs ADD COLUMN owner INTEGER",
+        """CREATE TABLE students (
+            id INTEGER PRIMARY KEY AUTOINCREMENT,
+            name TEXT NOT NULL,
+            name_key TEXT NOT NULL UNIQUE,
+            token_hash TEXT NOT NULL UNIQUE,
+            created TEXT NOT NULL)""",
+        """CREATE TABLE class_entries (
+            id INTEGER PRIMARY KEY AUTOINCREMENT,
+            student_id INTEGER UNIQUE REFERENCES students(id) ON DELETE CASCADE,
+            name TEXT NOT NULL,
+            name_key TEXT NOT NULL UNIQUE,
+            text TEXT NOT NULL,
+            source TEXT NOT NULL,
+            submitted TEXT NOT NULL)""",
+        """CREATE TABLE class_rounds (
+            id INTEGER PRIMARY KEY AUTOINCREMENT,
+            created TEXT NOT NULL,
+            seed INTEGER NOT NULL,
+            starts INTEGER NOT NULL,
+            game TEXT NOT NULL,
+            results TEXT NOT NULL)""",
+    ),
 )
 SCHEMA_VERSION = len(MIGRATIONS)
 
@@ -98,6 +124,7 @@ class RulebaseRecord:
     text: str
     created: str
     updated: str
+    owner: int | None = None  # the student who saved it (classroom mode); None: shared
 
     def to_dict(self) -> dict[str, Any]:
         return asdict(self)
@@ -113,6 +140,7 @@ class RunRecord:
     finished: str | None
     folder: str
     error: str | None
+    owner: int | None = None  # the student who started it (classroom mode); None: shared
 
     def to_dict(self) -> dict[str, Any]:
         return {**asdict(self), "status": str(self.status)}
@@ -140,6 +168,46 @@ class ExperimentRecord:
 
     def to_dict(self) -> dict[str, Any]:
         return asdict(self)
+
+
+@dataclass(frozen=True)
+class StudentRecord:
+    id: int
+    name: str
+    created: str
+
+
+@dataclass(frozen=True)
+class EntryRecord:
+    """A rulebase entered in the class tournament: a student's (under their name, one each) or the teacher's
+    (`student_id` None: the GA's best or a library rulebase, under the name the teacher gave)."""
+
+    id: int
+    student_id: int | None
+    name: str
+    text: str
+    source: str  # where the rules came from, in words ("editor", "run 3's best", "library: striker")
+    submitted: str
+
+
+@dataclass(frozen=True)
+class RoundRecord:
+    """A played round: every entry on the same `starts` seeds (`results`: one row per entry, ranked)."""
+
+    id: int
+    created: str
+    seed: int
+    starts: int
+    game: dict[str, Any]  # the GameConfig every game was played with
+    results: list[dict[str, Any]]
+
+    def to_dict(self) -> dict[str, Any]:
+        return asdict(self)
+
+
+def name_key(name: str) -> str:
+    """What two names must differ in to be two names: case, width and runs of spaces do not count."""
+    return " ".join(unicodedata.normalize("NFKC", name).casefold().split())
 
 
 def now() -> str:
@@ -204,15 +272,16 @@ class Store:
             self._connection.close()
 
     # ---- rulebases ----------------------------------------------------------------------
-    def create_rulebase(self, name: str, text: str) -> RulebaseRecord:
-        name, text = _valid_name(name), _valid_text(text)
+    def create_rulebase(self, name: str, text: str, owner: int | None = None) -> RulebaseRecord:
+        name, text = valid_name(name), _valid_text(text)
         stamp = now()
         with self._transaction() as cursor:
             cursor.execute(
-                "INSERT INTO rulebases (name, text, created, updated) VALUES (?, ?, ?, ?)", (name, text, stamp, stamp)
+                "INSERT INTO rulebases (name, text, created, updated, owner) VALUES (?, ?, ?, ?, ?)",
+                (name, text, stamp, stamp, owner),
             )
             record_id = cursor.lastrowid
-        return RulebaseRecord(record_id, name, text, stamp, stamp)
+        return RulebaseRecord(record_id, name, text, stamp, stamp, owner)
 
     def get_rulebase(self, rulebase_id: int) -> RulebaseRecord:
         rows = self._query("SELECT * FROM rulebases WHERE id = ?", (_valid_id(rulebase_id),))
@@ -226,7 +295,7 @@ class Store:
 
     def update_rulebase(self, rulebase_id: int, *, name: str | None = None, text: str | None = None) -> RulebaseRecord:
         current = self.get_rulebase(rulebase_id)
-        name = current.name if name is None else _valid_name(name)
+        name = current.name if name is None else valid_name(name)
         text = current.text if text is None else _valid_text(text)
         stamp = now()
         with self._transaction() as cursor:
@@ -235,7 +304,7 @@ class Store:
             )
             if cursor.rowcount == 0:  # deleted by another thread meanwhile
                 raise NotFound("rulebase", rulebase_id)
-        return RulebaseRecord(current.id, name, text, current.created, stamp)
+        return RulebaseRecord(current.id, name, text, current.created, stamp, current.owner)
 
     def delete_rulebase(self, rulebase_id: int) -> None:
         with self._transaction() as cursor:
@@ -244,15 +313,15 @@ class Store:
                 raise NotFound("rulebase", rulebase_id)
 
     # ---- runs ---------------------------------------------------------------------------
-    def create_run(self, name: str, config: dict[str, Any], folder: str | Path) -> RunRecord:
+    def create_run(self, name: str, config: dict[str, Any], folder: str | Path, owner: int | None = None) -> RunRecord:
         """A new run, status running. `folder` may contain `{id}`, filled with the new run's id."""
-        name = _valid_name(name)
+        name = valid_name(name)
         config_json = _json(config, "run config")
         stamp = now()
         with self._transaction() as cursor:
             cursor.execute(
-                "INSERT INTO runs (name, config, status, created, folder) VALUES (?, ?, ?, ?, ?)",
-                (name, config_json, RunStatus.RUNNING.value, stamp, str(folder)),
+                "INSERT INTO runs (name, config, status, created, folder, owner) VALUES (?, ?, ?, ?, ?, ?)",
+                (name, config_json, RunStatus.RUNNING.value, stamp, str(folder), owner),
             )
             run_id = cursor.lastrowid
             folder = str(folder).format(id=run_id)
@@ -282,7 +351,7 @@ class Store:
         return self.get_run(run_id)
 
     def rename_run(self, run_id: int, name: str) -> RunRecord:
-        name = _valid_name(name)
+        name = valid_name(name)
         with self._transaction() as cursor:
             cursor.execute("UPDATE runs SET name = ? WHERE id = ?", (name, _valid_id(run_id)))
             if cursor.rowcount == 0:
@@ -356,7 +425,7 @@ class Store:
     def record_experiment(self, preset: str, folder: str | Path, summary: dict[str, Any]) -> ExperimentRecord:
         """A finished experiment. The same preset recorded again in the same folder (a resumed or
         repeated experiment) replaces its earlier summary: one library entry per folder and preset."""
-        preset = _valid_name(preset)
+        preset = valid_name(preset)
         summary_json = _json(summary, "experiment summary")
         stamp = now()
         with self._transaction() as cursor:
@@ -387,6 +456,98 @@ class Store:
         return [_experiment_record(row) for row in self._query("SELECT * FROM experiments ORDER BY id DESC")]
 
 
+    # ---- classroom: students, tournament entries, rounds ----------------------------------------
+    def add_student(self, name: str, token_hash: str) -> StudentRecord:
+        """A student who joined under `name` (one line of plain text, unique in the class ignoring case and
+        spacing: StoreError when taken); `token_hash` identifies their browser (app/classroom/admission.py)."""
+        name = valid_name(name)
+        stamp = now()
+        with self._transaction() as cursor:
+            try:
+                cursor.execute("INSERT INTO students (name, name_key, token_hash, created) VALUES (?, ?, ?, ?)",
+                               (name, name_key(name), token_hash, stamp))
+            except sqlite3.IntegrityError:
+                raise StoreError(f"the name {name!r} is taken in this class: choose another") from None
+            student_id = cursor.lastrowid
+        return StudentRecord(student_id, name, stamp)
+
+    def student_by_token(self, token_hash: str) -> StudentRecord | None:
+        rows = self._query("SELECT id, name, created FROM students WHERE token_hash = ?", (token_hash,))
+        return StudentRecord(**dict(rows[0])) if rows else None
+
+    def get_student(self, student_id: int) -> StudentRecord:
+        rows = self._query("SELECT id, name, created FROM students WHERE id = ?", (_valid_id(student_id),))
+        if not rows:
+            raise NotFound("student", student_id)
+        return StudentRecord(**dict(rows[0]))
+
+    def list_students(self) -> list[StudentRecord]:
+        return [StudentRecord(**dict(row)) for row in self._query("SELECT id, name, created FROM students ORDER BY id")]
+
+    def remove_student(self, student_id: int) -> None:
+        """The student leaves the class: their browser must join again, their entry goes; what they saved
+        and ran stays, seen by the teacher only."""
+        with self._transaction() as cursor:
+            cursor.execute("DELETE FROM students WHERE id = ?", (_valid_id(student_id),))
+            if cursor.rowcount == 0:
+                raise NotFound("student", student_id)
+
+    def submit_entry(self, student_id: int | None, name: str, text: str, source: str) -> EntryRecord:
+        """A student's entry replaces their earlier one (under their name); a teacher's entry (`student_id`
+        None) replaces the teacher's entry of the same name. A name another's entry holds is refused."""
+        name, text = valid_name(name), _valid_text(text)
+        key, stamp = name_key(name), now()
+        with self._transaction() as cursor:
+            holder = cursor.execute("SELECT id, student_id FROM class_entries WHERE name_key = ?", (key,)).fetchone()
+            if holder is not None and holder["student_id"] != student_id:
+                raise StoreError(f"the name {name!r} is another entry's: choose another")
+            if student_id is not None:
+                cursor.execute("DELETE FROM class_entries WHERE student_id = ?", (student_id,))
+            elif holder is not None:
+                cursor.execute("DELETE FROM class_entries WHERE id = ?", (holder["id"],))
+            cursor.execute(
+                "INSERT INTO class_entries (student_id, name, name_key, text, source, submitted) VALUES (?, ?, ?, ?, ?, ?)",
+                (student_id, name, key, text, source, stamp))
+            entry_id = cursor.lastrowid
+        return EntryRecord(entry_id, student_id, name, text, source, stamp)
+
+    def list_entries(self) -> list[EntryRecord]:
+        """In the order they were (last) submitted."""
+        return [EntryRecord(**{k: row[k] for k in row.keys() if k != "name_key"})
+                for row in self._query("SELECT * FROM class_entries ORDER BY id")]
+
+    def delete_entry(self, entry_id: int) -> None:
+        with self._transaction() as cursor:
+            cursor.execute("DELETE FROM class_entries WHERE id = ?", (_valid_id(entry_id),))
+            if cursor.rowcount == 0:
+                raise NotFound("entry", entry_id)
+
+    def record_round(self, seed: int, starts: int, game: dict[str, Any], results: list[dict[str, Any]]) -> RoundRecord:
+        stamp = now()
+        with self._transaction() as cursor:
+            cursor.execute("INSERT INTO class_rounds (created, seed, starts, game, results) VALUES (?, ?, ?, ?, ?)",
+                           (stamp, int(seed), int(starts), _json(game, "round game"), _json(results, "round results")))
+            round_id = cursor.lastrowid
+        return self.get_round(round_id)
+
+    def get_round(self, round_id: int) -> RoundRecord:
+        rows = self._query("SELECT * FROM class_rounds WHERE id = ?", (_valid_id(round_id),))
+        if not rows:
+            raise NotFound("round", round_id)
+        return _round_record(rows[0])
+
+    def list_rounds(self) -> list[RoundRecord]:
+        """Newest first."""
+        return [_round_record(row) for row in self._query("SELECT * FROM class_rounds ORDER BY id DESC")]
+
+
+def _round_record(row: sqlite3.Row) -> RoundRecord:
+    values = dict(row)
+    values["game"] = json.loads(values["game"])
+    values["results"] = json.loads(values["results"])
+    return RoundRecord(**values)
+
+
 def _run_record(row: sqlite3.Row) -> RunRecord:
     values = dict(row)
     values["config"] = json.loads(values["config"])
@@ -411,7 +572,7 @@ def _valid_id(record_id: object) -> int:
 BIDI_CONTROLS = frozenset("\u061c\u200e\u200f\u202a\u202b\u202c\u202d\u202e\u2066\u2067\u2068\u2069")
 
 
-def _valid_name(name: object) -> str:
+def valid_name(name: object) -> str:
     """A name as users see it everywhere: one line of plain text (no control character, no bidirectional
     override); StoreError saying what was wrong."""
     if not isinstance(name, str) or not name.strip():

@@ -9,6 +9,7 @@ from fastapi.exceptions import RequestValidationError
 from fastapi.responses import JSONResponse
 from starlette.types import ASGIApp, Message, Receive, Scope, Send
 
+from app.access import Forbidden
 from app.runs import RunStateError
 from app.store import NotFound, StoreError
 from app.validation import describe_problems, dotted, problem_message
@@ -47,6 +48,10 @@ async def _conflict(_: Request, exc: RunStateError) -> JSONResponse:
     return error_response(409, str(exc))
 
 
+async def _forbidden(_: Request, exc: Forbidden) -> JSONResponse:
+    return error_response(403, str(exc))
+
+
 async def _refused(_: Request, exc: StoreError) -> JSONResponse:
     return error_response(422, str(exc))
 
@@ -57,6 +62,7 @@ def install_error_handlers(app: FastAPI) -> None:
     app.add_exception_handler(NotFound, _not_found)
     app.add_exception_handler(RunStateError, _conflict)
     app.add_exception_handler(StoreError, _refused)
+    app.add_exception_handler(Forbidden, _forbidden)  # before StoreError and RunStateError: its own class's
 
 
 class BodySizeLimit:

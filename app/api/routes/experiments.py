@@ -11,7 +11,8 @@ from fastapi.responses import FileResponse
 from app.api.models import ErrorBody, ExperimentOut, FigureOut, TrialRecordingOut
 from app.api.routes.dependencies import RecordId, StoreDependency
 from app.experiment.library import ExperimentFolder
-from app.store import ExperimentRecord, NotFound, Store
+from app.access import ScopedStore
+from app.store import ExperimentRecord, NotFound
 
 router = APIRouter(prefix="/experiments", tags=["experiments"], responses={404: {"model": ErrorBody}})
 # The report is our own self-contained HTML (figures inline as data: URLs): let it do nothing else.
@@ -50,7 +51,7 @@ def _out(record: ExperimentRecord, request: Request) -> ExperimentOut:
     )
 
 
-def _file(store: Store, experiment_id: int, what: str, find) -> Path:
+def _file(store: ScopedStore, experiment_id: int, what: str, find) -> Path:
     path = find(_folder(store.get_experiment(experiment_id)))
     if path is None:
         raise NotFound(f"{what} of experiment", experiment_id)

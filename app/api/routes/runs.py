@@ -13,7 +13,8 @@ from app.api.models import BestOut, ErrorBody, RunOut, RunRename, RunStart
 from app.api.routes.dependencies import RecordId, RunsDependency, StoreDependency
 from app.run_outputs import RunFolder
 from app.served_files import regular_file_inside
-from app.store import NotFound, RunRecord, Store
+from app.access import ScopedStore
+from app.store import NotFound, RunRecord
 
 router = APIRouter(prefix="/runs", tags=["runs"], responses={404: {"model": ErrorBody}})
 CONFLICT = {409: {"model": ErrorBody, "description": "The run's state does not allow this"}}
@@ -25,7 +26,7 @@ def _recording(record: RunRecord) -> Path | None:
     return regular_file_inside(folder.path, folder.recording.name)
 
 
-def _out(record: RunRecord, store: Store, request: Request) -> RunOut:
+def _out(record: RunRecord, store: ScopedStore, request: Request) -> RunOut:
     recording = None
     if _recording(record) is not None:
         recording = str(request.url_for("run_recording", run_id=record.id))

@@ -8,7 +8,8 @@ from typing import TYPE_CHECKING, Callable
 import viser
 
 from app.rule_inspection import MAX_GAMES, size
-from app.store import Store, StoreError
+from app.access import ScopedStore
+from app.store import StoreError
 from app.ui import style
 from app.ui.panels.svg import escape
 from fuzzy.parser import RuleSyntaxError, parse_rulebase
@@ -44,7 +45,7 @@ class EditorPanel:
         self,
         gui: viser.GuiApi,
         vocabulary: Vocabulary,
-        store: Store,
+        store: ScopedStore,
         on_pitch: tuple[Rulebase, str],
         *,
         on_apply: Callable[[Rulebase, str], None],

@@ -11,8 +11,9 @@ import viser
 import viser.uplot
 
 from app.environments import RCSS, RCSS_WORKERS
-from app.runs import RunEvent, RunManager, RunStateError, SampledPlayer
-from app.store import NotFound, RunStatus, Store
+from app.access import ScopedRuns, ScopedStore
+from app.runs import RunEvent, RunStateError, SampledPlayer
+from app.store import NotFound, RunStatus
 from app.ui import style
 from app.ui.panels.svg import escape
 from app.validation import describe_problem, dotted
@@ -82,8 +83,8 @@ class EvolvePanel:
     def __init__(
         self,
         gui: viser.GuiApi,
-        runs: RunManager,
-        store: Store,
+        runs: ScopedRuns,
+        store: ScopedStore,
         *,
         on_load: Callable[[Rulebase, str, int], None],
         on_generation: Callable[[int, int, Sequence[SampledPlayer]], None],

@@ -8,8 +8,9 @@ from typing import Callable
 import viser
 
 from app.experiment.library import ExperimentFolder, FigureFile
-from app.runs import RunManager, RunStateError
-from app.store import NotFound, RulebaseRecord, Store, StoreError
+from app.access import ScopedRuns, ScopedStore
+from app.runs import RunStateError
+from app.store import NotFound, RulebaseRecord, StoreError
 from app.ui import style
 from app.ui.panels.experiments import experiment_html, experiment_label, figure_html
 from app.ui.panels.svg import escape
@@ -38,8 +39,8 @@ class LibraryPanel:
     def __init__(
         self,
         gui: viser.GuiApi,
-        store: Store,
-        runs: RunManager,
+        store: ScopedStore,
+        runs: ScopedRuns,
         vocabulary: Vocabulary,
         api_url: str | None,
         *,
@@ -179,7 +180,7 @@ class LibraryPanel:
             return
         try:
             self.store.delete_rulebase(record_id)
-        except NotFound as exc:
+        except (NotFound, StoreError) as exc:  # StoreError: a student deleting from the shared library
             self._say(str(exc), error=True)
             return
         self.refresh()
