@@ -1,16 +1,24 @@
 """The UI's page served from the app's address (`/ui/`), so that the page the UI's websocket admits is
 one that no other site can frame (app/api/guard.py adds the headers; app/ui/__init__.py admits only this
 page's origin). The page is viser's own client, from the installed viser package; it opens the websocket
-named by its `websocket` query parameter: viser's port, where the sessions live."""
+named by its `websocket` query parameter: viser's port, where the sessions live, on the host name the
+browser used for the page (so that the class's cookies, which belong to that name, go with the handshake).
+
+A link to a pitch (`/ui/?pitch=TOKEN`, app/pitch_link.py) is passed on in the websocket's own query, which
+the handshake hook reads: the session starts from it. A link that cannot be read answers one line, not
+a broken page."""
 
 from __future__ import annotations
 
+import html
 from pathlib import Path
-from urllib.parse import quote
+from urllib.parse import quote, urlsplit
 
 import viser
 from fastapi import APIRouter, Request
 from fastapi.responses import HTMLResponse, RedirectResponse, Response
+
+from app.pitch_link import LINK_PARAMETER, LinkError, decode_link
 
 UI_PATH = "/ui/"
 CLIENT_PAGE = Path(viser.__file__).resolve().parent / "client" / "build" / "index.html"
@@ -18,15 +26,37 @@ WEBSOCKET_PARAMETER = "websocket"  # viser's client connects where this query pa
 
 
 def ui_router(websocket_url: str) -> APIRouter:
-    """GET /ui/: viser's client page, told to connect to `websocket_url` (e.g. ws://127.0.0.1:8080)."""
+    """GET /ui/: viser's client page, told to connect to `websocket_url`'s port (e.g. ws://127.0.0.1:8080) on
+    the host name the page was opened under."""
     router = APIRouter(include_in_schema=False)
     page = CLIENT_PAGE.read_bytes()
+    ui_port = urlsplit(websocket_url).port
 
     @router.get("/ui", include_in_schema=False)
     @router.get(UI_PATH, include_in_schema=False)
     def ui(request: Request) -> Response:
-        if request.url.path != UI_PATH or request.query_params.get(WEBSOCKET_PARAMETER) != websocket_url:
-            return RedirectResponse(f"{UI_PATH}?{WEBSOCKET_PARAMETER}={quote(websocket_url, safe=':/')}", 307)
+        link = request.query_params.get(LINK_PARAMETER)
+        if link is not None:
+            try:
+                decode_link(link)
+            except LinkError as exc:
+                return bad_link_page(str(exc))
+        host = request.url.hostname or "127.0.0.1"
+        websocket = f"ws://{f'[{host}]' if ':' in host else host}:{ui_port}"
+        if link is not None:
+            websocket += f"/?{LINK_PARAMETER}={link}"
+        if request.url.path != UI_PATH or request.query_params.get(WEBSOCKET_PARAMETER) != websocket:
+            query = f"{LINK_PARAMETER}={link}&" if link is not None else ""
+            return RedirectResponse(f"{UI_PATH}?{query}{WEBSOCKET_PARAMETER}={quote(websocket, safe=':/')}", 307)
         return HTMLResponse(page, headers={"Cache-Control": "no-cache"})
 
     return router
+
+
+def bad_link_page(reason: str) -> HTMLResponse:
+    """One line saying why, and the way to the app: never a broken page."""
+    body = (f'<!doctype html><html lang="en"><head><meta charset="utf-8"><title>soccer-lab: link not opened</title>'
+            f'<link rel="stylesheet" href="/style.css"></head><body><main><p class="link-refused">'
+            f'This link could not be opened: {html.escape(reason)}. <a href="{UI_PATH}">Open the app</a>.</p>'
+            f"</main></body></html>")
+    return HTMLResponse(body, status_code=400)

@@ -1,4 +1,5 @@
-"""Play controls: play, pause, step one tick, speed, new random start and its seed, and the score line."""
+"""Play controls: play, pause, step one tick, speed, new random start and its seed, the score line, and a
+link that reproduces the pitch (app/pitch_link.py)."""
 
 from __future__ import annotations
 
@@ -7,6 +8,7 @@ from typing import Callable
 import viser
 
 from app.ui import style
+from app.ui.panels.svg import escape
 
 
 class PlayControls:
@@ -18,7 +20,11 @@ class PlayControls:
         on_step: Callable[[], None],
         on_new_start: Callable[[int], None],
         on_reset_view: Callable[[], None],
+        make_link: Callable[[], str] | None = None,
+        notice: str | None = None,
     ):
+        if notice:  # e.g. why the link this tab was opened with was not played: one line, as text
+            gui.add_html(f'<div class="link-notice" style="{style.FONT}; color:{style.ERROR}">{escape(notice)}</div>')
         self.status = gui.add_html("")
         buttons = gui.add_button_group("Game", ("Play", "Pause", "Step one tick"))
         self.speed = gui.add_slider(
@@ -28,6 +34,15 @@ class PlayControls:
         self.seed = gui.add_number("Seed", initial_value=style.DEFAULT_SEED, min=0, step=1)
         starts = gui.add_button_group("Start", ("New random start", "Restart this seed"))
         reset_view = gui.add_button("Fit pitch to view", color="gray")
+        if make_link is not None:
+            share = gui.add_button("Link to this pitch", color="gray",
+                                   hint="A link that opens this pitch as it is now (rules, seed, tick) for anyone "
+                                        "on this server")
+            self.link = gui.add_text("Link (select, copy)", initial_value="")
+
+            @share.on_click
+            def _(_: viser.GuiEvent) -> None:
+                self.link.value = make_link()
 
         @buttons.on_click
         def _(event: viser.GuiEvent) -> None:
