@@ -52,8 +52,11 @@ class SiteAddresses:
     origin_ports: frozenset[int]
 
     @classmethod
-    def of(cls, host: str, ports: set[int] | frozenset[int], origin_ports: set[int] | frozenset[int]) -> "SiteAddresses":
-        return cls(_names_for(host), frozenset(ports), frozenset(origin_ports))
+    def of(cls, host: str, ports: set[int] | frozenset[int], origin_ports: set[int] | frozenset[int],
+           also: tuple[str, ...] = ()) -> "SiteAddresses":
+        """`also`: more names of the address (classroom mode: the address printed and in the QR code)."""
+        names = _names_for(host) | {name.strip("[]").lower() for name in also}
+        return cls(names, frozenset(ports), frozenset(origin_ports))
 
     def host_refusal(self, host_header: str | None) -> str | None:
         """Why a request's Host header is not this app's address (DNS rebinding), or None when it is."""

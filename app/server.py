@@ -1,5 +1,6 @@
 """`soccer-lab serve`: the store, the run manager, the viser UI, rerun's web viewer and the FastAPI
-server, started together on checked ports and stopped together."""
+server, started together on checked ports and stopped together. With `classroom` (serve --class) it
+listens on the local network and admits only the class (app/classroom/)."""
 
 from __future__ import annotations
 
@@ -34,9 +35,13 @@ class ServeOptions:
     rerun_port: int = DEFAULT_RERUN_PORT
     data_dir: Path = Path(".")
     rcssserver: Path | None = None  # the executable rcss runs start their servers from (default: $RCSSSERVER, PATH)
+    classroom: bool = False  # classroom mode: the class on the local network, admitted with a join code
+    address: str | None = None  # classroom mode: the address students open (default: this machine's LAN address)
+    join_code: str | None = None  # classroom mode: the class's join code (default: a new random one)
 
     def url(self, port: int) -> str:
-        return f"http://{self.host}:{port}"
+        host = f"[{self.host}]" if ":" in self.host else self.host
+        return f"http://{host}:{port}"
 
 
 def check_port_free(host: str, port: int, what: str, option: str) -> None:
@@ -61,7 +66,8 @@ def check_ports(options: ServeOptions) -> None:
         raise ServeError("--port, --ui-port and --rerun-port must be three different ports")
     check_port_free(options.host, options.port, "API server", "--port")
     check_port_free(options.host, options.ui_port, "UI", "--ui-port")
-    check_port_free(options.host, options.rerun_port, "rerun viewer", "--rerun-port")
+    check_port_free("127.0.0.1" if options.classroom else options.host, options.rerun_port, "rerun viewer",
+                    "--rerun-port")
 
 
 def _cleanup_after_sigterm(signum: int, frame: object) -> None:
@@ -82,6 +88,8 @@ def serve(options: ServeOptions, echo: Callable[[str], None] = print) -> None:
     from app.runs import RunManager
     from app.store import Store
     from app.ui import PortBusyError, start_ui
+    from fuzzy.vocabulary import Vocabulary
+    from soccer.config import GameConfig
 
     class Server(uvicorn.Server):
         """uvicorn's server, telling `on_exit` as soon as a signal (Ctrl+C, SIGTERM) asks it to stop."""
@@ -102,26 +110,50 @@ def serve(options: ServeOptions, echo: Callable[[str], None] = print) -> None:
     store = Store(options.data_dir / DATABASE_FILE)
     runs = RunManager(store, options.data_dir, rcssserver=options.rcssserver)
     ui = None
-    viewer = RerunViewer(options.host, options.rerun_port, options.data_dir / RERUN_VIEWER_LOG)
+    classroom = tournament = None
+    site = SiteAddresses.of(options.host, {options.port}, {options.port})
     api_url = options.url(options.port)
+    # In classroom mode rerun's viewer (which checks no cookie) stays on this machine: the teacher's
+    viewer_host = "127.0.0.1" if options.classroom else options.host
+    viewer = RerunViewer(viewer_host, options.rerun_port, options.data_dir / RERUN_VIEWER_LOG)
+    if options.classroom:
+        from app.classroom.address import lan_address
+        from app.classroom.admission import Classroom, new_join_code, new_teacher_token
+        from app.classroom.tournament import Tournament
+
+        address = options.address or lan_address()
+        site = SiteAddresses.of(options.host, {options.port}, {options.port}, also=(address,))
+        api_url = f"http://{f'[{address}]' if ':' in address else address}:{options.port}"
+        classroom = Classroom(store, options.join_code or new_join_code(), new_teacher_token(), api_url)
+        runs.student_bounds = lambda settings: classroom.settings.check_student_run(settings)
+        tournament = Tournament(store, Vocabulary.default(), GameConfig(), lambda: classroom.settings)
     try:
         try:
             # The UI's page is served from the API's address (no other site can frame it there), and only
             # that page may open the UI's websocket (docs/design.md, "Security")
-            ui = start_ui(store, runs, options.host, options.ui_port, api_url=api_url, page_port=options.port)
+            ui = start_ui(store, runs, options.host, options.ui_port, api_url=api_url, page_port=options.port,
+                          site=site, classroom=classroom, tournament=tournament)
             viewer.start()
         except (PortBusyError, RerunViewerError) as exc:  # a port taken between the check and now
             raise ServeError(str(exc)) from exc
         ui_url = f"{api_url}{UI_PATH}"
-        viewer_url = options.url(options.rerun_port)
-        app = create_app(store, runs, ui_url=ui_url, viewer_url=viewer_url,
-                         site=SiteAddresses.of(options.host, {options.port}, {options.port}),
-                         ui_websocket=f"ws://{options.host}:{options.ui_port}")
-        echo("soccer-lab is running (Ctrl+C to stop)")
-        echo(f"  home          {api_url}/")
-        echo(f"  UI            {ui_url}")
-        echo(f"  API           {api_url}/api   docs: {api_url}/docs")
-        echo(f"  rerun viewer  {viewer_home(viewer_url)}")
+        viewer_url = f"http://{viewer_host}:{options.rerun_port}"
+        app = create_app(store, runs, ui_url=ui_url, viewer_url=viewer_url, site=site,
+                         ui_websocket=f"ws://{options.host}:{options.ui_port}", classroom=classroom,
+                         tournament=tournament)
+        if classroom is not None:
+            echo("soccer-lab classroom is running (Ctrl+C to stop)")
+            echo(f"  students open   {api_url}/   (the home page shows its QR code)")
+            echo(f"  join code       {classroom.join_code}")
+            echo(f"  teacher token   {classroom.teacher_token}   (yours alone: it starts rounds, removes entries)")
+            echo(f"  teacher sign-in {api_url}/join.html#teacher={classroom.teacher_token}")
+            echo(f"  rerun viewer    {viewer_home(viewer_url)}   (this machine only)")
+        else:
+            echo("soccer-lab is running (Ctrl+C to stop)")
+            echo(f"  home          {api_url}/")
+            echo(f"  UI            {ui_url}")
+            echo(f"  API           {api_url}/api   docs: {api_url}/docs")
+            echo(f"  rerun viewer  {viewer_home(viewer_url)}")
         echo(f"  data          {options.data_dir.resolve()}")
         if runs.interrupted_at_start:
             listed = ", ".join(map(str, runs.interrupted_at_start))

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from fastapi import APIRouter, FastAPI
 from fastapi.middleware.cors import CORSMiddleware
@@ -11,12 +12,17 @@ from fastapi.staticfiles import StaticFiles
 from app.api.errors import MAX_BODY_BYTES, BodySizeLimit, install_error_handlers
 from app.api.guard import RequestGuard
 from app.api.models import ServerInfo
+from app.api.routes import classroom as classroom_routes
 from app.api.routes import experiments, rulebases, rules, runs, vocabulary
 from app.api.ui_page import UI_PATH, ui_router
 from app.origins import SiteAddresses
 from app.rerun_viewer import viewer_home
 from app.runs import RunManager
 from app.store import Store
+
+if TYPE_CHECKING:
+    from app.classroom.admission import Classroom
+    from app.classroom.tournament import Tournament
 
 STATIC_DIR = Path(__file__).resolve().parents[2] / "static"
 API_PREFIX = "/api"
@@ -31,11 +37,15 @@ def create_app(
     max_body_bytes: int = MAX_BODY_BYTES,
     site: SiteAddresses | None = None,
     ui_websocket: str | None = None,
+    classroom: Classroom | None = None,
+    tournament: Tournament | None = None,
 ) -> FastAPI:
     """The API over `store` and `run_manager`; ui_url/viewer_url are linked from the landing page
     (the rerun viewer also fetches recordings from here, hence CORS for its origin). `site`: the address
     served, whose Host headers and origins are accepted (app/api/guard.py; None: any Host, for tests).
-    `ui_websocket`: the UI's websocket (ws://host:ui_port), whose page the app then serves at /ui/."""
+    `ui_websocket`: the UI's websocket (ws://host:ui_port), whose page the app then serves at /ui/.
+    `classroom` and `tournament` (classroom mode): every request must come from the class (app/api/guard.py),
+    and /api/class serves the class's tournament."""
     app = FastAPI(
         title="soccer-lab",
         summary="Evolve, inspect and teach fuzzy-rule robot soccer players.",
@@ -43,15 +53,19 @@ def create_app(
     )
     app.state.store = store
     app.state.runs = run_manager
+    app.state.classroom = classroom
+    app.state.tournament = tournament
     install_error_handlers(app)
     app.add_middleware(BodySizeLimit, limit=max_body_bytes)
     if viewer_url:
         app.add_middleware(CORSMiddleware, allow_origins=[viewer_url.rstrip("/")], allow_methods=["GET"])
-    app.add_middleware(RequestGuard, site=site)  # outermost: checked before anything else runs
+    app.add_middleware(RequestGuard, site=site, classroom=classroom)  # outermost: checked before anything else
 
     api = APIRouter(prefix=API_PREFIX)
     for module in (vocabulary, rulebases, rules, runs, experiments):
         api.include_router(module.router)
+    if classroom is not None:
+        api.include_router(classroom_routes.router)
 
     @api.get("/server", tags=["server"], summary="Addresses of the UI, the rerun viewer and the API docs")
     def server() -> ServerInfo:

@@ -7,14 +7,28 @@ refused, 400). A state-changing request (POST, PUT, PATCH, DELETE) must come fro
 HTML form cannot send: JSON (Content-Type application/json), the header X-Soccer-Lab, or a same-origin
 page's request (Sec-Fetch-Site same-origin: the browser sets it, no page can) (else 415). Every response
 forbids framing by any page (X-Frame-Options DENY, CSP frame-ancestors 'none') and content sniffing.
+
+In classroom mode (`classroom` given) every request must also come from a browser that joined the class
+(app/classroom/admission.py: the join code's cookie, compared in constant time, and a student's or the
+teacher's); only the join page, its style and icon, and the join requests themselves are open. A page asked
+for without them is sent to the join page (303, with the page to come back to), anything else is refused
+(401). Every visitor's request rate is bounded (429 with Retry-After); a join attempt costs
+JOIN_ATTEMPT_COST requests, so the code cannot be guessed quickly. The admitted visitor is left in the request's state for the routes.
 """
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+from urllib.parse import quote
+
+from starlette.responses import JSONResponse, RedirectResponse, Response
 from starlette.types import ASGIApp, Message, Receive, Scope, Send
 
 from app.api.errors import error_response
 from app.origins import SiteAddresses
+
+if TYPE_CHECKING:
+    from app.classroom.admission import Classroom
 
 STATE_CHANGING = frozenset({"POST", "PUT", "PATCH", "DELETE"})
 CLIENT_HEADER = "x-soccer-lab"  # what a script of the user's may send instead of JSON (any value)
@@ -22,15 +36,25 @@ SECURITY_HEADERS = [
     (b"x-frame-options", b"DENY"),
     (b"content-security-policy", b"frame-ancestors 'none'"),
     (b"x-content-type-options", b"nosniff"),
+    (b"referrer-policy", b"no-referrer"),
 ]
+JOIN_PAGE = "/join.html"
+# What a browser that has not joined may fetch: the join page and what it shows, and the join requests
+OPEN_TO_ALL = frozenset({("GET", JOIN_PAGE), ("GET", "/style.css"), ("GET", "/favicon.svg"),
+                         ("POST", "/api/class/join"), ("POST", "/api/class/teacher")})
+JOIN_REQUESTS = frozenset({"/api/class/join", "/api/class/teacher"})
+# Requests that play games (seconds of CPU each) cost this many requests of a visitor's rate
+PLAYING_REQUESTS = frozenset({"/api/rules/usage", "/api/rules/simplify"})
+PLAYING_REQUEST_COST = 30
 
 
 class RequestGuard:
     """ASGI middleware; `site` None checks no Host (an app embedded in tests), the rest always."""
 
-    def __init__(self, app: ASGIApp, site: SiteAddresses | None = None):
+    def __init__(self, app: ASGIApp, site: SiteAddresses | None = None, classroom: Classroom | None = None):
         self.app = app
         self.site = site
+        self.classroom = classroom
 
     async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
         if scope["type"] not in ("http", "websocket"):
@@ -38,6 +62,14 @@ class RequestGuard:
             return
         headers = {name.decode("latin-1"): value.decode("latin-1") for name, value in scope.get("headers", ())}
         refusal = self._refusal(scope, headers)
+        if refusal is None and self.classroom is not None:
+            response = self._class_refusal(scope, headers)
+            if response is not None:
+                if scope["type"] == "websocket":
+                    await send({"type": "websocket.close", "code": 1008, "reason": "join the class first"})
+                else:
+                    await response(scope, receive, self._secured(send))
+                return
         if refusal is not None:
             status, detail = refusal
             if scope["type"] == "websocket":
@@ -65,6 +97,36 @@ class RequestGuard:
         if media_type != "application/json" and CLIENT_HEADER not in headers and fetch_site != "same-origin":
             return 415, (f"a {scope['method']} must send Content-Type: application/json or the header "
                          "X-Soccer-Lab (what a form on another site cannot send)")
+        return None
+
+    def _class_refusal(self, scope: Scope, headers: dict[str, str]) -> Response | None:
+        from app.classroom.admission import JOIN_ATTEMPT_COST
+
+        classroom = self.classroom
+        path, method = scope["path"], scope.get("method", "GET")
+        visitor = classroom.admit(headers.get("cookie"))
+        if visitor is None:
+            key = f"address:{(scope.get('client') or ('?',))[0]}"
+        else:
+            key = "teacher" if visitor.teacher else f"student:{visitor.student_id}"
+        cost = JOIN_ATTEMPT_COST if path in JOIN_REQUESTS else PLAYING_REQUEST_COST if path in PLAYING_REQUESTS else 1
+        wait = classroom.rate.take(key, cost)
+        if wait is not None:
+            seconds = max(1, round(wait + 0.5))
+            return JSONResponse({"detail": f"too many requests: at most {classroom.rate.per_second:g} a second each "
+                                           f"(a game-playing request counts {PLAYING_REQUEST_COST}, a join attempt "
+                                           f"{JOIN_ATTEMPT_COST}); try again in {seconds} s", "errors": []},
+                                status_code=429, headers={"Retry-After": str(seconds)})
+        if (method, path) in OPEN_TO_ALL:
+            return None
+        if visitor is None:
+            if scope["type"] == "http" and method == "GET" and not path.startswith("/api/"):
+                query = scope.get("query_string", b"").decode("latin-1")
+                back = path + (f"?{query}" if query else "")  # e.g. a pitch link: opened once joined
+                return RedirectResponse(f"{JOIN_PAGE}?next={quote(back, safe='')}", status_code=303)
+            return JSONResponse({"detail": f"join the class first: open {classroom.address}{JOIN_PAGE} and enter "
+                                           "the class's join code", "errors": []}, status_code=401)
+        scope.setdefault("state", {})["visitor"] = visitor
         return None
 
     @staticmethod

@@ -15,10 +15,23 @@ from app.server import DEFAULT_HOST, DEFAULT_PORT, DEFAULT_RERUN_PORT, DEFAULT_U
 from app.store import StoreError
 
 PORT_RANGE = {"min": 1, "max": 65535}
+CLASS_HOST = "0.0.0.0"  # classroom mode listens on every interface unless --host says which
 
 
 def serve_command(
-    host: str = typer.Option(DEFAULT_HOST, help="Address to listen on (127.0.0.1: this machine only)."),
+    host: Optional[str] = typer.Option(
+        None, help="Address to listen on. (default: 127.0.0.1, this machine only; with --class 0.0.0.0, every "
+        "interface)", show_default=False),
+    classroom: bool = typer.Option(
+        False, "--class", help="Classroom mode: serve the class on the local network. Prints the address students "
+        "open, a join code and a teacher token; every page, API route and the UI need the code, teacher actions "
+        "the token (docs/teaching/classroom.md)."),
+    address: Optional[str] = typer.Option(
+        None, help="With --class: the address students open, printed and in the home page's QR code. (default: "
+        "this machine's address on the local network)", show_default=False),
+    join_code: Optional[str] = typer.Option(
+        None, help="With --class: the join code (4 to 32 letters and digits), to keep a class's code across "
+        "restarts. (default: a new random 6-character code)", show_default=False),
     port: int = typer.Option(DEFAULT_PORT, help="Port of the JSON API and the home page.", **PORT_RANGE),
     ui_port: int = typer.Option(DEFAULT_UI_PORT, help="Port of the viser UI.", **PORT_RANGE),
     rerun_port: int = typer.Option(DEFAULT_RERUN_PORT, help="Port of rerun's web viewer.", **PORT_RANGE),
@@ -31,7 +44,13 @@ def serve_command(
         "own, stopped when it ends). (default: $RCSSSERVER, else rcssserver on PATH)", show_default=False
     ),
 ) -> None:
-    """Start the UI, the JSON API and the rerun viewer, and print their addresses."""
+    """Start the UI, the JSON API and the rerun viewer, and print their addresses (with --class: for a class on
+    the local network)."""
+    if not classroom and (address is not None or join_code is not None):
+        fail("--address and --join-code are for classroom mode: add --class")
+    if join_code is not None and not (4 <= len(join_code) <= 32 and join_code.isascii() and join_code.isalnum()):
+        fail("--join-code: 4 to 32 letters and digits")
+    host = host if host is not None else (CLASS_HOST if classroom else DEFAULT_HOST)
     if rcssserver is not None:
         from soccer.rcss.servers import RcssLaunchError, find_rcssserver
 
@@ -39,7 +58,9 @@ def serve_command(
             rcssserver = find_rcssserver(rcssserver)
         except RcssLaunchError as exc:
             fail(f"--rcssserver: {exc}")
-    options = ServeOptions(host, port, ui_port, rerun_port, data_dir or default_data_dir(), rcssserver)
+    options = ServeOptions(host, port, ui_port, rerun_port, data_dir or default_data_dir(), rcssserver,
+                           classroom=classroom, address=address,
+                           join_code=join_code.upper() if join_code is not None else None)
     try:
         serve(options, echo=typer.echo)
     except (ServeError, StoreError) as exc:

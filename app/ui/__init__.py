@@ -9,9 +9,11 @@ game, editor and panels; evolution runs in the RunManager's threads and sessions
 viser (1.1) checks no Origin: any web page could open the UI's websocket and drive it (delete a saved
 rulebase...). `admit_only` hooks into viser's websocket server, whose connect callbacks run before it sends
 anything and before any per-client GUI is built: a handshake whose Host is not the address served or whose
-Origin is not the app's own page is closed at once (1008). It reads viser's `_live_connections`; if an
-upgrade changes that, the UI refuses to start (tests/app/test_ui_origin.py guards it). docs/design.md,
-"Security", says why this hook and not a proxy.
+Origin is not the app's own page is closed at once (1008). In classroom mode the handshake must also carry
+the class's cookies (app/classroom/admission.py), and a student has at most MAX_TABS_PER_STUDENT tabs. The
+hook keeps what the session needs from the handshake (`Handshake`: who, the page's origin, a pitch link's
+token). It reads viser's `_live_connections`; if an upgrade changes that, the UI refuses to start
+(tests/app/test_security.py guards it). docs/design.md, "Security", says why this hook and not a proxy.
 """
 
 from __future__ import annotations
@@ -20,12 +22,12 @@ import logging
 import threading
 import warnings
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any, Callable
+from urllib.parse import parse_qs, urlsplit
 
 import viser
 
-from typing import TYPE_CHECKING
-
+from app.access import LOCAL, Visitor
 from app.origins import SiteAddresses
 from app.ui.context import UiContext
 from app.ui.layout import Layout
@@ -34,6 +36,8 @@ from fuzzy.vocabulary import Vocabulary
 from soccer.config import GameConfig
 
 if TYPE_CHECKING:
+    from app.classroom.admission import Classroom
+    from app.classroom.tournament import Tournament
     from app.runs import RunManager
     from app.store import Store
     from app.ui.session import Session
@@ -56,10 +60,24 @@ class PortBusyError(OSError):
 
 
 POLICY_VIOLATION = 1008  # the websocket close code for a refused handshake
+MAX_TABS_PER_STUDENT = 3  # each tab is a session playing its own game: a student cannot open fifty
 
 
-def admit_only(server: viser.ViserServer, site: SiteAddresses) -> None:
-    """Close at once every websocket whose handshake is not from `site`'s own pages (see the module's doc)."""
+@dataclass(frozen=True)
+class Handshake:
+    """What an admitted websocket's handshake said: who it is, the page's origin (links are made to it), and
+    the token of the pitch link the page was opened with."""
+
+    visitor: Visitor
+    origin: str | None
+    link: str | None
+
+
+def admit_only(server: viser.ViserServer, site: SiteAddresses, classroom: Classroom | None = None,
+               tabs_of: Callable[[Visitor], int] = lambda visitor: 0) -> dict[int, Handshake]:
+    """Close at once every websocket whose handshake is not from `site`'s own pages, or in classroom mode not
+    from a browser of the class (see the module's doc). The admitted ones' handshakes, by client id (the
+    caller pops each)."""
     websockets_server = server._websock_server
     live = getattr(websockets_server, "_live_connections", None)
     if not isinstance(live, dict):
@@ -67,29 +85,48 @@ def admit_only(server: viser.ViserServer, site: SiteAddresses) -> None:
         raise RuntimeError("this viser version keeps no _live_connections: the UI cannot check origins "
                            f"(viser {viser.__version__}; see app/ui/__init__.py)")
 
-    told: set[str] = set()
+    from app.pitch_link import LINK_PARAMETER  # here: app.pitch_link reads the UI's style (app.ui)
 
-    def refusal_of(websocket: Any) -> str | None:
+    told: set[str] = set()
+    handshakes: dict[int, Handshake] = {}
+
+    def read(websocket: Any) -> Handshake | str:
         try:
             headers = websocket.request.headers
-            hosts, origins = headers.get_all("Host"), headers.get_all("Origin")
+            hosts, origins, cookies = headers.get_all("Host"), headers.get_all("Origin"), headers.get_all("Cookie")
+            query = parse_qs(urlsplit(websocket.request.path).query)
         except Exception:  # fail closed: a handshake this code cannot read is refused
             return "the handshake cannot be read"
-        if len(hosts) != 1 or len(origins) > 1:
-            return "a handshake with several Host or Origin headers is refused"
-        return site.host_refusal(hosts[0]) or site.origin_refusal(origins[0] if origins else None)
+        if len(hosts) != 1 or len(origins) > 1 or len(cookies) > 1:
+            return "a handshake with several Host, Origin or Cookie headers is refused"
+        origin = origins[0] if origins else None
+        refusal = site.host_refusal(hosts[0]) or site.origin_refusal(origin)
+        if refusal is not None:
+            return refusal
+        visitor = LOCAL if classroom is None else classroom.admit(cookies[0] if cookies else None)
+        if visitor is None:
+            return "join the class first (the join page of the class's address)"
+        if visitor.is_student and tabs_of(visitor) >= MAX_TABS_PER_STUDENT:
+            return f"{MAX_TABS_PER_STUDENT} tabs of yours are open: close one"
+        links = query.get(LINK_PARAMETER, [])
+        return Handshake(visitor, origin, links[0] if len(links) == 1 else None)
 
     async def admit(connection: Any) -> None:
         websocket = live.get(connection.client_id)
-        refusal = refusal_of(websocket)
-        if refusal is not None:
-            if refusal not in told:  # a refused page's client retries every few seconds: say it once
-                told.add(refusal)
-                log.warning("UI websocket refused: %s", refusal)
-            if websocket is not None:
-                await websocket.close(POLICY_VIOLATION, refusal[:120])
+        handshake = read(websocket)
+        if isinstance(handshake, Handshake):
+            handshakes[connection.client_id] = handshake
+            return
+        refusal = handshake
+        if refusal not in told:  # a refused page's client retries every few seconds: say it once
+            told.add(refusal)
+            log.warning("UI websocket refused: %s", refusal)
+        if websocket is not None:
+            await websocket.close(POLICY_VIOLATION, refusal[:120])
 
     websockets_server.on_client_connect(admit)
+    websockets_server.on_client_disconnect(lambda connection: handshakes.pop(connection.client_id, None))
+    return handshakes
 
 
 @dataclass
@@ -124,12 +161,17 @@ def start_ui(
     vocabulary: Vocabulary = Vocabulary.default(),
     api_url: str | None = None,
     page_port: int | None = None,
+    site: SiteAddresses | None = None,
+    classroom: Classroom | None = None,
+    tournament: Tournament | None = None,
 ) -> UiHandle:
     """Start the viser server on host:port (PortBusyError if the port is taken: viser would silently
     move to the next one) and give every connecting browser tab its own session. `api_url`: where the
     JSON API answers, for links to the files it serves. Only pages served from host:`page_port` (default:
     viser's own, `port`) may open the UI's websocket; `soccer-lab serve` serves the UI's page from the API's
-    address, with headers forbidding framing (app/api/ui_page.py)."""
+    address, with headers forbidding framing (app/api/ui_page.py). `site`: the names served (default: `host`'s).
+    `classroom` and `tournament` (classroom mode): only the class's browsers are admitted, each session is its
+    visitor's (app/access.py), and a Class tab plays the tournament."""
     from app.ui.session import Session
 
     warnings.filterwarnings("ignore", message=CLOSED_TAB_WARNING, category=UserWarning)
@@ -138,10 +180,19 @@ def start_ui(
     if server.get_port() != port:
         server.stop()
         raise PortBusyError(f"port {port} on {host} is busy (choose another with --ui-port)")
-    admit_only(server, SiteAddresses.of(host, {port}, {page_port or port}))
+    site = site or SiteAddresses.of(host, {port}, {page_port or port})
+    handle = UiHandle(server, context)
+
+    def tabs_of(visitor: Visitor) -> int:
+        with handle.lock:
+            open_tabs = [session.visitor for session in handle.sessions.values()]
+        waiting = [handshake.visitor for handshake in handshakes.values()]
+        return sum(other.student_id == visitor.student_id for other in open_tabs + waiting)
+
+    handshakes = admit_only(server, SiteAddresses(site.names, frozenset({port}), site.origin_ports), classroom,
+                            tabs_of)
     draw_pitch(server.scene, PitchGeometry.from_world(context.game.world), Session.first_game(context).frame())
     layout = Layout(server)
-    handle = UiHandle(server, context)
 
     def close_session(client_id: int) -> None:
         with handle.lock:
@@ -151,7 +202,14 @@ def start_ui(
 
     @server.on_client_connect
     def _(client: viser.ClientHandle) -> None:
-        session = Session(client, context, layout, connected=lambda: client.client_id in server.get_clients())
+        handshake = handshakes.pop(client.client_id, None)
+        if handshake is None:  # never admitted: fail closed (no session; outside classroom mode, the one user)
+            if classroom is not None:
+                return
+            handshake = Handshake(LOCAL, None, None)
+        session = Session(client, context, layout, connected=lambda: client.client_id in server.get_clients(),
+                          visitor=handshake.visitor, origin=handshake.origin, link=handshake.link,
+                          tournament=tournament)
         with handle.lock:
             handle.sessions[client.client_id] = session
         if client.client_id not in server.get_clients():  # the tab closed while its session was built

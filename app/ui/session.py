@@ -11,14 +11,18 @@ import logging
 import threading
 import time
 from collections.abc import Callable
+from typing import TYPE_CHECKING
 
 import viser
 
+from app.access import LOCAL, ScopedRuns, ScopedStore, Visitor
+from app.pitch_link import LINK_PARAMETER, LinkError, PitchLink, decode_link
 from app.rule_inspection import checked_cost, rule_usage, simplification
 from app.ui import style
 from app.ui.context import UiContext
 from app.ui.game import Game
 from app.ui.layout import Layout
+from app.ui.panels.classroom import ClassPanel
 from app.ui.panels.editor import EditorPanel
 from app.ui.panels.evolve import EvolvePanel
 from app.ui.panels.inference import InferencePanel
@@ -28,8 +32,12 @@ from app.ui.panels.policy_view import PolicyPanel
 from app.ui.panels.population import PopulationPanel
 from app.store import NotFound
 from app.ui.pitch import PitchGeometry, PitchView
+from fuzzy.printer import format_rulebase
 from fuzzy.rule import Rulebase
 from soccer.config import GameConfig
+
+if TYPE_CHECKING:
+    from app.classroom.tournament import Tournament
 
 log = logging.getLogger(__name__)
 GAME_OVER_PAUSE = 2.0  # seconds the final position stays on screen before the next start
@@ -43,11 +51,21 @@ PANELS_AFTER = 0.5
 
 
 class Session:
+    """`visitor`: whose session it is (classroom mode; LOCAL otherwise), what its panels may see and change.
+    `origin`: the page's origin, for links to this pitch; `link`: the token of the pitch link the tab was
+    opened with (app/pitch_link.py), or None. `tournament`: the class's (classroom mode), for the Class tab."""
+
     def __init__(self, client: viser.ClientHandle, context: UiContext, layout: Layout,
-                 connected: Callable[[], bool]):
+                 connected: Callable[[], bool], *, visitor: Visitor = LOCAL, origin: str | None = None,
+                 link: str | None = None, tournament: Tournament | None = None):
         self.client = client
         self.context = context
         self.layout = layout
+        self.visitor = visitor
+        self.store = ScopedStore(context.store, visitor)
+        self.runs = ScopedRuns(context.runs, visitor)
+        self.origin = origin
+        self.tournament = tournament
         self._connected = connected  # whether the tab is still open
         self.lock = threading.RLock()
         self.playing = True  # the first minute: the demo player is already playing
@@ -58,6 +76,8 @@ class Session:
         self.ready = threading.Event()  # the panels are built and the game plays
         self._ticks_per_second = 1.0 / context.game.world.tick_seconds  # at 1x speed
         self.game = self.first_game(context)
+        self.link_problem: str | None = None  # why the link the tab was opened with was not played
+        self.opened_link = self._open_link(link) if link is not None else None
         self._show_pitch()
         self._thread = threading.Thread(target=self._loop, name=f"ui-session-{client.client_id}", daemon=True)
         self._thread.start()
@@ -66,6 +86,31 @@ class Session:
     def first_game(context: UiContext) -> Game:
         """Every tab's game as it opens: the demo player from the first seed."""
         return Game(context, context.demo_rulebase(), context.demo_name, seed=style.DEFAULT_SEED)
+
+    def _open_link(self, token: str) -> PitchLink | None:
+        """The linked pitch as it was: its rules, game and seed, played to its tick (the same game bit for bit).
+        A link that cannot be opened leaves the demo playing and one line saying why (shown in the Play tab)."""
+        try:
+            link = decode_link(token)
+            game = Game(self.context, link.rulebase(self.context.vocabulary), link.name, link.seed,
+                        link.game_config(self.context.game))
+        except LinkError as exc:
+            self.link_problem = f"This link could not be opened: {exc}. Playing the demo instead."
+            return None
+        while game.state.tick < link.tick and not game.done:
+            game.step()
+        self.game = game
+        self.playing = not link.paused
+        return link
+
+    def pitch_link(self) -> str:
+        """A link to this pitch as it is now (rules, seed, game rules, speed, tick, paused)."""
+        with self.lock:
+            game = self.game
+            link = PitchLink.of(format_rulebase(game.rulebase, self.context.vocabulary), game.name, game.seed,
+                                int(game.state.tick), float(self.controls.speed.value), not self.playing,
+                                game.config, self.context.game)
+        return f"{self.origin or ''}/ui/?{LINK_PARAMETER}={link.token()}"
 
     # ---- layout ---------------------------------------------------------------------------
     # The pitch first, the panels after (docs/design.md, "First paint"): a browser without a GPU
@@ -95,23 +140,32 @@ class Session:
         with tabs.add_tab("Play"):
             self.controls = PlayControls(
                 gui, on_play=self.set_playing, on_step=self.step_once, on_new_start=self.new_start,
-                on_reset_view=lambda: self.pitch.fit_camera(self.client.camera),
+                on_reset_view=lambda: self.pitch.fit_camera(self.client.camera), make_link=self.pitch_link,
+                notice=self.link_problem,
             )
+            if self.opened_link is not None:
+                self.controls.speed.value = self.opened_link.speed
+                self.controls.seed.value = self.opened_link.seed
         with tabs.add_tab("Rules"):
             self.editor = EditorPanel(
-                gui, context.vocabulary, context.store, (self.game.rulebase, self.game.name),
+                gui, context.vocabulary, self.store, (self.game.rulebase, self.game.name),
                 on_apply=self.load_rulebase, on_saved=lambda: self.library.refresh(), simplify=self.simplify,
             )
         with tabs.add_tab("Evolve"):
             self.evolve = EvolvePanel(
-                gui, context.runs, context.store, on_load=self.play_player,
+                gui, self.runs, self.store, on_load=self.play_player,
                 on_generation=lambda *finished: self.population.generation_finished(*finished),
                 on_run_ended=lambda run_id, status: self.population.run_ended(run_id, status),
                 on_runs_changed=lambda: self.library.refresh(),
             )
         with tabs.add_tab("Library"):
-            self.library = LibraryPanel(gui, context.store, context.runs, context.vocabulary, context.api_url,
+            self.library = LibraryPanel(gui, self.store, self.runs, context.vocabulary, context.api_url,
                                         on_load=self.play_player)
+        if self.tournament is not None:
+            with tabs.add_tab("Class"):
+                self.classroom = ClassPanel(gui, self.tournament, self.visitor, context.vocabulary,
+                                            current=lambda: (self.game.rulebase, self.game.name),
+                                            on_watch=self.watch_entry)
         # The panels themselves (docked, sized, the right one's tabs) are the server's: see layout.py.
         with self.layout.right_tab("Inference"):
             self.inference = InferencePanel(gui, context.vocabulary, on_change=self.refresh,
@@ -164,12 +218,20 @@ class Session:
                 self.game = Game(self.context, rulebase, name, self.game.seed, config)
             self._show_rulebase(rulebase, name)
 
+    def watch_entry(self, rulebase: Rulebase, name: str, seed: int, config: GameConfig) -> None:
+        """A tournament entry's game: its rules from a round's start, in the round's game."""
+        with self.lock:
+            self.game = Game(self.context, rulebase, name, seed, config)
+            self.controls.seed.value = seed
+            self._game_over_since = None
+            self._show_rulebase(rulebase, name)
+
     def run_game(self, run_id: int) -> GameConfig:
         """The game a run's players play in on this tab: the run's rules (skills, noise, kick counting,
         limits, fitness) in the app's world, which the pitch is drawn to; the app's game when the stored
         settings no longer validate."""
         try:
-            game = self.context.runs.pitch_game(run_id)
+            game = self.runs.pitch_game(run_id)
         except (NotFound, ValueError):
             game = self.context.game
         return game.model_copy(update={"world": self.context.game.world})
@@ -213,7 +275,12 @@ class Session:
         """The tab is gone: stop drawing and listening (quick: called from viser's event loop)."""
         self._closed.set()
         if self.ready.is_set():  # else the loop, having built the panels, sees the tab closed
-            self.evolve.close()
+            self._close_panels()
+
+    def _close_panels(self) -> None:
+        self.evolve.close()
+        if self.tournament is not None:
+            self.classroom.close()
 
     def join(self, timeout: float) -> bool:
         """Wait for the loop to end after close(); whether it has."""
@@ -234,7 +301,7 @@ class Session:
                 return  # the tab closed while its panels were built
         self.ready.set()
         if self._closed.is_set():
-            self.evolve.close()
+            self._close_panels()
             return
         last = time.perf_counter()
         while not self._closed.is_set():

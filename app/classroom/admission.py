@@ -1,0 +1,116 @@
+"""Who is in the class: the join code, the teacher token and each student's browser.
+
+`serve --class` draws a join code (shown to the class) and a teacher token (the teacher's alone). A student
+enters the code and a display name on the join page; the app answers with three HttpOnly, SameSite=Strict
+cookies: the join code, and a token of their own that the store knows only by its SHA-256 (StudentRecord).
+The teacher enters the token and gets a teacher cookie instead. Cookies belong to a host, not a port, so the
+browser sends them to the app's port and to the UI's websocket port alike: `RequestGuard` (every HTTP
+request) and `admit_only` (every websocket handshake) both ask `Classroom.admit`, which compares the code
+and the teacher token in constant time (hmac.compare_digest). docs/design.md, "Classroom mode".
+"""
+
+from __future__ import annotations
+
+import hashlib
+import hmac
+import secrets
+from dataclasses import dataclass, field
+
+from starlette.requests import cookie_parser
+
+from app.access import Visitor
+from app.classroom.rate import RateLimiter
+from app.classroom.settings import DISPLAY_NAME_MAX_LENGTH, REQUEST_BURST, REQUESTS_PER_SECOND, ClassSettings
+from app.store import Store, StoreError, StudentRecord, name_key, valid_name
+
+JOIN_COOKIE = "soccer_lab_class"
+STUDENT_COOKIE = "soccer_lab_student"
+TEACHER_COOKIE = "soccer_lab_teacher"
+COOKIE_MAX_AGE = 12 * 3600  # a school day: a browser closed and opened again stays in the class
+CODE_ALPHABET = "ABCDEFGHJKMNPQRSTUVWXYZ23456789"  # no 0/O, 1/I/L: read off a projector
+CODE_LENGTH = 6
+JOIN_ATTEMPT_COST = 10  # a join or teacher attempt costs ten requests: guessing the code is slow
+TEACHER_NAME = "teacher"
+
+
+def new_join_code() -> str:
+    return "".join(secrets.choice(CODE_ALPHABET) for _ in range(CODE_LENGTH))
+
+
+def new_teacher_token() -> str:
+    return secrets.token_urlsafe(18)
+
+
+def token_hash(token: str) -> str:
+    return hashlib.sha256(token.encode("utf-8", "replace")).hexdigest()
+
+
+def same_secret(given: str | None, secret: str) -> bool:
+    """`given` is `secret`, compared in constant time."""
+    return hmac.compare_digest((given or "").encode("utf-8", "replace"), secret.encode("utf-8"))
+
+
+class JoinRefused(ValueError):
+    """A join or teacher attempt refused: the one line to show."""
+
+
+@dataclass
+class Classroom:
+    store: Store
+    join_code: str
+    teacher_token: str
+    address: str  # the class's address as students open it: http://192.168.1.20:8000
+    settings: ClassSettings = field(default_factory=ClassSettings)
+    rate: RateLimiter = field(default_factory=lambda: RateLimiter(REQUESTS_PER_SECOND, REQUEST_BURST))
+
+    def admit(self, cookie_header: str | None) -> Visitor | None:
+        """The visitor whose browser sent these cookies, or None when it has not joined (no code, a wrong code,
+        or a student this class does not know: removed, or from an earlier class)."""
+        cookies = cookie_parser(cookie_header or "")
+        if not same_secret(cookies.get(JOIN_COOKIE), self.join_code):
+            return None
+        if same_secret(cookies.get(TEACHER_COOKIE), self.teacher_token):
+            return Visitor(None, TEACHER_NAME, teacher=True)
+        token = cookies.get(STUDENT_COOKIE)
+        student = self.store.student_by_token(token_hash(token)) if token else None
+        return None if student is None else Visitor(student.id, student.name, teacher=False)
+
+    def join(self, code: str, name: str, cookie_header: str | None) -> tuple[StudentRecord, dict[str, str]]:
+        """A student joins under `name`: their record and the cookies to set. A browser that already joined
+        under the same name (the code changed with a restart of serve) keeps its identity."""
+        if not same_secret(code.strip().upper(), self.join_code):
+            raise JoinRefused("that is not this class's join code: check it on the teacher's screen")
+        name = valid_display_name(name)
+        token = cookie_parser(cookie_header or "").get(STUDENT_COOKIE)
+        known = self.store.student_by_token(token_hash(token)) if token else None
+        if known is not None and name_key(known.name) == name_key(name):
+            return known, {JOIN_COOKIE: self.join_code, STUDENT_COOKIE: token}
+        token = secrets.token_urlsafe(32)
+        try:
+            student = self.store.add_student(name, token_hash(token))
+        except StoreError as exc:
+            raise JoinRefused(str(exc)) from None
+        return student, {JOIN_COOKIE: self.join_code, STUDENT_COOKIE: token}
+
+    def teacher_login(self, token: str) -> dict[str, str]:
+        if not same_secret(token.strip(), self.teacher_token):
+            raise JoinRefused("that is not the teacher token `soccer-lab serve --class` printed")
+        return {JOIN_COOKIE: self.join_code, TEACHER_COOKIE: self.teacher_token}
+
+
+def valid_display_name(name: object) -> str:
+    """A display name: one line of plain text (the store's rule for names), at most DISPLAY_NAME_MAX_LENGTH."""
+    if isinstance(name, str) and len(name.strip()) > DISPLAY_NAME_MAX_LENGTH:
+        raise JoinRefused(f"a display name is at most {DISPLAY_NAME_MAX_LENGTH} characters")
+    if isinstance(name, str) and name_key(name) == TEACHER_NAME:
+        raise JoinRefused("choose another name ('teacher' is the teacher's)")
+    try:
+        return valid_name(name)  # the store's own check, so the message is the same everywhere
+    except StoreError as exc:
+        raise JoinRefused(str(exc)) from None
+
+
+def set_cookie_headers(cookies: dict[str, str]) -> list[str]:
+    """Set-Cookie values: HttpOnly (no script reads them), SameSite=Strict (no other site's page sends them)."""
+    return [f"{name}={value}; Path=/; Max-Age={COOKIE_MAX_AGE}; HttpOnly; SameSite=Strict"
+            for name, value in cookies.items()]
