@@ -154,7 +154,7 @@ def serve(options: ServeOptions, echo: Callable[[str], None] = print) -> None:
             echo(f"  UI            {ui_url}")
             echo(f"  API           {api_url}/api   docs: {api_url}/docs")
             echo(f"  rerun viewer  {viewer_home(viewer_url)}")
-        echo(f"  data          {options.data_dir.resolve()}")
+        echo(f"  data{' ' * (12 if classroom is not None else 10)}{options.data_dir.resolve()}")
         if runs.interrupted_at_start:
             listed = ", ".join(map(str, runs.interrupted_at_start))
             echo(f"  runs cut off last time, now interrupted and resumable: {listed}")

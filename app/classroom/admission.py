@@ -20,7 +20,7 @@ from starlette.requests import cookie_parser
 
 from app.access import Visitor
 from app.classroom.rate import RateLimiter
-from app.classroom.settings import DISPLAY_NAME_MAX_LENGTH, REQUEST_BURST, REQUESTS_PER_SECOND, ClassSettings
+from app.classroom.settings import DISPLAY_NAME_MAX_LENGTH, MAX_STUDENTS, REQUEST_BURST, REQUESTS_PER_SECOND, ClassSettings
 from app.store import Store, StoreError, StudentRecord, name_key, valid_name
 
 JOIN_COOKIE = "soccer_lab_class"
@@ -85,6 +85,8 @@ class Classroom:
         known = self.store.student_by_token(token_hash(token)) if token else None
         if known is not None and name_key(known.name) == name_key(name):
             return known, {JOIN_COOKIE: self.join_code, STUDENT_COOKIE: token}
+        if len(self.store.list_students()) >= MAX_STUDENTS:
+            raise JoinRefused(f"the class has {MAX_STUDENTS} students, its limit: the teacher may remove some")
         token = secrets.token_urlsafe(32)
         try:
             student = self.store.add_student(name, token_hash(token))

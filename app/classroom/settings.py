@@ -17,6 +17,7 @@ from soccer.config import MAX_TICKS, SkillSet
 
 ENTRY_MAX_RULES = 100  # an evolved rulebase has at most max_length / 2 (32 by default) rules
 ENTRY_MAX_CHARACTERS = 20_000
+MAX_STUDENTS = 60  # names in a class: a pupil cannot join a hundred times to get a hundred runs and tabs
 DISPLAY_NAME_MAX_LENGTH = 40  # a display name fits a table's cell on a projector
 MAX_STARTS = 100  # starts per round: 30 entries x 100 starts is 3,000 games, a few seconds
 MAX_ENTRIES = 100  # entries in a round

@@ -19,10 +19,10 @@ from dataclasses import dataclass
 from statistics import fmean
 from typing import Any, Callable
 
-from app.access import Visitor
+from app.access import Forbidden, Visitor
 from app.classroom.settings import ENTRY_MAX_CHARACTERS, ENTRY_MAX_RULES, MAX_ENTRIES, MAX_STARTS, ClassSettings
 from app.runs import RunStateError
-from app.store import EntryRecord, NotFound, RoundRecord, Store, StoreError
+from app.store import EntryRecord, NotFound, RoundRecord, Store, StoreError, name_key
 from fuzzy.parser import parse_rulebase
 from fuzzy.rule import Rulebase
 from fuzzy.vocabulary import Vocabulary
@@ -83,6 +83,8 @@ class Tournament:
         """A student's entry under their name (replacing their earlier one); the teacher's under `name`."""
         rulebase_of_entry(text, self.vocabulary)
         if visitor.is_student:
+            if name is not None and name_key(name) != name_key(visitor.name):
+                raise Forbidden("only the teacher can enter a rulebase under another name than their own")
             entry_name = visitor.name
         else:
             visitor.require_teacher("enter a rulebase under another name")
