@@ -56,6 +56,7 @@ class Session:
         self._closed = threading.Event()
         self._pitch_seen = threading.Event()
         self.ready = threading.Event()  # the panels are built and the game plays
+        self.skills: str | None = None  # the skill set chosen on this tab (None: the app's)
         self._ticks_per_second = 1.0 / context.game.world.tick_seconds  # at 1x speed
         self.game = self.first_game(context)
         self._show_pitch()
@@ -95,12 +96,14 @@ class Session:
         with tabs.add_tab("Play"):
             self.controls = PlayControls(
                 gui, on_play=self.set_playing, on_step=self.step_once, on_new_start=self.new_start,
-                on_reset_view=lambda: self.pitch.fit_camera(self.client.camera),
+                on_reset_view=lambda: self.pitch.fit_camera(self.client.camera), on_skills=self.set_skills,
+                skills=self.game.config.skills,
             )
         with tabs.add_tab("Rules"):
             self.editor = EditorPanel(
                 gui, context.vocabulary, context.store, (self.game.rulebase, self.game.name),
-                on_apply=self.load_rulebase, on_saved=lambda: self.library.refresh(), simplify=self.simplify,
+                on_apply=self.load_rulebase, on_example=self.play_player, on_saved=lambda: self.library.refresh(),
+                simplify=self.simplify,
             )
         with tabs.add_tab("Evolve"):
             self.evolve = EvolvePanel(
@@ -143,6 +146,17 @@ class Session:
             self._game_over_since = None
             self._render()
 
+    def set_skills(self, skills: str) -> None:
+        """The same player from a new start of the same seed, with another skill set; it stays this tab's choice
+        for the rulebases it puts on the pitch next."""
+        with self.lock:
+            self.skills = skills
+            config = self.game.config.model_copy(update={"skills": skills})
+            self.game = Game(self.context, self.game.rulebase, self.game.name, self.game.seed, config)
+            self._game_over_since = None
+            self.controls.show_skills(skills)
+            self._render()
+
     def load_rulebase(self, rulebase: Rulebase, name: str, *, restart: bool = False) -> None:
         """Put `rulebase` on the pitch in the same game's rules (the game goes on from where it is unless
         `restart`): the editor's rules."""
@@ -154,8 +168,11 @@ class Session:
 
     def play_player(self, rulebase: Rulebase, name: str, run_id: int | None = None) -> None:
         """A new player on the pitch, from a new start of the same seed: a run's player in its run's game
-        (run_game), a saved rulebase (`run_id` None) in the app's."""
-        config = self.context.game if run_id is None else self.run_game(run_id)
+        (run_game), a saved rulebase or example (`run_id` None) in the app's, with the tab's skill set."""
+        if run_id is None:
+            config = self.context.game.model_copy(update={"skills": self.skills or self.context.game.skills})
+        else:
+            config = self.run_game(run_id)
         with self.lock:
             if config == self.game.config:
                 self.game.set_rulebase(rulebase, name)
@@ -163,6 +180,7 @@ class Session:
             else:
                 self.game = Game(self.context, rulebase, name, self.game.seed, config)
             self._show_rulebase(rulebase, name)
+            self.controls.show_skills(self.game.config.skills)
 
     def run_game(self, run_id: int) -> GameConfig:
         """The game a run's players play in on this tab: the run's rules (skills, noise, kick counting,
@@ -301,7 +319,8 @@ class Session:
         # Two batches: the browser applies panel-only updates at once, scene updates at its next frame.
         with self.client.atomic():
             self.controls.show_status(game.status_html())
-            self.inference.show(game.inputs(), game.rule_texts, game.inference())
+            self.inference.show(game.inputs(), game.rule_texts, game.inference(), game.outcome_text(),
+                                game.outcome_refused())
             self.policy.show_current(game.inputs())
         if self._closed.is_set():
             return

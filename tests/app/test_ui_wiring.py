@@ -47,7 +47,8 @@ def test_editor_applies_undoes_and_saves_through_its_callbacks(gui, store):
 
     applied, saved = [], []
     editor = EditorPanel(gui, VOCABULARY, store, (DEMO, "demo"), on_apply=lambda r, n: applied.append((r, n)),
-                         on_saved=lambda: saved.append(True), simplify=lambda rulebase, games: None)
+                         on_example=lambda r, n: None, on_saved=lambda: saved.append(True),
+                         simplify=lambda rulebase, games: None)
     editor.text.value = "if Ball is Near then Turn Left"
     editor.apply()
     (rulebase, name), = applied
@@ -67,10 +68,39 @@ def test_editor_with_an_error_calls_nothing(gui, store):
 
     applied = []
     editor = EditorPanel(gui, VOCABULARY, store, (DEMO, "demo"), on_apply=lambda r, n: applied.append(n),
-                         on_saved=lambda: None, simplify=lambda rulebase, games: None)
+                         on_example=lambda r, n: None, on_saved=lambda: None, simplify=lambda rulebase, games: None)
     editor.text.value = "if Ball is Nearish then Turn Left"
     editor.apply()
     assert applied == [] and 'data-error="true"' in editor.message.content
+
+
+def test_editor_plays_a_picked_example_with_its_sentence(gui, store):
+    from app.ui.panels.editor import PICK_EXAMPLE, EditorPanel
+    from soccer.examples import example
+
+    played = []
+    editor = EditorPanel(gui, VOCABULARY, store, (DEMO, "demo"), on_apply=lambda r, n: None,
+                         on_example=lambda r, n: played.append((r, n)), on_saved=lambda: None,
+                         simplify=lambda rulebase, games: None)
+    striker = example("striker")
+    assert editor.example.value == PICK_EXAMPLE and set(editor.example.options) > {striker.title}
+    editor.example.value = striker.title  # as a pick from the browser
+    assert played == [(striker.rulebase(VOCABULARY), striker.title)]
+    editor.show_rulebase(*played[0])  # the session shows it on the pitch: the note stays
+    assert "sighted" in editor.example_note.content and editor.example.value == striker.title
+
+
+def test_editor_forgets_its_message_when_other_rules_go_on_the_pitch(gui, store):
+    """"Applied 2 rules" must not stay on screen after "Load best" put another player on the pitch."""
+    from app.ui.panels.editor import EditorPanel
+
+    editor = EditorPanel(gui, VOCABULARY, store, (DEMO, "demo"), on_apply=lambda r, n: None,
+                         on_example=lambda r, n: None, on_saved=lambda: None, simplify=lambda rulebase, games: None)
+    editor.text.value = "if Ball is Near then Turn Left"
+    editor.apply()
+    assert "Applied 1 rule;" in editor.message.content
+    editor.show_rulebase(DEMO, "run #1 best (gen 3, fitness 0.250)")
+    assert editor.message.content == "" and editor.example_note.content == ""
 
 
 def test_library_opens_a_saved_rulebase_through_on_load(gui, store, tmp_path):

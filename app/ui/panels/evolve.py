@@ -10,10 +10,11 @@ import numpy as np
 import viser
 import viser.uplot
 
-from app.environments import RCSS, RCSS_WORKERS
+from app.environments import RCSS, RCSS_WORKERS, default_workers
 from app.runs import RunEvent, RunManager, RunStateError, SampledPlayer
 from app.store import NotFound, RunStatus, Store
 from app.ui import style
+from app.ui.number_field import FieldError, NumberField
 from app.ui.panels.svg import escape
 from app.validation import describe_problem, dotted
 from fuzzy.rule import Rulebase
@@ -84,16 +85,19 @@ class EvolvePanel:
         self.on_run_ended = on_run_ended
         self.on_runs_changed = on_runs_changed
         self.run_id: int | None = None
+        self.total_generations = int(GAConfig.model_fields["max_generations"].default)  # of the run on show
         self.generations: list[int] = []
         self.best: list[float] = []
         self.mean: list[float] = []
-        self.inputs: dict[str, viser.GuiInputHandle] = {}
+        self.inputs: dict[str, viser.GuiInputHandle | NumberField] = {}
         self.algorithm = gui.add_dropdown("Algorithm", tuple(ALGORITHMS), initial_value="GA")
         self.where = gui.add_dropdown("Play on", (SIMPLESOCCER, RCSSSERVER), initial_value=SIMPLESOCCER,
                                       hint="rcssserver: the run starts its own servers (serve --rcssserver PATH)")
-        self.servers = gui.add_number("rcssservers", initial_value=1, min=1, max=MAX_SERVERS, step=1)
+        self.servers = NumberField(gui, "rcssservers", 1, minimum=1, maximum=MAX_SERVERS, integer=True,
+                                   hint="Servers the run starts, trials spread over them")
+        self.servers.visible = False  # only for runs on rcssserver
         self.name = gui.add_text("Run name (empty: from the settings)", initial_value="")
-        self.game_inputs: dict[str, viser.GuiInputHandle] = {}
+        self.game_inputs: dict[str, viser.GuiInputHandle | NumberField] = {}
         with gui.add_folder("GA parameters (chapter's Table 2)", expand_by_default=False):
             for name, field in ga_fields().items():
                 self.inputs[name] = self._input(gui, name, field)
@@ -119,12 +123,16 @@ class EvolvePanel:
         def _(event: viser.GuiEvent) -> None:
             self.start() if event.target.value == "Start" else self.stop()
 
+        @self.where.on_update
+        def _(_: viser.GuiEvent) -> None:
+            self.servers.visible = self.where.value == RCSSSERVER
+
         @self.load_best.on_click
         def _(_: viser.GuiEvent) -> None:
             self.load_best_so_far()
 
     @staticmethod
-    def _input(gui: viser.GuiApi, name: str, field: Any) -> viser.GuiInputHandle:
+    def _input(gui: viser.GuiApi, name: str, field: Any) -> viser.GuiInputHandle | NumberField:
         label = LABELS.get(name, name)
         default = field.default
         choices = typing.get_args(field.annotation) if typing.get_origin(field.annotation) is typing.Literal else ()
@@ -132,11 +140,13 @@ class EvolvePanel:
             return gui.add_dropdown(label, tuple(choices), initial_value=default)
         if isinstance(default, bool):
             return gui.add_checkbox(label, default)
-        if isinstance(default, int):
-            return gui.add_number(label, initial_value=default, step=1)
-        return gui.add_number(label, initial_value=float(default), step=0.01)
+        number = NumberField.for_field(gui, label, field, hint=field.description)
+        if name == "workers":
+            number.value = default_workers()  # as the CLI: every core
+        return number
 
     def config(self) -> dict[str, Any]:
+        """The GA parameters shown; FieldError naming a field that holds no usable number."""
         return {name: handle.value for name, handle in self.inputs.items()}
 
     def game_config(self) -> dict[str, Any]:
@@ -158,10 +168,11 @@ class EvolvePanel:
                 ga, game = {**ga, "workers": RCSS_WORKERS}, None  # the server has its own noise and kick count
             record = self.runs.start(self.name.value.strip() or None, ga=ga, game=game,
                                      algorithm=ALGORITHMS[self.algorithm.value], **where)
-        except (ValueError, RunStateError) as exc:  # pydantic's ValidationError is a ValueError
+        except (ValueError, RunStateError) as exc:  # pydantic's ValidationError and FieldError are ValueErrors
             self.status.content = self._status_html(f"Not started: {_first_line(exc)}", error=True)
             return
         self.run_id = record.id
+        self.total_generations = int(ga["max_generations"])
         self.generations, self.best, self.mean = [], [], []
         self.progress.value = 0.0
         self.progress.animated = True
@@ -199,7 +210,7 @@ class EvolvePanel:
     def _on_event(self, event: RunEvent) -> None:
         if event.run_id != self.run_id:
             return
-        total = int(self.inputs["max_generations"].value)  # generations 0 .. total - 1
+        total = self.total_generations  # generations 0 .. total - 1
         if event.stats is not None:
             stats = event.stats
             generation = int(stats["generation"])
@@ -236,7 +247,7 @@ class EvolvePanel:
         )
 
     def _plot_scales(self) -> dict[str, viser.uplot.Scale]:
-        last = max(1, int(self.inputs["max_generations"].value) - 1)
+        last = max(1, self.total_generations - 1)
         return {
             "x": viser.uplot.Scale(time=False, auto=False, range=(0.0, float(last))),
             "y": viser.uplot.Scale(auto=False, range=(0.0, 1.0)),
