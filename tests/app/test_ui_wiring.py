@@ -164,3 +164,19 @@ def test_library_lists_newest_first_and_selects_what_was_just_made(gui, store, t
     store.update_rulebase(first.id, name="renamed")
     library.refresh()
     assert library.rulebases.value == f"#{first.id} renamed"
+
+
+def test_policy_map_controls_show_the_goal_inputs_the_map_is_drawn_for(gui):
+    """Following the player, the "Goal in view" box and the sliders show the player's goal inputs (and cannot be
+    changed): the caption never says "Goal out of view" beside a ticked "Goal in view"."""
+    from app.ui.panels.policy_view import PolicyPanel
+
+    policy = PolicyPanel(gui, VOCABULARY, DEMO, 45.0, on_change=lambda: None)
+    assert policy.follow.value and policy.goal_visible.disabled and policy.goal_distance.disabled
+    unseen = {"ball_distance": 5.0, "ball_direction": 0.0, "goal_distance": None, "goal_direction": None}
+    policy.show_current(unseen)
+    assert policy.goal_visible.value is False and "Goal out of view" in policy.map.content
+    policy._last_render = 0.0  # the map redraws at most every POLICY_REFRESH_SECONDS
+    policy.show_current({**unseen, "goal_distance": 29.6, "goal_direction": -10.2})
+    assert policy.goal_visible.value is True and (policy.goal_distance.value, policy.goal_direction.value) == (30, -10)
+    assert "Goal in view at 30 m, -10°" in policy.map.content

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 from fastapi import APIRouter
-from fastapi.exceptions import RequestValidationError
 
 from app.api.models import (
     ErrorBody,
@@ -20,7 +19,7 @@ from app.api.models import (
     UsageResponse,
 )
 from app.api.routes.dependencies import StoreDependency
-from app.api.rule_text import VOCABULARY, parse, rule_out
+from app.api.rule_text import VOCABULARY, parse, playable, rule_out
 from app.rule_inspection import rule_usage, simplification, simplification_document, usage_document
 from fuzzy.engine import ActionOutput, Engine
 from fuzzy.rule import Rulebase
@@ -66,7 +65,7 @@ def _fired(output: ActionOutput) -> FiredAction:
     responses={404: {"model": ErrorBody}},
 )
 def usage(body: UsageRequest, store: StoreDependency) -> UsageResponse:
-    rulebase = _playable(_rulebase(body, store))
+    rulebase = playable(_rulebase(body, store))
     return UsageResponse(**usage_document(rule_usage(rulebase, VOCABULARY, body.games, body.seed, body.game),
                                           VOCABULARY))
 
@@ -80,7 +79,7 @@ def usage(body: UsageRequest, store: StoreDependency) -> UsageResponse:
 def simplify(body: SimplifyRequest, store: StoreDependency) -> SimplifyResponse:
     rulebase = _rulebase(body, store)
     if body.games:
-        _playable(rulebase)
+        playable(rulebase)
     result = simplification(rulebase, VOCABULARY, body.games, body.seed, body.game, body.drop_unused_fields)
     return SimplifyResponse(**simplification_document(result, VOCABULARY))
 
@@ -88,9 +87,3 @@ def simplify(body: SimplifyRequest, store: StoreDependency) -> SimplifyResponse:
 def _rulebase(body: RulebaseSource, store) -> Rulebase:
     return parse(body.text if body.text is not None else store.get_rulebase(body.rulebase_id).text)
 
-
-def _playable(rulebase: Rulebase) -> Rulebase:
-    if not len(rulebase):
-        raise RequestValidationError([{"type": "value_error", "loc": ("body", "text"), "input": "",
-                                       "msg": "the rulebase holds no rule: nothing to play"}])
-    return rulebase

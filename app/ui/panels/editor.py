@@ -169,7 +169,7 @@ class EditorPanel:
             return
         result = self.simplify_with(rulebase, games)
         simplified = result.simplification.rulebase
-        lines = [_step_line(step) for step in result.simplification.steps if step.changes]
+        lines = _change_lines(result.simplification.steps)
         if simplified == rulebase:
             self._say("Nothing to simplify: every step left the rules as they are.", lines=lines)
             return
@@ -215,8 +215,18 @@ class EditorPanel:
         self._say(f"Decoded {len(rulebase)} valid rules; press Apply to play them.")
 
 
-def _step_line(step) -> str:
-    what = f"{step.name}: {len(step.changes)} change{'s' if len(step.changes) > 1 else ''}"
-    if step.kind == "checked":
-        return f"checked on {step.games} games, {what} ({step.summary})"
-    return f"exact, {what}" + ("" if step.applied else " (listed, not applied)")
+MAX_CHANGE_LINES = 40  # a long list says how many more it left out
+
+
+def _change_lines(steps) -> list[str]:
+    """Which rules went or changed, and why, step by step (a step listed but not applied says so)."""
+    lines = []
+    for step in steps:
+        how = f"checked on {step.games} games" if step.kind == "checked" else "exact"
+        note = "" if step.applied else " (listed, not applied)"
+        for change in step.changes:
+            what = "dropped" if change.after is None else f"now “{change.after}”"
+            lines.append(f"Rule {change.rule} {what}: {change.reason} [{step.name}, {how}{note}]")
+    if len(lines) > MAX_CHANGE_LINES:
+        lines = lines[:MAX_CHANGE_LINES] + [f"… and {len(lines) - MAX_CHANGE_LINES} more changes"]
+    return lines
