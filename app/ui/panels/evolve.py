@@ -46,6 +46,7 @@ LABELS = {  # what a teacher reads next to each field; fields missing here show 
     "noise": "Movement noise",
     "count_touches": "Body pushes count as kicks",
 }
+PLOT_PADDING = (14, 14, 0, 0)  # px above and right of the plot: the top tick's label (1) is not cut off
 # The GameConfig choices the chapter leaves open; the rest are its rules.
 GAME_FIELDS = ("skills", "noise", "count_touches")
 
@@ -87,7 +88,8 @@ class EvolvePanel:
         self.run_id: int | None = None
         self.total_generations = int(GAConfig.model_fields["max_generations"].default)  # of the run on show
         self.generations: list[int] = []
-        self.best: list[float] = []
+        self.best: list[float] = []  # each generation's best (noisy: one game each), as the chapter's Figs. 9, 12
+        self.best_so_far: list[float] = []  # the run's running minimum: what a class watches fall
         self.mean: list[float] = []
         self.inputs: dict[str, viser.GuiInputHandle | NumberField] = {}
         self.algorithm = gui.add_dropdown("Algorithm", tuple(ALGORITHMS), initial_value="GA")
@@ -115,6 +117,7 @@ class EvolvePanel:
             legend=viser.uplot.Legend(live=False),
             title=self._plot_title(),
             aspect=1.4,
+            padding=PLOT_PADDING,
         )
         self.load_best = gui.add_button("Load best so far onto the pitch", disabled=True)
         self._remove_listener = self.runs.add_listener(self._on_event)
@@ -173,7 +176,7 @@ class EvolvePanel:
             return
         self.run_id = record.id
         self.total_generations = int(ga["max_generations"])
-        self.generations, self.best, self.mean = [], [], []
+        self.generations, self.best, self.best_so_far, self.mean = [], [], [], []
         self.progress.value = 0.0
         self.progress.animated = True
         self.plot.scales = self._plot_scales()
@@ -216,33 +219,42 @@ class EvolvePanel:
             generation = int(stats["generation"])
             self.generations.append(generation)
             self.best.append(float(stats["best"]))
+            self.best_so_far.append(min(self.best_so_far[-1:] + [float(stats["best"])]))
             self.mean.append(float(stats["mean"]))
             self._redraw_plot()
             self.on_generation(event.run_id, generation, event.players)
             self.progress.value = min(100.0, 100.0 * (generation + 1) / total)
             self.load_best.disabled = False
             self.status.content = self._status_html(
-                f"Run #{event.run_id}: generation {generation} of 0–{total - 1} done — best {stats['best']:.3f}, "
-                f"mean {stats['mean']:.3f}, {stats.get('evaluations', 0)} games played"
+                f"Run #{event.run_id}: generation {generation} of 0–{total - 1} done — best so far "
+                f"{self.best_so_far[-1]:.3f}; this generation: best {stats['best']:.3f}, mean {stats['mean']:.3f}; "
+                f"{stats.get('evaluations', 0)} games played"
             )
         elif event.status is not RunStatus.RUNNING:
             self.progress.animated = False
             if event.status is RunStatus.FINISHED:
                 self.progress.value = 100.0
-            best = f" — best {min(self.best):.3f}" if self.best else ""
-            last = f" after generation {self.generations[-1]}" if self.generations else ""
             self.status.content = self._status_html(
-                f"Run #{event.run_id} {event.status}{last}{best}.", error=event.status is RunStatus.FAILED
+                f"Run #{event.run_id} {event.status}{self._summary()}.", error=event.status is RunStatus.FAILED
             )
             self.on_run_ended(event.run_id, event.status)
             self.on_runs_changed()
 
-    def _plot_data(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    def _summary(self) -> str:
+        """After which generation, the best so far (and where it was found), and the last generation's best."""
+        if not self.generations:
+            return ""
+        found = self.generations[self.best.index(self.best_so_far[-1])]
+        return (f" after generation {self.generations[-1]} — best so far {self.best_so_far[-1]:.3f} (generation "
+                f"{found}); the last generation's best {self.best[-1]:.3f}")
+
+    def _plot_data(self) -> tuple[np.ndarray, ...]:
         if not self.generations:  # uPlot needs a point to set its scales up; NaN draws nothing
-            return (np.zeros(1), np.full(1, np.nan), np.full(1, np.nan))
+            return (np.zeros(1), np.full(1, np.nan), np.full(1, np.nan), np.full(1, np.nan))
         return (
             np.array(self.generations, dtype=np.float64),
             np.array(self.best, dtype=np.float64),
+            np.array(self.best_so_far, dtype=np.float64),
             np.array(self.mean, dtype=np.float64),
         )
 
@@ -259,11 +271,13 @@ class EvolvePanel:
 
     def _plot_series(self) -> tuple[viser.uplot.Series, ...]:
         """The legend: each series with its latest value (the x series is not shown in it)."""
-        best, mean = (f"best {self.best[-1]:.3f}", f"mean {self.mean[-1]:.3f}") if self.generations else ("best", "mean")
+        latest = lambda values: f" {values[-1]:.3f}" if values else ""
         return (
             viser.uplot.Series(label="generation"),
-            viser.uplot.Series(label=best, stroke=style.SELECTED, width=3),
-            viser.uplot.Series(label=mean, stroke=style.ACCENT, width=2),
+            viser.uplot.Series(label=f"best of the generation{latest(self.best)}", stroke=style.SELECTED, width=2,
+                               dash=(6, 4)),
+            viser.uplot.Series(label=f"best so far{latest(self.best_so_far)}", stroke=style.FIRED, width=3),
+            viser.uplot.Series(label=f"mean{latest(self.mean)}", stroke=style.ACCENT, width=2),
         )
 
     def _redraw_plot(self) -> None:
