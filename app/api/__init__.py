@@ -6,8 +6,10 @@ from pathlib import Path
 
 from fastapi import APIRouter, FastAPI
 from fastapi.middleware.cors import CORSMiddleware
+from fastapi_offline import FastAPIOffline
 from fastapi.staticfiles import StaticFiles
 
+from app.api.docs_pages import install_redoc
 from app.api.errors import MAX_BODY_BYTES, BodySizeLimit, install_error_handlers
 from app.api.models import ServerInfo
 from app.api.routes import experiments, rulebases, rules, runs, vocabulary
@@ -28,14 +30,17 @@ def create_app(
     max_body_bytes: int = MAX_BODY_BYTES,
 ) -> FastAPI:
     """The API over `store` and `run_manager`; ui_url/viewer_url are linked from the landing page
-    (the rerun viewer also fetches recordings from here, hence CORS for its origin)."""
-    app = FastAPI(
+    (the rerun viewer also fetches recordings from here, hence CORS for its origin). The interactive docs
+    (/docs, /redoc) come whole from here: a school network without internet shows them too (docs_pages.py)."""
+    app = FastAPIOffline(
+        redoc_url=None,  # docs_pages.install_redoc: without the CDN picture fastapi-offline's ReDoc still asks for
         title="soccer-lab",
         summary="Evolve, inspect and teach fuzzy-rule robot soccer players.",
         version="0.1.0",
     )
     app.state.store = store
     app.state.runs = run_manager
+    install_redoc(app)
     install_error_handlers(app)
     app.add_middleware(BodySizeLimit, limit=max_body_bytes)
     if viewer_url:

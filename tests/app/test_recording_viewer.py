@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 
 from app.recording import FITNESS_SERIES, GOAL_COLOUR, GRASS_COLOUR, PLAYER_COLOUR
-from tests.app.test_ui_browser import CHROMIUM, CHROMIUM_ARGS, SCREENSHOTS, free_port
+from tests.app.test_ui_browser import CHROMIUM, CHROMIUM_ARGS, SCREENSHOTS, free_port, offline
 
 pytestmark = [
     pytest.mark.browser,
@@ -64,7 +64,7 @@ def test_the_recording_opens_in_the_viewer_as_its_blueprint_lays_it_out(recordin
     from PIL import Image
     from playwright.sync_api import sync_playwright
 
-    from app.rerun_viewer import RerunViewer
+    from app.rerun_viewer import RerunViewer, viewer_home
 
     files = ThreadingHTTPServer(("127.0.0.1", 0), functools.partial(CorsFiles, directory=str(recording.parent)))
     threading.Thread(target=files.serve_forever, daemon=True).start()
@@ -77,8 +77,9 @@ def test_the_recording_opens_in_the_viewer_as_its_blueprint_lays_it_out(recordin
             browser = playwright.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS)
             try:
                 page = browser.new_page(viewport=VIEWPORT)
+                asked = offline(page)  # a school network without internet: the viewer must not need it
                 url = f"http://127.0.0.1:{files.server_address[1]}/{recording.name}"
-                page.goto(f"http://127.0.0.1:{viewer.port}/?url={url}")
+                page.goto(viewer_home(f"http://127.0.0.1:{viewer.port}") + f"&url={url}")
                 deadline = time.monotonic() + DRAWN_WITHIN_SECONDS
                 previous = None
                 while True:  # the viewer loads its wasm, then the recording, then draws: poll the picture
@@ -104,3 +105,4 @@ def test_the_recording_opens_in_the_viewer_as_its_blueprint_lays_it_out(recordin
         files.shutdown()
     # Left: the latest generation's replay (grass, the goal, the player); right: the fitness curves.
     assert settled and all(count >= ENOUGH_PIXELS for count in drawn.values()), drawn
+    assert asked == [], f"the viewer asked the internet for {asked}"

@@ -180,3 +180,33 @@ def test_policy_map_controls_show_the_goal_inputs_the_map_is_drawn_for(gui):
     policy.show_current({**unseen, "goal_distance": 29.6, "goal_direction": -10.2})
     assert policy.goal_visible.value is True and (policy.goal_distance.value, policy.goal_direction.value) == (30, -10)
     assert "Goal in view at 30 m, -10°" in policy.map.content
+
+
+def test_evolve_panel_shows_best_so_far_beside_each_generation_s_best(gui, store, tmp_path):
+    """The live "best" jumped 0.25 -> 0.5 -> 0.167 (each generation's best) and the end message's "best
+    0.167" contradicted the last point: both are shown and named, in the plot, the status and the end."""
+    from app.environments import default_workers
+    from app.runs import RunEvent, RunManager
+    from app.store import RunStatus
+    from app.ui.panels.evolve import RCSSSERVER, SIMPLESOCCER, EvolvePanel
+
+    panel = EvolvePanel(gui, RunManager(store, tmp_path), store, on_load=lambda *_: None,
+                        on_generation=lambda *_: None, on_run_ended=lambda *_: None, on_runs_changed=lambda: None)
+    assert panel.inputs["workers"].value == default_workers()  # as the CLI: every core
+    assert not panel.servers.visible  # the rcssservers field is for runs on rcssserver only
+    panel.where.value = RCSSSERVER
+    assert panel.servers.visible
+    panel.where.value = SIMPLESOCCER
+    assert not panel.servers.visible
+    panel.run_id, panel.total_generations = 7, 4
+    for generation, best in enumerate((0.25, 0.5, 0.167, 0.3)):
+        panel._on_event(RunEvent(7, RunStatus.RUNNING, {"generation": generation, "best": best, "mean": 0.8,
+                                                          "evaluations": 10 * (generation + 1)}, best))
+    generations, best, best_so_far, mean = (list(series) for series in panel.plot.data)
+    assert best == [0.25, 0.5, 0.167, 0.3] and best_so_far == [0.25, 0.25, 0.167, 0.167]
+    labels = [series["label"] for series in panel.plot.series]
+    assert labels[1:] == ["best of the generation 0.300", "best so far 0.167", "mean 0.800"]
+    assert "best so far 0.167; this generation: best 0.300" in panel.status.content
+    panel._on_event(RunEvent(7, RunStatus.FINISHED))
+    assert ("finished after generation 3 — best so far 0.167 (generation 2); the last generation&#x27;s best 0.300"
+            in panel.status.content)

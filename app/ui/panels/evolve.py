@@ -40,7 +40,7 @@ LABELS = {  # what a teacher reads next to each field; fields missing here show 
     "tournament_selector": "Tournament: P(better wins)",
     "elite_fraction": "Elite fraction",
     "target_fitness": "Target fitness (stop at or below)",
-    "seed": "Seed",
+    "seed": "Run seed",  # not the pitch's Seed (Play tab)
     "workers": "Worker processes",
     "skills": "Skills (strict: kicks only within reach; sighted: and sees the goal)",
     "noise": "Movement noise",
