@@ -7,14 +7,13 @@ from __future__ import annotations
 import pytest
 from typer.testing import CliRunner
 
-from app.cli import _register, app
+from app.cli import app
 from app.rule_inspection import MAX_RULE_TICKS, MAX_RULES
 from app.ui.panels.evolve import field_bounds, ga_fields
 from ga.config import MAX_POPULATION, MAX_WORKERS
 from soccer.config import MAX_GAMES_PER_EVALUATION, MAX_TICKS
 from tests.app.api_client import api_client
 
-_register()
 RULE = "if Ball is not At then GoToBall VeryHigh"
 
 
