@@ -10,7 +10,7 @@ import viser
 from app.rule_inspection import MAX_GAMES, size
 from app.store import Store, StoreError
 from app.ui import style
-from app.ui.number_field import FieldError, NumberField
+from app.ui.number_field import NumberField
 from app.ui.panels.svg import escape
 from fuzzy.parser import RuleSyntaxError, parse_rulebase
 from fuzzy.printer import format_rulebase
@@ -138,6 +138,9 @@ class EditorPanel:
             f'{f"<ul style=margin:4px 0 0 18px;padding:0>{items}</ul>" if items else ""}</div>'
         )
 
+    def show_error(self, text: str) -> None:
+        self._say(text, error=True)
+
     # ---- actions ----------------------------------------------------------------------------
     def apply(self) -> None:
         try:
@@ -163,11 +166,10 @@ class EditorPanel:
     def simplify(self) -> None:
         rulebase, name = self.on_pitch
         try:
-            games = int(self.check_games.value)
-        except FieldError as exc:
+            result = self.simplify_with(rulebase, int(self.check_games.value))
+        except ValueError as exc:  # no usable number in the field (FieldError), or over a limit (checked_cost)
             self._say(f"Not simplified: {exc}", error=True)
             return
-        result = self.simplify_with(rulebase, games)
         simplified = result.simplification.rulebase
         lines = _change_lines(result.simplification.steps)
         if simplified == rulebase:

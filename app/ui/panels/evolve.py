@@ -108,6 +108,7 @@ class EvolvePanel:
                 self.game_inputs[name] = self._input(gui, name, field)
         buttons = gui.add_button_group("Evolution", ("Start", "Stop"))
         self.progress = gui.add_progress_bar(0.0)
+        self.within = gui.add_html("")  # the generation in progress: players evaluated of the population
         self.status = gui.add_html(self._status_html("Not started. Press Start: the chapter's defaults are set."))
         self.plot = gui.add_uplot(
             data=self._plot_data(),
@@ -143,7 +144,7 @@ class EvolvePanel:
             return gui.add_dropdown(label, tuple(choices), initial_value=default)
         if isinstance(default, bool):
             return gui.add_checkbox(label, default)
-        number = NumberField.for_field(gui, label, field, hint=field.description)
+        number = NumberField.for_field(gui, label, field, hint=field.description)  # with the field's bounds
         if name == "workers":
             number.value = default_workers()  # as the CLI: every core
         return number
@@ -188,7 +189,7 @@ class EvolvePanel:
         if self.run_id is None or not self.runs.is_active(self.run_id):
             self.status.content = self._status_html("No evolution of this tab is running.", error=True)
             return
-        self.status.content = self._status_html(f"Stopping run #{self.run_id} after this generation …")
+        self.status.content = self._status_html(f"Stopping run #{self.run_id} …")
         try:
             self.runs.stop(self.run_id, wait=0.0)
         except (RunStateError, NotFound) as exc:
@@ -214,7 +215,11 @@ class EvolvePanel:
         if event.run_id != self.run_id:
             return
         total = self.total_generations  # generations 0 .. total - 1
-        if event.stats is not None:
+        if event.progress is not None:
+            self.within.content = self._status_html(
+                f"Generation {event.progress.generation}: {event.progress.evaluated:,} of "
+                f"{event.progress.population:,} players evaluated")
+        elif event.stats is not None:
             stats = event.stats
             generation = int(stats["generation"])
             self.generations.append(generation)
@@ -225,6 +230,7 @@ class EvolvePanel:
             self.on_generation(event.run_id, generation, event.players)
             self.progress.value = min(100.0, 100.0 * (generation + 1) / total)
             self.load_best.disabled = False
+            self.within.content = ""  # until the next generation's first chunk
             self.status.content = self._status_html(
                 f"Run #{event.run_id}: generation {generation} of 0–{total - 1} done — best so far "
                 f"{self.best_so_far[-1]:.3f}; this generation: best {stats['best']:.3f}, mean {stats['mean']:.3f}; "
@@ -232,6 +238,7 @@ class EvolvePanel:
             )
         elif event.status is not RunStatus.RUNNING:
             self.progress.animated = False
+            self.within.content = ""
             if event.status is RunStatus.FINISHED:
                 self.progress.value = 100.0
             self.status.content = self._status_html(
