@@ -335,9 +335,9 @@ OPEN_TO_PLAYING = """() => {
 
 def start_serve(folder: Path) -> tuple[subprocess.Popen, str]:
     """`soccer-lab serve` on free ports with its data in `folder`; (the process, the UI's address)."""
-    ports = [free_port() for _ in range(3)]
+    ports = [free_port() for _ in range(2)]
     command = [str(Path(sys.executable).parent / "soccer-lab"), "serve", "--port", str(ports[0]), "--ui-port",
-               str(ports[1]), "--rerun-port", str(ports[2]), "--data-dir", str(folder)]
+               str(ports[1]), "--data-dir", str(folder)]
     process = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     deadline = time.monotonic() + SERVE_START_TIMEOUT_S
     while time.monotonic() < deadline:

@@ -117,7 +117,7 @@ class Session:
                 gui, context.runs, context.store, on_load=self.play_player,
                 on_generation=lambda *finished: self.population.generation_finished(*finished),
                 on_run_ended=lambda run_id, status: self.population.run_ended(run_id, status),
-                on_runs_changed=lambda: self.library.refresh(),
+                on_runs_changed=lambda: self.library.refresh(), api_url=context.api_url,
             )
         with tabs.add_tab("Library"):
             self.library = LibraryPanel(gui, context.store, context.runs, context.vocabulary, context.api_url,

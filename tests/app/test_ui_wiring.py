@@ -225,10 +225,14 @@ def test_evolve_shows_the_progress_within_a_generation_and_stops_it(gui, store, 
     runs = RunManager(store, tmp_path)
     ended = threading.Event()
     panel = EvolvePanel(gui, runs, store, on_load=lambda *a: None, on_generation=lambda *a: None,
-                        on_run_ended=lambda run_id, status: ended.set(), on_runs_changed=lambda: None)
+                        on_run_ended=lambda run_id, status: ended.set(), on_runs_changed=lambda: None,
+                        api_url="http://127.0.0.1:8000")
     panel.inputs["population_size"].value = 3000  # generation 0 lasts seconds: the stop lands inside it
     panel.start()
     try:
+        # The run on show links to rerun's viewer, served by the app, opening this run's recording.
+        assert (f'href="http://127.0.0.1:8000/viewer/?hide_welcome_screen&amp;url=http://127.0.0.1:8000/api/runs/'
+                f'{panel.run_id}/recording.rrd"') in panel.viewer.content
         deadline = time.monotonic() + 120
         while "players evaluated" not in panel.within.content and time.monotonic() < deadline:
             time.sleep(0.05)

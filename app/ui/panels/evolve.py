@@ -16,6 +16,7 @@ from app.store import NotFound, RunStatus, Store
 from app.ui import style
 from app.ui.number_field import FieldError, NumberField
 from app.ui.panels.svg import escape
+from app.ui.panels.viewer_link import run_viewer_link
 from app.validation import describe_problem, dotted
 from fuzzy.rule import Rulebase
 from ga.config import GAConfig
@@ -78,8 +79,10 @@ class EvolvePanel:
         on_generation: Callable[[int, int, Sequence[SampledPlayer]], None],
         on_run_ended: Callable[[int, RunStatus], None],
         on_runs_changed: Callable[[], None],
+        api_url: str | None = None,
     ):
         self.runs = runs
+        self.api_url = api_url
         self.store = store
         self.on_load = on_load
         self.on_generation = on_generation
@@ -110,6 +113,7 @@ class EvolvePanel:
         self.progress = gui.add_progress_bar(0.0)
         self.within = gui.add_html("")  # the generation in progress: players evaluated of the population
         self.status = gui.add_html(self._status_html("Not started. Press Start: the chapter's defaults are set."))
+        self.viewer = gui.add_html("")  # the run on show, in rerun's viewer
         self.plot = gui.add_uplot(
             data=self._plot_data(),
             series=self._plot_series(),
@@ -156,10 +160,10 @@ class EvolvePanel:
     def game_config(self) -> dict[str, Any]:
         return {name: handle.value for name, handle in self.game_inputs.items()}
 
-    def _status_html(self, text: str, *, error: bool = False) -> str:
+    def _status_html(self, text: str, *, error: bool = False, kind: str = "evolve-status") -> str:
         colour = style.ERROR if error else style.INK
         return (
-            f'<div class="evolve-status" data-error="{str(error).lower()}" style="{style.FONT}; '
+            f'<div class="{kind}" data-error="{str(error).lower()}" style="{style.FONT}; '
             f'font-size:{style.FONT_SIZE}px; color:{colour}">{escape(text)}</div>'
         )
 
@@ -183,6 +187,7 @@ class EvolvePanel:
         self.plot.scales = self._plot_scales()
         self._redraw_plot()
         self.status.content = self._status_html(f"Run #{record.id} started: evaluating generation 0 …")
+        self.viewer.content = run_viewer_link(self.api_url, record.id)
         self.on_runs_changed()
 
     def stop(self) -> None:
@@ -218,7 +223,7 @@ class EvolvePanel:
         if event.progress is not None:
             self.within.content = self._status_html(
                 f"Generation {event.progress.generation}: {event.progress.evaluated:,} of "
-                f"{event.progress.population:,} players evaluated")
+                f"{event.progress.population:,} players evaluated", kind="evolve-within")
         elif event.stats is not None:
             stats = event.stats
             generation = int(stats["generation"])
