@@ -30,7 +30,7 @@ CHROMIUM = "/usr/bin/chromium"
 CHROMIUM_ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
                  "--disable-component-update", "--disable-sync", "--no-first-run"]
 IMAGES = Path(__file__).resolve().parents[2] / "docs" / "images"
-TIMEOUT_MS = 90_000  # a shared, busy machine
+TIMEOUT_MS = 180_000  # a shared, busy machine (serve took minutes to start under a load average of 50)
 INJECTED = "<img src=x onerror=window.pwned=1>"
 
 
@@ -73,7 +73,7 @@ class Served:
         for line in self.process.stdout:
             self.lines.put(line)
 
-    def _wait_for(self, pattern: str, timeout: float = 400.0) -> re.Match:
+    def _wait_for(self, pattern: str, timeout: float = 900.0) -> re.Match:
         deadline = time.monotonic() + timeout
         while time.monotonic() < deadline:
             try:
