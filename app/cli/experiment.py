@@ -1,5 +1,6 @@
 """`soccer-lab experiment PRESET`: the chapter's study (its section 6) with one command: the SimpleSoccer
-presets on local processes or Ray, `robocup` on rcssservers."""
+presets on local processes or Ray, `robocup` on rcssservers; the experiments beyond it; at several seeds
+(--replicates, --seeds) to tell robust verdicts from lucky ones."""
 
 from __future__ import annotations
 
@@ -12,20 +13,22 @@ from rich.console import Console
 from rich.progress import BarColumn, Progress, TaskProgressColumn, TextColumn, TimeElapsedColumn, TimeRemainingColumn
 
 from app.cli.common import fail
-from app.cli.play import (RcssserverOption, ServerOption, ServersOption, config_from_options, option_help,
-                          rcss_addresses)
+from app.cli.play import config_from_options, option_help, rcss_addresses, server_options
 from app.experiment.executors import EXECUTOR_NAMES, LOCAL, ExecutorError, RcssExecutor, make_executor
-from app.experiment.presets import (CHAPTER_GENERATIONS, CHOICES, DEFAULT_TRIALS, INITIAL_TRIALS, LONG_GENERATIONS,
-                                    ROBOCUP, ExperimentOptions)
+from app.experiment.presets import (ALL, ALL_PLUS, CHAPTER_GENERATIONS, CHOICES, DEFAULT_TRIALS, INITIAL_TRIALS,
+                                    LONG_GENERATIONS, ROBOCUP, ExperimentOptions)
 from app.experiment.runner import ExperimentError, ExperimentOutcome, run_experiment
 from soccer.config import SKILL_SET_NAMES
 from soccer.rcss.errors import RcssError
 
 DEFAULT_OUT_FOLDER = "experiments"
+ServerOption, RcssserverOption, ServersOption = server_options(f"For the {ROBOCUP} preset")
 
 
 def experiment_command(
-    preset: Annotated[str, typer.Argument(help=f"One of: {', '.join(CHOICES)}.", show_default=False)],
+    preset: Annotated[str, typer.Argument(
+        help=f"One of: {', '.join(CHOICES)}. {ALL}: the chapter's SimpleSoccer study; {ALL_PLUS}: it and the "
+        "experiments beyond it.", show_default=False)],
     trials: Annotated[Optional[int], typer.Option(
         "--trials", help=f"Trials per setting. (default: the chapter's, {DEFAULT_TRIALS}; {INITIAL_TRIALS} for "
         f"initial and {ROBOCUP})", show_default=False)] = None,
@@ -45,6 +48,17 @@ def experiment_command(
     seed: Annotated[Optional[int], typer.Option(
         "--seed", help=option_help(ExperimentOptions, "seed", "Experiment seed; each trial's seed derives from it."),
         show_default=False)] = None,
+    replicates: Annotated[Optional[int], typer.Option(
+        "--replicates", help="Run the experiment at this many seeds (--seed, --seed + 1, ...), each in OUT/seed-S, "
+        "and report each finding's verdict per replicate and whether it is robust. (default: 1)",
+        show_default=False)] = None,
+    seeds: Annotated[Optional[str], typer.Option(
+        "--seeds", help="Replicates at these experiment seeds, comma-separated (e.g. 0,913), instead of counting "
+        "up from --seed.", show_default=False)] = None,
+    replays: Annotated[Optional[int], typer.Option(
+        "--replays", help=option_help(ExperimentOptions, "replays",
+                                      "Fresh starts each trial's best is re-played on (its true quality)."),
+        show_default=False)] = None,
     skills: Annotated[Optional[str], typer.Option(
         "--skills", help=option_help(ExperimentOptions, "skills", f"Skill set: {', '.join(SKILL_SET_NAMES)}."),
         show_default=False)] = None,
@@ -60,7 +74,8 @@ def experiment_command(
                                                  "Roulette weight: linear (1 - fitness) or inverse (1 / fitness)."),
         show_default=False)] = None,
     out: Annotated[Optional[Path], typer.Option(
-        "--out", help="Output folder; running again into it resumes. (default: experiments/PRESET-seedN)",
+        "--out", help="Output folder; running again into it resumes. (default: experiments/PRESET-seedN, with "
+        "replicates experiments/PRESET-seedsN-M)",
         show_default=False)] = None,
     workers: Annotated[Optional[int], typer.Option(
         "--workers", min=1, help=f"Trials run at once. (default: all cores; not for {ROBOCUP})",
@@ -86,8 +101,12 @@ def experiment_command(
     options: ExperimentOptions = config_from_options(ExperimentOptions, {
         "trials": trials, "population": population, "generations": generations, "max_ticks": max_ticks,
         "seed": seed, "skills": skills, "noise": noise, "count_touches": count_touches,
-        "roulette_weighting": roulette_weighting})
-    folder = out or Path(DEFAULT_OUT_FOLDER) / f"{preset}-seed{options.seed}"
+        "roulette_weighting": roulette_weighting, "replays": replays})
+    replicate_seeds = _replicate_seeds(options.seed, replicates, seeds)
+    if replicate_seeds is None:
+        folder = out or Path(DEFAULT_OUT_FOLDER) / f"{preset}-seed{options.seed}"
+    else:
+        folder = out or Path(DEFAULT_OUT_FOLDER) / f"{preset}-seeds{'-'.join(map(str, replicate_seeds))}"
     _check_where_trials_run(preset, {"--server": server, "--rcssserver": rcssserver, "--servers": servers},
                             {"--executor": executor, "--workers": workers, "--address": address, "--noise": noise,
                              "--count-touches": count_touches})
@@ -98,7 +117,12 @@ def experiment_command(
             else:
                 runner = make_executor(executor or LOCAL, workers=workers, address=address)
             progress = stack.enter_context(ExperimentProgress(preset))
-            outcome = run_experiment(preset, options, folder, runner, progress=progress)
+            if replicate_seeds is None:
+                outcome = run_experiment(preset, options, folder, runner, progress=progress)
+            else:
+                from app.experiment.replicates import run_replicates
+
+                outcome = run_replicates(preset, options, replicate_seeds, folder, runner, progress=progress)
     except (ExecutorError, ExperimentError) as exc:
         fail(str(exc))
     except RcssError as exc:
@@ -110,6 +134,24 @@ def experiment_command(
     if library:
         _record(preset, options, outcome, data_dir)
     _summary(outcome)
+
+
+def _replicate_seeds(seed: int, replicates: int | None, seeds: str | None) -> list[int] | None:
+    """The replicates' seeds; None for one experiment at --seed (no --replicates nor --seeds)."""
+    if replicates is None and seeds is None:
+        return None
+    from app.experiment.replicates import replicate_seeds
+
+    try:
+        given = None if seeds is None else [int(part) for part in seeds.split(",") if part.strip()]
+    except ValueError:
+        fail(f"--seeds: comma-separated whole numbers, e.g. 0,913 (got {seeds!r})")
+    if given is not None and (not given or any(not 0 <= s < 2**63 for s in given)):
+        fail("--seeds: one or more seeds in [0, 2^63)")
+    try:
+        return replicate_seeds(seed, replicates, given)
+    except ExperimentError as exc:
+        fail(str(exc))
 
 
 def _check_where_trials_run(preset: str, rcss_options: dict[str, object], local_options: dict[str, object]) -> None:
@@ -146,6 +188,7 @@ class ExperimentProgress:
 
 
 def _record(preset: str, options: ExperimentOptions, outcome: ExperimentOutcome, data_dir: Path | None) -> None:
+    """In the library: one experiment, or replicates as one entry (their summary report above them)."""
     from app.experiment.library import library_summary
     from app.paths import DATABASE_FILE, default_data_dir
     from app.store import Store, StoreError
@@ -163,8 +206,12 @@ def _record(preset: str, options: ExperimentOptions, outcome: ExperimentOutcome,
 
 
 def _summary(outcome: ExperimentOutcome) -> None:
-    trials = len(outcome.plan.specs)
+    trials = outcome.trials
     typer.echo(f"{trials} trials ({outcome.ran} run, {outcome.skipped} already finished) in {outcome.seconds:.1f} s")
-    typer.echo("verdicts: " + ", ".join(f"{n} {v}" for v, n in outcome.report.verdicts().items() if n))
-    typer.echo(f"outputs in {outcome.folder}: statistics.csv, report.md, report.html, "
-               f"{len(outcome.report.figures)} figures, trials/ (per-trial CSV and .rrd)")
+    typer.echo("verdicts: " + (", ".join(f"{n} {v}" for v, n in outcome.report.verdicts().items() if n) or "none"))
+    if hasattr(outcome, "replicates"):
+        typer.echo(f"outputs in {outcome.folder}: report.md, report.html, verdicts.csv (each finding per replicate), "
+                   f"and seed-S/ per replicate (statistics.csv, bests.csv, report, figures, trials/)")
+        return
+    typer.echo(f"outputs in {outcome.folder}: statistics.csv, bests.csv, report.md, report.html, "
+               f"{len(outcome.report.figures)} figures, trials/ (per-trial CSV, .rrd and best player)")
