@@ -10,10 +10,12 @@ messy chromosome does not have, so it works on rules instead of genes. Each pare
 rules (a run of premises closed by a consequent; premises after the last consequent form a last,
 incomplete segment), the rules are paired by position, and a fair coin gives each pair's two rules to
 the two children; a rule of the longer parent without a partner goes to either child by a fair coin.
-Every child is made only of whole segments of its parents, in their order, and keeps as many of them,
-from the front, as fit in `max_length` (never less than one: a segment is never longer than its
-parent). A child left with fewer than MIN_LENGTH genes (a lone consequent) is its parent instead.
-Unlike cut-and-splice it never splits a rule, however much it shuffles them.
+Every child is made only of whole segments of its parents: their rules in the parents' order, then any
+trailing premises it received (kept last, so they never join a rule of the other parent: a child holds
+only rules its parents had). It keeps as many segments, from the front, as fit in `max_length` (never
+less than one: a segment is never longer than its parent). A child left with fewer than MIN_LENGTH
+genes (a lone consequent) is its parent instead. Unlike cut-and-splice it never splits or joins a rule,
+however much it shuffles them.
 """
 
 from __future__ import annotations
@@ -64,7 +66,8 @@ def rule_segments(chromosome: np.ndarray) -> list[np.ndarray]:
 
 
 def _joined(segments: list[np.ndarray], max_length: int) -> np.ndarray:
-    """The segments, in order, as many from the front as fit in max_length."""
+    """The rules in order, then trailing premises; as many from the front as fit in max_length."""
+    segments = sorted(segments, key=lambda segment: segment[-1, KIND] != CONSEQUENT)  # stable: rules keep order
     lengths = np.cumsum([len(segment) for segment in segments])
     kept = max(1, int(np.searchsorted(lengths, max_length, side="right")))
     return np.concatenate(segments[:kept])

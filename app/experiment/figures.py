@@ -53,19 +53,26 @@ def write_figures(table: StatisticsTable, preset: Preset, folder: Path,
     for kind in preset.figures:
         if kind in BEST_DRAWERS and not (bests and bests.settings(preset.name)):
             continue
-        title, draw = {**DRAWERS, **BEST_DRAWERS}[kind]
-        figure = MatplotlibFigure(figsize=SIZE_INCHES, dpi=DPI, layout="constrained")
-        axes = figure.subplots()
-        draw(axes, bests if kind in BEST_DRAWERS else table, preset)
-        if axes.get_xlabel() == "generation":
-            axes.xaxis.set_major_locator(MaxNLocator(integer=True))
-        chapter = CHAPTER_FIGURES.get((preset.name, kind))
-        caption = f"{preset.title}: {title}" + (f" (chapter Fig. {chapter})" if chapter else "")
-        axes.set_title(caption, fontsize=10)
+        figure, caption = draw_figure(kind, table, preset, bests)
         relative = Path(FIGURES_FOLDER) / f"{preset.name}-{kind}.png"
         figure.savefig(folder / relative, metadata={"Software": None})
         figures.append(Figure(relative, caption))
     return figures
+
+
+def draw_figure(kind: str, table: StatisticsTable, preset: Preset,
+                bests: BestsTable | None = None) -> tuple[MatplotlibFigure, str]:
+    """One figure of the preset, and its caption."""
+    title, draw = {**DRAWERS, **BEST_DRAWERS}[kind]
+    figure = MatplotlibFigure(figsize=SIZE_INCHES, dpi=DPI, layout="constrained")
+    axes = figure.subplots()
+    draw(axes, bests if kind in BEST_DRAWERS else table, preset)
+    if axes.get_xlabel() == "generation":
+        axes.xaxis.set_major_locator(MaxNLocator(integer=True))
+    chapter = CHAPTER_FIGURES.get((preset.name, kind))
+    caption = f"{preset.title}: {title}" + (f" (chapter Fig. {chapter})" if chapter else "")
+    axes.set_title(caption, fontsize=10)
+    return figure, caption
 
 
 # ---- drawers ---------------------------------------------------------------------------------------

@@ -149,6 +149,7 @@ def summarise(seeds: list[int], reports: list[Report]) -> tuple[list[Row], list[
 
 def write_replicates_report(folder: Path, seeds: list[int], reports: list[Report], header: str) -> ReplicatesReport:
     findings, answers = summarise(seeds, reports)
+    findings = [row for row in findings if row.robust != NOT_RUN]  # their preset was not part of the experiment
     figures = [_verdict_figure(folder, seeds, findings)] if findings else []
     report = ReplicatesReport(seeds, findings, answers, figures)
     _write_atomically(folder / VERDICTS_FILE, _verdicts_csv(seeds, findings + answers))
