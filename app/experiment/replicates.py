@@ -227,19 +227,18 @@ def _verdict_figure(folder: Path, seeds: list[int], rows: list[Row]) -> Figure:
     """A grid: one row per finding, one column per replicate, coloured by verdict."""
     order = list(COLOURS)
     grid = np.array([[order.index(v) for v in row.verdicts] for row in rows])
-    figure = MatplotlibFigure(figsize=(3.2 + 0.5 * len(seeds), 1.0 + 0.24 * len(rows)), dpi=DPI, layout="constrained")
+    figure = MatplotlibFigure(figsize=(5.0 + 0.5 * len(seeds), 1.0 + 0.24 * len(rows)), dpi=DPI, layout="constrained")
     axes = figure.subplots()
     axes.imshow(grid, cmap=ListedColormap(list(COLOURS.values())), vmin=0, vmax=len(order) - 1, aspect="auto")
     axes.set_xticks(range(len(seeds)), [f"seed {s}" for s in seeds], fontsize=8)
-    axes.set_yticks(range(len(rows)), [f"{r.preset} {r.where} ({r.summary.split(' in ')[1]})" for r in rows],
-                    fontsize=7)
+    axes.set_yticks(range(len(rows)), [f"{r.preset} {r.where}: {r.summary}" for r in rows], fontsize=7)
     axes.set_xticks(np.arange(len(seeds)) - 0.5, minor=True)
     axes.set_yticks(np.arange(len(rows)) - 0.5, minor=True)
     axes.grid(which="minor", color="white", linewidth=1.5)
     axes.tick_params(which="minor", length=0)
     axes.legend(handles=[Patch(facecolor=COLOURS[v], edgecolor="0.6", label=v) for v in order], fontsize=7,
                 loc="upper left", bbox_to_anchor=(1.01, 1.0))
-    caption = "Each finding's verdict per replicate (in brackets: replicates agreeing)"
+    caption = "Each finding's verdict per replicate"
     axes.set_title(caption, fontsize=9)
     relative = Path(FIGURES_FOLDER) / VERDICTS_FIGURE
     (folder / FIGURES_FOLDER).mkdir(parents=True, exist_ok=True)

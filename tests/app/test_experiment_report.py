@@ -192,3 +192,24 @@ def test_a_flat_curve_has_no_trend_and_says_so_without_warnings(tmp_path):
     rising = {"100 generations": {"rules_mean": np.tile(np.linspace(10, 20, 10), (10, 1))}}
     assessment = trend("rules_mean", "rules", rising=True)(StatisticsTable(fabricated("long", rising)), long)
     assert assessment.verdict == AGREES
+
+
+def test_generation_axes_tick_whole_generations_and_histogram_bars_sit_on_them():
+    """A 3-generation run used to tick 0.25, 0.5, ... with the goal histogram's bars beside the ticks."""
+    from app.experiment.figures import draw_figure
+
+    rng = np.random.default_rng(9)
+    initial = preset("initial", ExperimentOptions(trials=2, generations=3))
+    table = StatisticsTable(fabricated("initial", {"Table 2": {
+        "mean": falling(0.9, 0.8, rng, trials=2, generations=3), "best": falling(0.6, 0.5, rng, trials=2, generations=3),
+        "goals_0": np.full((2, 3), 0.7), "goals_1": np.full((2, 3), 0.3)}}))
+    for kind in ("mean_fitness", "best_fitness", "goal_histogram", "composition", "gene_pools"):
+        figure, _ = draw_figure(kind, table, initial)
+        (axes,) = figure.axes
+        figure.canvas.draw()
+        ticks = [t for t in axes.get_xticks() if axes.get_xlim()[0] <= t <= axes.get_xlim()[1]]
+        assert ticks and all(float(t).is_integer() for t in ticks), (kind, ticks)
+    figure, _ = draw_figure("goal_histogram", table, initial)
+    bars = figure.axes[0].patches
+    assert sorted({round(bar.get_x() + bar.get_width() / 2, 9) for bar in bars}) == [0, 1, 2]  # centred on each
+    assert max(bar.get_y() + bar.get_height() for bar in bars) == pytest.approx(100)  # stacked to the whole population
