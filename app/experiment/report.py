@@ -520,10 +520,11 @@ def run_size(table: StatisticsTable, bests: BestsTable, presets: list[Preset]) -
     size, chapter = presets[0].size, presets[0].chapter_size
     trials = sorted({len(table.trials(p.name, s)) for p in presets for s in table.settings(p.name)})
     replays = sorted({int(row["replays"]) for row in bests.rows})
+    trials_text = str(trials[0]) if len(trials) == 1 else f"{trials[0]}-{trials[-1]}"
     text = (f"Size: Table 2's control at population {size.population}, {size.generations} generations, games of "
-            f"{size.max_ticks} ticks (the chapter's: {chapter.population}, {chapter.generations}, {chapter.max_ticks}); "
-            f"{trials[0] if len(trials) == 1 else f'{trials[0]}-{trials[-1]}'} trials per setting (the chapter's: 20 for its "
-            f"initial trials, 10 otherwise)")
+            f"{size.max_ticks} ticks (the chapter's: {chapter.population}, {chapter.generations}, "
+            f"{chapter.max_ticks}); {trials_text} trials per setting (the chapter's: 20 for its initial trials, "
+            f"10 otherwise)")
     if replays:
         text += f"; each trial's best re-played on {', '.join(map(str, replays))} fresh starts"
     lacking = [too_small(table, p) for p in presets]

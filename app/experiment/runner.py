@@ -264,7 +264,8 @@ def run_trials_in(experiments: Iterable[tuple[Plan, Path]], executor: Any,
         for spec in experiment.specs:
             specs.append(spec)
             if not trials.finished(spec):
-                pending.append(spec if spec.setting.trial is None else replace(spec, checkpoint=trials.checkpoint(spec)))
+                on_servers = spec.setting.trial is not None  # checkpointed after every generation
+                pending.append(replace(spec, checkpoint=trials.checkpoint(spec)) if on_servers else spec)
                 folders[spec.name, spec.seed] = trials  # a trial's seed differs between replicates
     # Longest first, so no long trial is left alone at the end while other cores idle.
     pending.sort(key=lambda spec: -spec.setting.games)

@@ -1,4 +1,4 @@
-"""statistics.csv in memory: one row per (preset, setting, trial, generation), every statistic of `ga.statistics.GenerationStats`;
+"""statistics.csv in memory: one row per (preset, setting, trial, generation), every statistic of `ga.statistics.GenerationStats`.
 bests.csv: one row per (preset, setting, trial), its best player's fitness as the GA saw it and re-played.
 Figures and the report read only these tables, so they work as well on fabricated statistics."""
 

@@ -109,7 +109,8 @@ def test_a_shrunk_run_never_disagrees_it_is_too_small_with_the_size_it_needs(tmp
     measured value still shown, and the report's header states the run's size against the chapter's."""
     rng = np.random.default_rng(7)
     trials = shrunk.get("trials", 10)
-    scoring = {"Table 2": {"mean": falling(0.95, 0.45, rng, trials=trials), "best": falling(0.6, 0.3, rng, trials=trials)}}
+    scoring = {"Table 2": {"mean": falling(0.95, 0.45, rng, trials=trials),
+                           "best": falling(0.6, 0.3, rng, trials=trials)}}
     table = StatisticsTable(fabricated("initial", scoring))
     if trials >= 5:
         assert verdict(write_report(table, [preset("initial", OPTIONS)], tmp_path),
@@ -201,7 +202,8 @@ def test_generation_axes_tick_whole_generations_and_histogram_bars_sit_on_them()
     rng = np.random.default_rng(9)
     initial = preset("initial", ExperimentOptions(trials=2, generations=3))
     table = StatisticsTable(fabricated("initial", {"Table 2": {
-        "mean": falling(0.9, 0.8, rng, trials=2, generations=3), "best": falling(0.6, 0.5, rng, trials=2, generations=3),
+        "mean": falling(0.9, 0.8, rng, trials=2, generations=3),
+        "best": falling(0.6, 0.5, rng, trials=2, generations=3),
         "goals_0": np.full((2, 3), 0.7), "goals_1": np.full((2, 3), 0.3)}}))
     for kind in ("mean_fitness", "best_fitness", "goal_histogram", "composition", "gene_pools"):
         figure, _ = draw_figure(kind, table, initial)
