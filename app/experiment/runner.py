@@ -80,7 +80,7 @@ def derived_seeds(seed: int, key: int, count: int) -> list[int]:
 @dataclass(frozen=True)
 class TrialResult:
     rows: list[dict[str, Any]]  # statistics per generation (restarts one after another)
-    best: dict[str, Any]  # the best player, the fitness the GA saw and its replays (TrialFolder.write_best)
+    best: dict[str, Any]  # the best player, the fitness the GA saw and its replays (trials/*.best.json)
 
 
 def run_trial(spec: TrialSpec, evaluate: Evaluator | None = None) -> TrialResult:
