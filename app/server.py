@@ -9,14 +9,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable
 
-import uvicorn
-
-from app.api import create_app
 from app.paths import DATABASE_FILE
-from app.rerun_viewer import RerunViewer, RerunViewerError, viewer_home
-from app.runs import RunManager
-from app.store import Store
-from app.ui import PortBusyError, start_ui
 
 DEFAULT_HOST = "127.0.0.1"
 DEFAULT_PORT = 8000
@@ -69,6 +62,15 @@ def check_ports(options: ServeOptions) -> None:
 
 def serve(options: ServeOptions, echo: Callable[[str], None] = print) -> None:
     """Run everything until Ctrl+C; runs still going are then marked interrupted (resumable)."""
+    # Imported here: the command's help and its option checks do without the app (FastAPI, viser, rerun).
+    import uvicorn
+
+    from app.api import create_app
+    from app.rerun_viewer import RerunViewer, RerunViewerError, viewer_home
+    from app.runs import RunManager
+    from app.store import Store
+    from app.ui import PortBusyError, start_ui
+
     check_ports(options)
     try:
         options.data_dir.mkdir(parents=True, exist_ok=True)

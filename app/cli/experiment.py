@@ -6,20 +6,21 @@ from __future__ import annotations
 
 from contextlib import ExitStack
 from pathlib import Path
-from typing import Annotated, Optional
+from typing import TYPE_CHECKING, Annotated, Optional
 
 import typer
-from rich.console import Console
-from rich.progress import BarColumn, Progress, TaskProgressColumn, TextColumn, TimeElapsedColumn, TimeRemainingColumn
 
 from app.cli.common import fail
 from app.cli.play import config_from_options, option_help, rcss_addresses, server_options
 from app.experiment.executors import EXECUTOR_NAMES, LOCAL, ExecutorError, RcssExecutor, make_executor
 from app.experiment.presets import (ALL, ALL_PLUS, CHAPTER_GENERATIONS, CHOICES, DEFAULT_TRIALS, INITIAL_TRIALS,
                                     LONG_GENERATIONS, ROBOCUP, ExperimentOptions)
-from app.experiment.runner import ExperimentError, ExperimentOutcome, run_experiment
 from soccer.config import SKILL_SET_NAMES
 from soccer.rcss.errors import RcssError
+
+if TYPE_CHECKING:  # the runner (the GA, the report's statistics and figures) is imported when an experiment runs
+    from app.experiment.replicates import ReplicatesOutcome
+    from app.experiment.runner import ExperimentOutcome
 
 DEFAULT_OUT_FOLDER = "experiments"
 ServerOption, RcssserverOption, ServersOption = server_options(f"For the {ROBOCUP} preset")
@@ -110,6 +111,8 @@ def experiment_command(
     _check_where_trials_run(preset, {"--server": server, "--rcssserver": rcssserver, "--servers": servers},
                             {"--executor": executor, "--workers": workers, "--address": address, "--noise": noise,
                              "--count-touches": count_touches})
+    from app.experiment.runner import ExperimentError, run_experiment
+
     try:
         with ExitStack() as stack:
             if preset == ROBOCUP:
@@ -141,6 +144,7 @@ def _replicate_seeds(seed: int, replicates: int | None, seeds: str | None) -> li
     if replicates is None and seeds is None:
         return None
     from app.experiment.replicates import replicate_seeds
+    from app.experiment.runner import ExperimentError
 
     try:
         given = None if seeds is None else [int(part) for part in seeds.split(",") if part.strip()]
@@ -167,9 +171,13 @@ def _check_where_trials_run(preset: str, rcss_options: dict[str, object], local_
 
 
 class ExperimentProgress:
-    """One bar for the whole experiment, counted in evaluations (trials differ in size)."""
+    """One bar for the whole experiment, counted in games (trials differ in size)."""
 
     def __init__(self, preset: str):
+        from rich.console import Console
+        from rich.progress import (BarColumn, Progress, TaskProgressColumn, TextColumn, TimeElapsedColumn,
+                                   TimeRemainingColumn)
+
         self.progress = Progress(TextColumn("[bold]experiment {task.description}"), BarColumn(),
                                  TaskProgressColumn(), TextColumn("{task.fields[note]}"), TimeElapsedColumn(),
                                  TimeRemainingColumn(), console=Console(stderr=True))
@@ -187,7 +195,8 @@ class ExperimentProgress:
         self.progress.update(self.task, completed=completed, total=total, note=note)
 
 
-def _record(preset: str, options: ExperimentOptions, outcome: ExperimentOutcome, data_dir: Path | None) -> None:
+def _record(preset: str, options: ExperimentOptions, outcome: "ExperimentOutcome | ReplicatesOutcome",
+            data_dir: Path | None) -> None:
     """In the library: one experiment, or replicates as one entry (their summary report above them)."""
     from app.experiment.library import library_summary
     from app.paths import DATABASE_FILE, default_data_dir
@@ -205,7 +214,7 @@ def _record(preset: str, options: ExperimentOptions, outcome: ExperimentOutcome,
         typer.echo(f"warning: not recorded in the library: {exc}", err=True)
 
 
-def _summary(outcome: ExperimentOutcome) -> None:
+def _summary(outcome: "ExperimentOutcome | ReplicatesOutcome") -> None:
     trials = outcome.trials
     typer.echo(f"{trials} trials ({outcome.ran} run, {outcome.skipped} already finished) in {outcome.seconds:.1f} s")
     typer.echo("verdicts: " + (", ".join(f"{n} {v}" for v, n in outcome.report.verdicts().items() if n) or "none"))

@@ -33,7 +33,6 @@ import json
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
-import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
 
 from ga.config import SEED_BOUND, GAConfig, RouletteWeighting
@@ -314,6 +313,8 @@ def presets(name: str, options: ExperimentOptions) -> list[Preset]:
 
 def trial_seed(experiment_seed: int, setting: Setting, trial: int) -> int:
     """Each trial's seed, stable per (experiment seed, setting configuration, trial number)."""
+    import numpy as np  # here, not at the top: `soccer-lab experiment --help` reads this module's defaults
+
     key = [int(setting.key.rsplit("-", 1)[1], 16), trial]
     state = np.random.SeedSequence(experiment_seed, spawn_key=key).generate_state(1, np.uint64)[0]
     return int(state) % SEED_BOUND

@@ -11,7 +11,7 @@ import pytest
 from typer.testing import CliRunner
 
 from app import recording
-from app.cli import _register, app
+from app.cli import app
 from fuzzy.export import rulebase_from_json
 from fuzzy.parser import parse_rulebase
 from fuzzy.vocabulary import Vocabulary
@@ -23,7 +23,6 @@ from soccer.engine import play_game
 
 VOCABULARY = Vocabulary.default()
 
-_register()
 TINY = ["--population-size", "8", "--generations", "3", "--max-ticks", "60", "--workers", "1", "--seed", "5"]
 DETERMINISTIC = [name for name in GenerationStats.field_names() if name != "wall_time"]
 
