@@ -8,7 +8,7 @@ import csv
 import pytest
 from typer.testing import CliRunner
 
-from app.cli import _register, app
+from app.cli import app
 from app.experiment.executors import LocalExecutor
 from app.experiment.presets import ExperimentOptions
 from app.experiment.replicates import (VARIES, VERDICTS_FIGURE, VERDICTS_FILE, replicate_folder, replicate_seeds,
@@ -95,7 +95,6 @@ def test_replicates_on_ray_match_local_processes(tmp_path):
 # ---- command line ----------------------------------------------------------------------------------------
 @pytest.fixture(scope="module")
 def cli():
-    _register()
     return CliRunner()
 
 
@@ -140,11 +139,10 @@ def test_cli_bad_replicates_are_one_line_with_status_2(cli, tmp_path, arguments,
 
 
 def test_help_names_only_options_the_command_has(cli):
-    result = cli.invoke(app, ["experiment", "--help"], env={"COLUMNS": "200"})
+    result = cli.invoke(app, ["experiment", "--help"])
     assert result.exit_code == 0
-    assert "--env" not in result.output  # `experiment` has no --env: its servers are for the robocup preset
-    assert result.output.count("For the robocup preset:") == 3
-    for option in ("--replicates", "--seeds", "--replays"):
-        assert option in result.output
-    for preset in ("uniform-crossover", "rule-pressure", "games-per-evaluation", "restarts", "all-plus"):
-        assert preset in result.output
+    text = " ".join(result.output.split())  # as read, whatever the wrapping
+    assert "--env" not in text  # `experiment` has no --env: its servers are for the robocup preset
+    assert text.count("For the robocup preset:") == 3
+    for named in ("--replicates", "--seeds", "--replays", "uniform-crossover", "games-per-evaluation", "all-plus"):
+        assert named in text
