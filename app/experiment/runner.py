@@ -257,9 +257,11 @@ def run_trials(experiment: Plan, folder: Path, executor: Any, progress: Progress
 def run_trials_in(experiments: Iterable[tuple[Plan, Path]], executor: Any,
                   progress: Progress | None = None) -> tuple[int, int]:
     """run_trials for several experiments (one per replicate) on one executor, so no core waits for the
-    last trial of one before the next begins."""
-    specs, pending, folders = [], [], {}
-    for experiment, folder in experiments:
+    last trial of one before the next begins. They run one after another (an interrupted run leaves whole
+    replicates), each's trials longest first, so no long trial is left alone at the end while other cores
+    idle."""
+    specs, pending, folders, order = [], [], {}, {}
+    for index, (experiment, folder) in enumerate(experiments):
         trials = TrialFolder(folder)
         for spec in experiment.specs:
             specs.append(spec)
@@ -267,8 +269,8 @@ def run_trials_in(experiments: Iterable[tuple[Plan, Path]], executor: Any,
                 on_servers = spec.setting.trial is not None  # checkpointed after every generation
                 pending.append(replace(spec, checkpoint=trials.checkpoint(spec)) if on_servers else spec)
                 folders[spec.name, spec.seed] = trials  # a trial's seed differs between replicates
-    # Longest first, so no long trial is left alone at the end while other cores idle.
-    pending.sort(key=lambda spec: -spec.setting.games)
+                order[spec.name, spec.seed] = index
+    pending.sort(key=lambda spec: (order[spec.name, spec.seed], -spec.setting.games))
     total = sum(spec.setting.games for spec in specs)
     completed = total - sum(spec.setting.games for spec in pending)
     skipped = len(specs) - len(pending)
