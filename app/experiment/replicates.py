@@ -6,7 +6,7 @@ resumable as any experiment folder) and, above them, report.md and report.html w
 verdict per replicate, how many replicates it agrees in, and its robust verdict: the verdict every
 replicate gives, or "varies with the seed". The answers beyond the chapter are summarised the same way.
 verdicts.csv holds the table; figures/replicates-verdicts.png draws it. All replicates' trials go to
-one executor together, longest first.
+one executor, replicate after replicate (an interrupted run leaves whole replicates), each's longest first.
 """
 
 from __future__ import annotations
@@ -14,7 +14,6 @@ from __future__ import annotations
 import csv
 import html
 import io
-import time
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -28,8 +27,8 @@ from app.experiment.figures import DPI, FIGURES_FOLDER, Figure
 from app.experiment.presets import ExperimentOptions
 from app.experiment.report import (AGREES, DISAGREES, INCONCLUSIVE, NOT_RUN, REPORT_HTML, REPORT_MD, STYLE, TOO_SMALL,
                                    VERDICTS, Report, _cell, run_size)
-from app.experiment.runner import (ExperimentError, ExperimentOutcome, Plan, Progress, _write_atomically, assemble,
-                                   assemble_bests, plan, prepare_folder, run_trials_in)
+from app.experiment.runner import (ExperimentError, ExperimentOutcome, Plan, Progress, RunClock, _write_atomically,
+                                   assemble, assemble_bests, plan, prepare_folder, run_trials_in)
 
 VARIES = "varies with the seed"
 VERDICTS_FILE = "verdicts.csv"
@@ -109,7 +108,7 @@ def run_replicates(preset_name: str, options: ExperimentOptions, seeds: list[int
     and the summary above them."""
     from app.experiment.report import write_report
 
-    started = time.perf_counter()
+    clock = RunClock()
     prepare_folder(folder, options, identity={k: v for k, v in options.identity().items() if k != "seed"})
     experiments = []
     for seed in seeds:
@@ -126,7 +125,8 @@ def run_replicates(preset_name: str, options: ExperimentOptions, seeds: list[int
         headers.append(run_size(table, bests, [p for p in experiment.presets if p.name in table.presets()]))
     header = headers[0]  # the replicates differ only in their seeds
     summary = write_replicates_report(folder, seeds, [o.report for o in outcomes], header)
-    return ReplicatesOutcome(folder, outcomes, summary, ran, skipped, time.perf_counter() - started)
+    seconds = clock.log(folder, preset_name, options, seeds, ran, skipped)
+    return ReplicatesOutcome(folder, outcomes, summary, ran, skipped, seconds)
 
 
 def summarise(seeds: list[int], reports: list[Report]) -> tuple[list[Row], list[Row]]:

@@ -7,6 +7,9 @@ survived) is re-played on `replays` fresh starts when the trial ends: its true q
 beside the fitness the GA saw. A trial of several restarts runs its GA that many times (seeds derived
 from the trial's), its statistics one run after another, its best the best of their bests.
 
+Every invocation appends a line to runs.jsonl (when it started, its wall time, the trials it ran and
+skipped, the load average before and after): a resumed experiment's wall time is the sum of its lines.
+
 Resuming is running again into the same folder: finished trial files are read, not recomputed. The
 folder's manifest.json records the options that fix the trials' results; another experiment with
 the same options (say `all` after `selection`) reuses the trials they share. A trial on rcssserver
@@ -18,8 +21,10 @@ from __future__ import annotations
 
 import csv
 import json
+import os
 import time
 from dataclasses import dataclass, replace
+from datetime import datetime, timezone
 from pathlib import Path
 from typing import Any, Iterable, Protocol
 
@@ -36,6 +41,7 @@ MANIFEST = "manifest.json"
 TRIALS_FOLDER = "trials"
 STATISTICS_FILE = "statistics.csv"
 BESTS_FILE = "bests.csv"
+RUNS_LOG = "runs.jsonl"
 RESTART_KEY, REPLAY_KEY = 1, 2  # SeedSequence spawn keys: a restart's seed, the replays' seeds
 
 
@@ -314,14 +320,41 @@ def run_experiment(preset_name: str, options: ExperimentOptions, folder: Path, e
     """Plan, run what is unfinished, assemble statistics.csv, then write figures and the report."""
     from app.experiment.report import write_report
 
-    started = time.perf_counter()
+    clock = RunClock()
     experiment = plan(preset_name, options)
     prepare_folder(folder, options)
     with executor:
         ran, skipped = run_trials(experiment, folder, executor, progress)
     table = assemble(experiment, folder)
     report = write_report(table, experiment.presets, folder, assemble_bests(experiment, folder))
-    return ExperimentOutcome(folder, experiment, table, report, ran, skipped, time.perf_counter() - started)
+    seconds = clock.log(folder, preset_name, options, [options.seed], ran, skipped)
+    return ExperimentOutcome(folder, experiment, table, report, ran, skipped, seconds)
+
+
+class RunClock:
+    """One invocation's wall time and the machine's load around it, logged to the folder's runs.jsonl."""
+
+    def __init__(self) -> None:
+        self.started = datetime.now(timezone.utc).isoformat(timespec="seconds")
+        self.load_before = [round(x, 2) for x in os.getloadavg()]
+        self.start = time.perf_counter()
+
+    def log(self, folder: Path, preset_name: str, options: ExperimentOptions, seeds: list[int], ran: int,
+            skipped: int) -> float:
+        seconds = time.perf_counter() - self.start
+        entry = {"preset": preset_name, "seeds": seeds, "trials": options.trials,  # None: the chapter's
+                 "started": self.started, "seconds": round(seconds, 1),
+                 "ran": ran, "skipped": skipped, "load_average_before": self.load_before,
+                 "load_average_after": [round(x, 2) for x in os.getloadavg()], "cores": os.cpu_count()}
+        with (folder / RUNS_LOG).open("a") as handle:
+            handle.write(json.dumps(entry) + "\n")
+        return seconds
+
+
+def read_runs(folder: Path) -> list[dict[str, Any]]:
+    """runs.jsonl's entries, oldest first (none for a folder from before it was kept)."""
+    log = folder / RUNS_LOG
+    return [json.loads(line) for line in log.read_text().splitlines() if line.strip()] if log.is_file() else []
 
 
 def _write_atomically(path: Path, text: str) -> None:
