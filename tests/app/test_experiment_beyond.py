@@ -159,6 +159,28 @@ def test_a_shrunk_preset_beyond_the_chapter_answers_too_small_with_its_figures(t
     assert outcome.report.findings == []  # no finding of the chapter belongs to these presets
 
 
+
+def test_a_preset_beyond_into_the_chapters_folder_runs_only_its_new_trials(tmp_path):
+    """The chapter's crossover comparison first, then uniform crossover into the same folder: the second run
+    plays only the uniform trials (one- and two-point are the crossover preset's) and keeps the finding."""
+    first = run_experiment("crossover", TINY, tmp_path, LocalExecutor(1))
+    more = run_experiment("uniform-crossover", TINY, tmp_path, LocalExecutor(1))
+    assert (first.ran, first.skipped) == (2 * TINY.trials, 0)
+    assert (more.ran, more.skipped) == (TINY.trials, 2 * TINY.trials)
+    with (tmp_path / BESTS_FILE).open(newline="") as handle:
+        assert sorted({row["setting"] for row in csv.DictReader(handle)}) == ["one-point", "two-point", "uniform"]
+    assert [q.preset for q, _ in more.report.answers] == ["uniform-crossover"]
+
+
+def test_all_plus_after_all_plans_only_the_settings_beyond_it():
+    """Trial files are named by configuration, so all-plus into an all folder runs only what all lacks:
+    uniform crossover, rule pressure at 25 and 128, both games-per-evaluation settings, the restarts."""
+    all_trials = {spec.name for spec in plan(ALL, FULL).specs}
+    new = [spec for spec in plan(ALL_PLUS, FULL).specs if spec.name not in all_trials]
+    assert sorted({spec.setting.label for spec in new}) == sorted(
+        ["uniform", "25", "128", "1 game", "5 games", "4 x 25 generations"])
+    assert len(new) == 6 * 10  # 10 trials each
+
 # ---- the answers, from fabricated data of known answer ------------------------------------------------------
 def bests_rows(name: str, values: dict[str, np.ndarray], seen: dict[str, np.ndarray] | None = None) -> BestsTable:
     rows = []
