@@ -151,12 +151,12 @@ class RcssTrials:
         """Connected to every server up front: a missing server fails here, within seconds, before the run.
         Servers the run starts live as long as the evaluator (they are stopped when it closes)."""
         from soccer.rcss.evaluate import RcssEvaluator
-        from soccer.rcss.servers import ServerPool, describe
+        from soccer.rcss.servers import ServerPool, describe, noise_options
 
         with ExitStack() as stack:
             servers = list(self.servers)
             if self.start_servers:
-                pool = stack.enter_context(ServerPool(self.rcssserver, self.start_servers))
+                pool = stack.enter_context(ServerPool(self.rcssserver, self.start_servers, noise_options(self.trial.noise)))
                 servers = pool.addresses
                 if announce is not None:
                     announce(describe(pool.servers))

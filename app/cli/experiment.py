@@ -49,7 +49,8 @@ def experiment_command(
         "--skills", help=option_help(ExperimentOptions, "skills", f"Skill set: {', '.join(SKILL_SET_NAMES)}."),
         show_default=False)] = None,
     noise: Annotated[Optional[bool], typer.Option(
-        "--noise/--no-noise", help=option_help(ExperimentOptions, "noise", "rcssserver-like movement noise."),
+        "--noise/--no-noise", help=option_help(ExperimentOptions, "noise", "rcssserver-like movement noise "
+                                               f"({ROBOCUP}: the servers' own, on unless --no-noise)."),
         show_default=False)] = None,
     count_touches: Annotated[Optional[bool], typer.Option(
         "--count-touches/--no-count-touches", help=option_help(
@@ -89,12 +90,13 @@ def experiment_command(
         "roulette_weighting": roulette_weighting})
     folder = out or Path(DEFAULT_OUT_FOLDER) / f"{preset}-seed{options.seed}"
     _check_where_trials_run(preset, {"--server": server, "--rcssserver": rcssserver, "--servers": servers},
-                            {"--executor": executor, "--workers": workers, "--address": address, "--noise": noise,
+                            {"--executor": executor, "--workers": workers, "--address": address,
                              "--count-touches": count_touches})
     try:
         with ExitStack() as stack:
             if preset == ROBOCUP:
-                runner = RcssExecutor(stack.enter_context(rcss_addresses(server, rcssserver, servers)))
+                runner = RcssExecutor(stack.enter_context(rcss_addresses(server, rcssserver, servers,
+                                                                         options.trial().noise)))
             else:
                 runner = make_executor(executor or LOCAL, workers=workers, address=address)
             progress = stack.enter_context(ExperimentProgress(preset))
@@ -118,8 +120,8 @@ def _check_where_trials_run(preset: str, rcss_options: dict[str, object], local_
     given = [option for option, value in (local_options if preset == ROBOCUP else rcss_options).items()
              if value is not None]
     if given and preset == ROBOCUP:
-        fail(f"{', '.join(given)}: {ROBOCUP} plays its trials on rcssservers (--servers sets how many, the noise and "
-             "the count of kicks are the server's), not SimpleSoccer on an executor")
+        fail(f"{', '.join(given)}: {ROBOCUP} plays its trials on rcssservers (--servers sets how many, the count "
+             "of kicks is the server's), not SimpleSoccer on an executor")
     if given:
         fail(f"{', '.join(given)}: for the {ROBOCUP} preset only (the others play SimpleSoccer)")
 

@@ -146,18 +146,20 @@ def rcss_executable(servers: list[str] | None, rcssserver: Path | None, count: i
 
 
 @contextmanager
-def rcss_addresses(servers: list[str] | None, rcssserver: Path | None, count: int | None) -> Iterator[list[str]]:
+def rcss_addresses(servers: list[str] | None, rcssserver: Path | None, count: int | None,
+                   noise: bool = True) -> Iterator[list[str]]:
     """The HOST:PORTs trials play on: the --server's the user runs, or `count` (default 1) servers soccer-lab
-    starts from `rcssserver` (default $RCSSSERVER, else PATH) and stops when the block ends."""
+    starts from `rcssserver` (default $RCSSSERVER, else PATH), with or without their noise, and stops when
+    the block ends."""
     executable = rcss_executable(servers, rcssserver, count)
     if executable is None:
         yield rcss_servers(servers)
         return
-    from soccer.rcss.servers import RcssLaunchError, ServerPool, describe
+    from soccer.rcss.servers import RcssLaunchError, ServerPool, describe, noise_options
 
     with ExitStack() as stack:
         try:
-            pool = stack.enter_context(ServerPool(executable, count or 1))
+            pool = stack.enter_context(ServerPool(executable, count or 1, noise_options(noise)))
         except RcssLaunchError as exc:
             fail(str(exc))
         typer.echo(describe(pool.servers), err=True)

@@ -93,12 +93,12 @@ class ExperimentOptions(BaseModel):
                           count_touches=self.count_touches)
 
     def trial(self) -> TrialConfig:
-        """The rcssserver trials: the chapter's (1200 cycles) unless max_ticks was given, with the skill set
-        (noise is the server's own, and so is the count of kicks)."""
+        """The rcssserver trials: the chapter's (1200 cycles, the server's noise) unless max_ticks or noise was
+        given, with the skill set (the server counts the kicks)."""
         from soccer.rcss.trial import TrialConfig
 
-        length = {"max_ticks": self.max_ticks} if "max_ticks" in self.model_fields_set else {}
-        return TrialConfig(skills=self.skills, **length)
+        given = {name: getattr(self, name) for name in ("max_ticks", "noise") if name in self.model_fields_set}
+        return TrialConfig(skills=self.skills, **given)
 
     def identity(self) -> dict[str, Any]:
         """What makes two experiment folders' finished trials interchangeable (trials count excluded:
