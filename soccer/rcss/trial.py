@@ -93,6 +93,9 @@ class TrialResult:
     end: str  # why the trial ended: "time", "goal cap", "idle", "out of play (MODE)", "no rules"
     seed: int
     trace: TrialTrace | None = field(default=None, compare=False, repr=False)  # when the trial was traced
+    # Cycles the client read too late to answer (a busy machine): the server stepped on without the player's
+    # commands. Not part of the result; a measure of how far the machine kept up.
+    late_cycles: int = field(default=0, compare=False)
 
 
 def start_position(rng: np.random.Generator) -> tuple[float, float]:
@@ -131,6 +134,7 @@ class Trial:
         trainer.move_player(self.session.player.team, self.session.player.unum, player_x, player_y, 0.0)
         trainer.change_mode(PLAY_ON)
         commands: list[str] = []
+        late_before = self.session.late_cycles
         while self.end is None:
             player_cycle, trainer_cycle = self.session.step(commands)
             goals_before = self.goals
@@ -139,7 +143,8 @@ class Trial:
             commands = self.respond(player_cycle) if self.end is None else []
             if self.rows is not None:
                 self._note_row(trainer_cycle, goals_before)
-        return TrialResult(self.score(), self.goals, self.kicks, self.ticks, self.end, self.seed, self._trace())
+        return TrialResult(self.score(), self.goals, self.kicks, self.ticks, self.end, self.seed, self._trace(),
+                           self.session.late_cycles - late_before)
 
     def fresh_start(self) -> None:
         """Put the server back as a new one starts a trial: full stamina (the trainer's `(recover)`), the
