@@ -14,7 +14,7 @@ from rich.progress import BarColumn, Progress, TaskProgressColumn, TextColumn, T
 from app.cli.common import fail
 from app.cli.play import (RcssserverOption, ServerOption, ServersOption, config_from_options, option_help,
                           rcss_addresses)
-from app.experiment.executors import EXECUTOR_NAMES, LOCAL, ExecutorError, RcssExecutor, make_executor
+from app.experiment.executors import EXECUTOR_NAMES, LOCAL, RAY, ExecutorError, RcssExecutor, make_executor
 from app.experiment.presets import (CHAPTER_GENERATIONS, CHOICES, DEFAULT_TRIALS, INITIAL_TRIALS, LONG_GENERATIONS,
                                     ROBOCUP, ExperimentOptions)
 from app.experiment.runner import ExperimentError, ExperimentOutcome, run_experiment
@@ -67,8 +67,8 @@ def experiment_command(
         "--workers", min=1, help=f"Trials run at once. (default: all cores; not for {ROBOCUP})",
         show_default=False)] = None,
     executor: Annotated[Optional[str], typer.Option(
-        "--executor", help=f"Where trials run: {' or '.join(EXECUTOR_NAMES)}. (default: {LOCAL}; {ROBOCUP} plays "
-        "on rcssservers)", show_default=False)] = None,
+        "--executor", help=f"Where trials run: {' or '.join(EXECUTOR_NAMES)}. (default: {LOCAL}; {ROBOCUP}: "
+        "rcssservers on this machine, or with ray on every node of the cluster)", show_default=False)] = None,
     address: Annotated[Optional[str], typer.Option(
         "--address", help="Ray cluster address (with --executor ray); default: start Ray here.",
         show_default=False)] = None,
@@ -90,13 +90,11 @@ def experiment_command(
         "roulette_weighting": roulette_weighting})
     folder = out or Path(DEFAULT_OUT_FOLDER) / f"{preset}-seed{options.seed}"
     _check_where_trials_run(preset, {"--server": server, "--rcssserver": rcssserver, "--servers": servers},
-                            {"--executor": executor, "--workers": workers, "--address": address,
-                             "--count-touches": count_touches})
+                            {"--workers": workers, "--count-touches": count_touches})
     try:
         with ExitStack() as stack:
             if preset == ROBOCUP:
-                runner = RcssExecutor(stack.enter_context(rcss_addresses(server, rcssserver, servers,
-                                                                         options.trial().noise)))
+                runner = _robocup_runner(stack, options, executor, address, server, rcssserver, servers)
             else:
                 runner = make_executor(executor or LOCAL, workers=workers, address=address)
             progress = stack.enter_context(ExperimentProgress(preset))
@@ -114,6 +112,24 @@ def experiment_command(
     _summary(outcome)
 
 
+def _robocup_runner(stack: ExitStack, options: ExperimentOptions, executor: str | None, address: str | None,
+                    server: list[str] | None, rcssserver: Path | None, servers: int | None):
+    """robocup's trials on this machine's servers (started here, or the --server's), or on servers every node of
+    a Ray cluster starts (--executor ray: --servers per node, --rcssserver a path good on every node)."""
+    if executor not in (None, LOCAL, RAY):
+        fail(f"--executor: unknown executor {executor!r}; choose one of {', '.join(EXECUTOR_NAMES)}")
+    if executor != RAY:
+        if address is not None:
+            fail("--address needs --executor ray")
+        return RcssExecutor(stack.enter_context(rcss_addresses(server, rcssserver, servers, options.trial().noise)))
+    if server:
+        fail("--server names servers you run; with --executor ray every node starts its own (--servers per node)")
+    from app.rcss_cluster import ClusterRcssExecutor, RayCluster
+
+    cluster = RayCluster(address, servers, str(rcssserver) if rcssserver is not None else None)
+    return ClusterRcssExecutor(cluster, announce=lambda line: typer.echo(line, err=True))
+
+
 def _check_where_trials_run(preset: str, rcss_options: dict[str, object], local_options: dict[str, object]) -> None:
     """robocup plays on rcssservers (the rcss options), every other preset SimpleSoccer on the executor (the
     local options)."""
@@ -121,7 +137,7 @@ def _check_where_trials_run(preset: str, rcss_options: dict[str, object], local_
              if value is not None]
     if given and preset == ROBOCUP:
         fail(f"{', '.join(given)}: {ROBOCUP} plays its trials on rcssservers (--servers sets how many, the count "
-             "of kicks is the server's), not SimpleSoccer on an executor")
+             "of kicks is the server's), not SimpleSoccer on worker processes")
     if given:
         fail(f"{', '.join(given)}: for the {ROBOCUP} preset only (the others play SimpleSoccer)")
 
