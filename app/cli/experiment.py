@@ -18,6 +18,11 @@ from app.experiment.executors import EXECUTOR_NAMES, LOCAL, RAY, ExecutorError, 
 from app.experiment.presets import (CHAPTER_GENERATIONS, CHOICES, DEFAULT_TRIALS, INITIAL_TRIALS, LONG_GENERATIONS,
                                     ROBOCUP, ExperimentOptions)
 from app.experiment.runner import ExperimentError, ExperimentOutcome, run_experiment
+from app.experiment.transfer import REPORT_HTML as TRANSFER_REPORT_HTML
+from app.experiment.transfer import REPORT_MD as TRANSFER_REPORT_MD
+from app.experiment.transfer import STATISTICS_FILE as TRANSFER_STATISTICS
+from app.experiment.transfer import DEFAULT_TRIALS as TRANSFER_TRIALS
+from app.experiment.transfer import TRANSFER, TransferOutcome, run_transfer
 from soccer.config import SKILL_SET_NAMES
 from soccer.rcss.errors import RcssError
 
@@ -25,10 +30,10 @@ DEFAULT_OUT_FOLDER = "experiments"
 
 
 def experiment_command(
-    preset: Annotated[str, typer.Argument(help=f"One of: {', '.join(CHOICES)}.", show_default=False)],
+    preset: Annotated[str, typer.Argument(help=f"One of: {', '.join((*CHOICES, TRANSFER))}.", show_default=False)],
     trials: Annotated[Optional[int], typer.Option(
         "--trials", help=f"Trials per setting. (default: the chapter's, {DEFAULT_TRIALS}; {INITIAL_TRIALS} for "
-        f"initial and {ROBOCUP})", show_default=False)] = None,
+        f"initial and {ROBOCUP}; {TRANSFER_TRIALS} for {TRANSFER})", show_default=False)] = None,
     population: Annotated[Optional[int], typer.Option(
         "--population", help=option_help(ExperimentOptions, "population",
                                          "Table 2's population size; every setting scales with it."),
@@ -81,9 +86,11 @@ def experiment_command(
     rcssserver: RcssserverOption = None,
     servers: ServersOption = None,
 ) -> None:
-    """Reproduce the chapter's experiments: statistics.csv, figures, report.md and report.html."""
-    if preset not in CHOICES:
-        fail(f"unknown preset {preset!r}; choose one of {', '.join(CHOICES)}")
+    """Reproduce the chapter's experiments: statistics.csv, figures, report.md and report.html (transfer:
+    transfer.md and transfer.html)."""
+    if preset not in (*CHOICES, TRANSFER):
+        fail(f"unknown preset {preset!r}; choose one of {', '.join((*CHOICES, TRANSFER))}")
+    on_servers = preset in (ROBOCUP, TRANSFER)
     options: ExperimentOptions = config_from_options(ExperimentOptions, {
         "trials": trials, "population": population, "generations": generations, "max_ticks": max_ticks,
         "seed": seed, "skills": skills, "noise": noise, "count_touches": count_touches,
@@ -93,20 +100,26 @@ def experiment_command(
                             {"--workers": workers, "--count-touches": count_touches})
     try:
         with ExitStack() as stack:
-            if preset == ROBOCUP:
+            if on_servers:
                 runner = _robocup_runner(stack, options, executor, address, server, rcssserver, servers)
             else:
                 runner = make_executor(executor or LOCAL, workers=workers, address=address)
             progress = stack.enter_context(ExperimentProgress(preset))
-            outcome = run_experiment(preset, options, folder, runner, progress=progress)
+            if preset == TRANSFER:
+                transfer = run_transfer(options, folder, runner, progress=progress)
+            else:
+                outcome = run_experiment(preset, options, folder, runner, progress=progress)
     except (ExecutorError, ExperimentError) as exc:
         fail(str(exc))
     except RcssError as exc:
         fail(f"{exc}; finished trials and generations are kept: run the same command again to resume")
     except KeyboardInterrupt:
-        kept = "finished trials (and the generations of the trial under way)" if preset == ROBOCUP else "finished trials"
+        kept = "finished trials (and the generations of the trial under way)" if on_servers else "finished trials"
         typer.echo(f"\ninterrupted; {kept} are kept: run the same command again to resume", err=True)
         raise typer.Exit(130)
+    if preset == TRANSFER:
+        _transfer_summary(transfer)
+        return
     if library:
         _record(preset, options, outcome, data_dir)
     _summary(outcome)
@@ -131,15 +144,15 @@ def _robocup_runner(stack: ExitStack, options: ExperimentOptions, executor: str 
 
 
 def _check_where_trials_run(preset: str, rcss_options: dict[str, object], local_options: dict[str, object]) -> None:
-    """robocup plays on rcssservers (the rcss options), every other preset SimpleSoccer on the executor (the
-    local options)."""
-    given = [option for option, value in (local_options if preset == ROBOCUP else rcss_options).items()
-             if value is not None]
-    if given and preset == ROBOCUP:
-        fail(f"{', '.join(given)}: {ROBOCUP} plays its trials on rcssservers (--servers sets how many, the count "
+    """robocup and transfer play on rcssservers (the rcss options), every other preset SimpleSoccer on the
+    executor (the local options)."""
+    on_servers = preset in (ROBOCUP, TRANSFER)
+    given = [option for option, value in (local_options if on_servers else rcss_options).items() if value is not None]
+    if given and on_servers:
+        fail(f"{', '.join(given)}: {preset} plays its trials on rcssservers (--servers sets how many, the count "
              "of kicks is the server's), not SimpleSoccer on worker processes")
     if given:
-        fail(f"{', '.join(given)}: for the {ROBOCUP} preset only (the others play SimpleSoccer)")
+        fail(f"{', '.join(given)}: for the {ROBOCUP} and {TRANSFER} presets only (the others play SimpleSoccer)")
 
 
 class ExperimentProgress:
@@ -178,6 +191,15 @@ def _record(preset: str, options: ExperimentOptions, outcome: ExperimentOutcome,
             store.close()
     except StoreError as exc:
         typer.echo(f"warning: not recorded in the library: {exc}", err=True)
+
+
+def _transfer_summary(outcome: "TransferOutcome") -> None:
+    typer.echo(f"{len(outcome.plan.specs)} rcssserver runs ({outcome.ran} run now) and {len(outcome.players)} player "
+               f"games in {outcome.seconds:.1f} s")
+    for claim, measured, verdict, _ in outcome.findings:
+        typer.echo(f"{verdict}: {claim} ({measured})")
+    typer.echo(f"outputs in {outcome.folder}: {TRANSFER_REPORT_MD}, {TRANSFER_REPORT_HTML}, {TRANSFER_STATISTICS}, "
+               f"{len(outcome.figures)} figures, transfer/ (sources and players.csv)")
 
 
 def _summary(outcome: ExperimentOutcome) -> None:
