@@ -38,6 +38,7 @@ from app.experiment.report import ALPHA, AGREES, DISAGREES, INCONCLUSIVE, MIN_TR
 from app.experiment.runner import Progress, TrialFolder, TrialSpec, prepare_folder, run_trial
 from app.experiment.table import ALGORITHM, PRESET, SEED, SETTING, TRIAL, StatisticsTable
 from ga.config import SEED_BOUND
+from ga.genes import GENE_DTYPE, GENE_WIDTH
 from soccer.config import SOCCER_VOCABULARY
 
 TRANSFER = "transfer"
@@ -123,10 +124,15 @@ class Sources:
     def best(self, trial: int):
         from ga.codec import ChromosomeCodec
 
-        return ChromosomeCodec(SOCCER_VOCABULARY).decode(np.array(self.get(trial)["best"], dtype=np.int64))
+        return ChromosomeCodec(SOCCER_VOCABULARY).decode(_chromosome(self.get(trial)["best"]))
 
     def population(self, trial: int) -> list[np.ndarray]:
-        return [np.array(chromosome, dtype=np.int64) for chromosome in self.get(trial)["population"]]
+        return [_chromosome(genes) for genes in self.get(trial)["population"]]
+
+
+def _chromosome(genes: list[list[int]]) -> np.ndarray:
+    """A chromosome as ga keeps it (one row per gene), from its JSON rows."""
+    return np.array(genes, dtype=GENE_DTYPE).reshape(-1, GENE_WIDTH)
 
 
 # ---- 2. players ----------------------------------------------------------------------------------------
