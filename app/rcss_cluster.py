@@ -20,6 +20,8 @@ when no server is left.
 
 from __future__ import annotations
 
+import os
+from collections import Counter
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Callable, Sequence
 
@@ -60,8 +62,8 @@ class ServerActor:
         self.pool = self.session = None
 
     def open(self) -> dict[str, Any]:
-        """Start the server and connect; where it runs (node, address, pid). Raises RcssError (a launch
-        failure names the node)."""
+        """Start the server and connect; where it runs (node, address, pid, and the actor's own pid: `worker`).
+        Raises RcssError (a launch failure names the node)."""
         import ray
 
         from soccer.rcss.client import Session
@@ -77,7 +79,7 @@ class ServerActor:
         self.session = Session(self.pool.addresses[0])
         self.session.open()
         server = self.pool.servers[0]
-        return {"node": node, "address": server.address, "pid": server.pid}
+        return {"node": node, "address": server.address, "pid": server.pid, "worker": os.getpid()}
 
     def play(self, rulebase: Rulebase, seed: int) -> "TrialResult":
         from soccer.rcss.trial import run_trial
@@ -114,6 +116,7 @@ class ClusterServers:
         self.traced: dict[tuple[Rulebase, int], TrialResult] = {}
         self.actors: list[Any] = []
         self.places: list[dict[str, Any]] = []  # where each actor's server runs
+        self.played: Counter[str] = Counter()  # trials played, by server address
 
     def connect(self) -> None:
         """One actor per server on every alive node, each with its server started and connected; ClusterError
@@ -179,6 +182,7 @@ class ClusterServers:
             actor, trial = playing.pop(ref)
             try:
                 results[trial] = self.ray.get(ref)
+                self.played[self.places[self.actors.index(actor)]["address"]] += 1
             except RayActorError as exc:
                 self._lost(actor, exc)
                 queue.insert(0, trial)
