@@ -93,6 +93,8 @@ class ServerActor:
             self.pool.stop()
         self.pool = self.session = None
 
+    __ray_shutdown__ = close  # Ray calls it when it ends the actor gracefully (its driver gone, say)
+
 
 def node_servers(node_cpus: float, per_node: int | None) -> tuple[int, float]:
     """(servers on a node, CPUs each actor asks for): one per CPU by default; more than the node's CPUs share
