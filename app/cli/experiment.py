@@ -5,26 +5,22 @@ from __future__ import annotations
 
 from contextlib import ExitStack
 from pathlib import Path
-from typing import Annotated, Optional
+from typing import TYPE_CHECKING, Annotated, Optional
 
 import typer
-from rich.console import Console
-from rich.progress import BarColumn, Progress, TaskProgressColumn, TextColumn, TimeElapsedColumn, TimeRemainingColumn
 
 from app.cli.common import fail
 from app.cli.play import (RcssserverOption, ServerOption, ServersOption, config_from_options, option_help,
                           rcss_addresses)
 from app.experiment.executors import EXECUTOR_NAMES, LOCAL, RAY, ExecutorError, RcssExecutor, make_executor
 from app.experiment.presets import (CHAPTER_GENERATIONS, CHOICES, DEFAULT_TRIALS, INITIAL_TRIALS, LONG_GENERATIONS,
-                                    ROBOCUP, ExperimentOptions)
-from app.experiment.runner import ExperimentError, ExperimentOutcome, run_experiment
-from app.experiment.transfer import REPORT_HTML as TRANSFER_REPORT_HTML
-from app.experiment.transfer import REPORT_MD as TRANSFER_REPORT_MD
-from app.experiment.transfer import STATISTICS_FILE as TRANSFER_STATISTICS
-from app.experiment.transfer import DEFAULT_TRIALS as TRANSFER_TRIALS
-from app.experiment.transfer import TRANSFER, TransferOutcome, run_transfer
+                                    ROBOCUP, TRANSFER, TRANSFER_TRIALS, ExperimentOptions)
 from soccer.config import SKILL_SET_NAMES
 from soccer.rcss.errors import RcssError
+
+if TYPE_CHECKING:  # the runner (the GA, the report's statistics and figures) is imported when an experiment runs
+    from app.experiment.runner import ExperimentOutcome
+    from app.experiment.transfer import TransferOutcome
 
 DEFAULT_OUT_FOLDER = "experiments"
 
@@ -98,6 +94,9 @@ def experiment_command(
     folder = out or Path(DEFAULT_OUT_FOLDER) / f"{preset}-seed{options.seed}"
     _check_where_trials_run(preset, {"--server": server, "--rcssserver": rcssserver, "--servers": servers},
                             {"--workers": workers, "--count-touches": count_touches})
+    from app.experiment.runner import ExperimentError, run_experiment
+    from app.experiment.transfer import run_transfer
+
     try:
         with ExitStack() as stack:
             if on_servers:
@@ -159,6 +158,10 @@ class ExperimentProgress:
     """One bar for the whole experiment, counted in evaluations (trials differ in size)."""
 
     def __init__(self, preset: str):
+        from rich.console import Console
+        from rich.progress import (BarColumn, Progress, TaskProgressColumn, TextColumn, TimeElapsedColumn,
+                                   TimeRemainingColumn)
+
         self.progress = Progress(TextColumn("[bold]experiment {task.description}"), BarColumn(),
                                  TaskProgressColumn(), TextColumn("{task.fields[note]}"), TimeElapsedColumn(),
                                  TimeRemainingColumn(), console=Console(stderr=True))
@@ -176,7 +179,7 @@ class ExperimentProgress:
         self.progress.update(self.task, completed=completed, total=total, note=note)
 
 
-def _record(preset: str, options: ExperimentOptions, outcome: ExperimentOutcome, data_dir: Path | None) -> None:
+def _record(preset: str, options: ExperimentOptions, outcome: "ExperimentOutcome", data_dir: Path | None) -> None:
     from app.experiment.library import library_summary
     from app.paths import DATABASE_FILE, default_data_dir
     from app.store import Store, StoreError
@@ -194,15 +197,17 @@ def _record(preset: str, options: ExperimentOptions, outcome: ExperimentOutcome,
 
 
 def _transfer_summary(outcome: "TransferOutcome") -> None:
+    from app.experiment.transfer import REPORT_HTML, REPORT_MD, STATISTICS_FILE
+
     typer.echo(f"{len(outcome.plan.specs)} rcssserver runs ({outcome.ran} run now) and {len(outcome.players)} player "
                f"games in {outcome.seconds:.1f} s")
     for claim, measured, verdict, _ in outcome.findings:
         typer.echo(f"{verdict}: {claim} ({measured})")
-    typer.echo(f"outputs in {outcome.folder}: {TRANSFER_REPORT_MD}, {TRANSFER_REPORT_HTML}, {TRANSFER_STATISTICS}, "
+    typer.echo(f"outputs in {outcome.folder}: {REPORT_MD}, {REPORT_HTML}, {STATISTICS_FILE}, "
                f"{len(outcome.figures)} figures, transfer/ (sources and players.csv)")
 
 
-def _summary(outcome: ExperimentOutcome) -> None:
+def _summary(outcome: "ExperimentOutcome") -> None:
     trials = len(outcome.plan.specs)
     typer.echo(f"{trials} trials ({outcome.ran} run, {outcome.skipped} already finished) in {outcome.seconds:.1f} s")
     typer.echo("verdicts: " + ", ".join(f"{n} {v}" for v, n in outcome.report.verdicts().items() if n))

@@ -23,10 +23,9 @@ import json
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
-import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
 
-from ga.config import SEED_BOUND, GAConfig, RouletteWeighting
+from ga.config import MAX_POPULATION, SEED_BOUND, GAConfig, RouletteWeighting
 from ga.state import GA, RANDOM_SEARCH
 from soccer.config import GameConfig, SkillSet
 
@@ -35,6 +34,7 @@ if TYPE_CHECKING:  # soccer.rcss.trial loads the player's compiled skills: impor
 
 ALL = "all"
 ROBOCUP = "robocup"
+TRANSFER = "transfer"  # app/experiment/transfer.py: named here, where `experiment --help` reads it without numpy
 EXPERIMENT_TARGET_FITNESS = 0.0  # fitness is always > 0, so no trial stops early (see above)
 
 TABLE_2 = GAConfig()  # the chapter's control values are GAConfig's defaults
@@ -43,6 +43,7 @@ CHAPTER_GENERATIONS = TABLE_2.max_generations
 LATER_CONTROL = {"selection": "elitist"}  # section 4: used after the selection comparison
 
 DEFAULT_TRIALS = 10
+TRANSFER_TRIALS = 10  # a seeded rcssserver run of Table 2 takes about 20 minutes on a 2-core machine
 INITIAL_TRIALS = 20
 MAX_LENGTHS = (25, 50, 64, 75, 100)
 POPULATION_SIZES = (50, 100, 200, 500)
@@ -62,7 +63,7 @@ class ExperimentOptions(BaseModel):
     model_config = ConfigDict(frozen=True, extra="forbid")
 
     trials: int | None = Field(None, ge=1, le=10_000, description="trials per setting (default: the chapter's)")
-    population: int = Field(CHAPTER_POPULATION, ge=2, le=100_000, description="Table 2's population size")
+    population: int = Field(CHAPTER_POPULATION, ge=2, le=MAX_POPULATION, description="Table 2's population size")
     generations: int = Field(CHAPTER_GENERATIONS, ge=1, le=100_000, description="Table 2's generations")
     max_ticks: int = Field(GameConfig().max_ticks, ge=1, le=1_000_000, description="ticks a game lasts at most")
     seed: int = Field(0, ge=0, lt=SEED_BOUND, description="experiment seed: every trial's seed derives from it")
@@ -223,6 +224,8 @@ def presets(name: str, options: ExperimentOptions) -> list[Preset]:
 
 def trial_seed(experiment_seed: int, setting: Setting, trial: int) -> int:
     """Each trial's seed, stable per (experiment seed, setting configuration, trial number)."""
+    import numpy as np  # here, not at the top: `soccer-lab experiment --help` reads this module's defaults
+
     key = [int(setting.key.rsplit("-", 1)[1], 16), trial]
     state = np.random.SeedSequence(experiment_seed, spawn_key=key).generate_state(1, np.uint64)[0]
     return int(state) % SEED_BOUND

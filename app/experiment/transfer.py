@@ -33,6 +33,7 @@ from matplotlib.figure import Figure as MatplotlibFigure
 from scipy import stats
 
 from app.experiment.figures import DPI, FIGURES_FOLDER, SIZE_INCHES, Figure, write_figures
+from app.experiment.presets import TRANSFER, TRANSFER_TRIALS as DEFAULT_TRIALS
 from app.experiment.presets import ExperimentOptions, Preset, Setting, preset, trial_seed
 from app.experiment.report import ALPHA, AGREES, DISAGREES, INCONCLUSIVE, MIN_TRIALS, _html, _markdown
 from app.experiment.runner import Progress, TrialFolder, TrialSpec, prepare_folder, run_trial
@@ -41,9 +42,7 @@ from ga.config import SEED_BOUND
 from ga.genes import GENE_DTYPE, GENE_WIDTH
 from soccer.config import SOCCER_VOCABULARY
 
-TRANSFER = "transfer"
 STARTS = 20  # games (and trials) each source's best plays in each environment
-DEFAULT_TRIALS = 10  # a seeded rcssserver run of Table 2 takes about 20 minutes on a 2-core machine
 SEEDED_GA = "ga-seeded"  # the algorithm of a run whose generation 0 is a SimpleSoccer population
 SEEDED, RANDOM_START = "seeded from SimpleSoccer", "random initial population"
 FOLDER = "transfer"
