@@ -162,9 +162,21 @@ class ClusterServers:
             self.connect()
         results = self._play(rulebases, seeds)
         if self.trace:
-            self.traced = dict(zip(zip(rulebases, seeds), results))
+            self.traced.update(zip(zip(rulebases, seeds), results))
         warn_if_late(results)
         return results
+
+    @property
+    def chunk_size(self) -> int:
+        """Trials per chunk of a generation (ga/evaluation.py): one round over the cluster's servers, as
+        RcssEvaluator's, so that a stop waits for one trial per server at most (the servers start here)."""
+        if not self.actors:
+            self.connect()
+        return len(self.actors)
+
+    def start_generation(self) -> None:
+        """A generation starts (ga/evaluation.py says so): `traced` holds its trials only, from now on."""
+        self.traced = {}
 
     def _play(self, rulebases: Sequence[Rulebase], seeds: Sequence[int]) -> list["TrialResult"]:
         """Each free actor takes the next trial; a trial whose actor died goes back to the queue."""

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 from typer.testing import CliRunner
 
-from app.cli import _register, app
+from app.cli import app
 from app.experiment.presets import ExperimentOptions, preset, trial_seed
 from app.experiment.report import AGREES, DISAGREES
 from app.experiment.table import StatisticsTable
@@ -20,7 +20,6 @@ from app.experiment.transfer import (FOLDER, PLAYERS_FILE, RANDOM_START, RCSS, R
                                      STATISTICS_FILE, TRANSFER, assess, start_seeds, transfer_plan)
 from tests.app.test_experiment_report import fabricated, falling
 
-_register()
 SHRUNK = ["--trials", "2", "--population", "6", "--generations", "2", "--max-ticks", "80", "--seed", "4",
           "--no-noise", "--skills", "assisted"]
 

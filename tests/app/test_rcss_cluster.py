@@ -17,7 +17,7 @@ from pathlib import Path
 import pytest
 from typer.testing import CliRunner
 
-from app.cli import _register, app
+from app.cli import app
 from app.rcss_cluster import ClusterServers, RayCluster, node_servers
 from fuzzy.parser import parse_rulebase
 from soccer.rcss.evaluate import RcssEvaluator
@@ -26,7 +26,6 @@ from soccer.rcss.trial import TrialConfig
 from tests.rcss.conftest import VOCABULARY
 
 ray = pytest.importorskip("ray")
-_register()
 QUIET = TrialConfig(max_ticks=200, skills="assisted", noise=False)
 RULES = [parse_rulebase(text, VOCABULARY) for text in (
     "if Ball is not At then GoToBall High\nif Ball is At then KickTowardGoal VeryHigh",
