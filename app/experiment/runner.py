@@ -42,6 +42,7 @@ TRIALS_FOLDER = "trials"
 STATISTICS_FILE = "statistics.csv"
 BESTS_FILE = "bests.csv"
 RUNS_LOG = "runs.jsonl"
+OPTIONS_ADDED_SINCE = {"replays"}  # a folder from before them holds trials all of whose other options match
 RESTART_KEY, REPLAY_KEY = 1, 2  # SeedSequence spawn keys: a restart's seed, the replays' seeds
 
 
@@ -108,7 +109,7 @@ def run_trial(spec: TrialSpec, evaluate: Evaluator | None = None) -> TrialResult
     # replays are single games: on rcssserver the trials' own evaluator, else one game per start
     replay = evaluate if spec.setting.trial is not None else SimpleSoccerEvaluator(
         spec.game.model_copy(update={"games_per_evaluation": 1}), SOCCER_VOCABULARY)
-    return TrialResult(rows, _best_record(best, rows, replay, spec.replay_seeds()))
+    return TrialResult(rows, best_record(best, rows, replay, spec.replay_seeds()))
 
 
 def _one_after_another(histories: list[list[dict[str, Any]]]) -> list[dict[str, Any]]:
@@ -122,7 +123,7 @@ def _one_after_another(histories: list[list[dict[str, Any]]]) -> list[dict[str, 
     return rows
 
 
-def _best_record(result: Any, rows: list[dict[str, Any]], replay: Evaluator, seeds: list[int]) -> dict[str, Any]:
+def best_record(result: Any, rows: list[dict[str, Any]], replay: Evaluator, seeds: list[int]) -> dict[str, Any]:
     from fuzzy.printer import format_rulebase
     from ga.evaluation import Evaluation
 
@@ -241,6 +242,8 @@ def prepare_folder(folder: Path, options: ExperimentOptions, identity: dict[str,
             recorded = json.loads(manifest.read_text())
         except (OSError, json.JSONDecodeError) as exc:
             raise ExperimentError(f"cannot read {manifest}: {exc}") from None
+        # an option added since the folder was made does not change the trials it holds
+        identity = {k: v for k, v in identity.items() if k in recorded or k not in OPTIONS_ADDED_SINCE}
         if recorded != identity:
             differing = sorted(k for k in set(recorded) | set(identity) if recorded.get(k) != identity.get(k))
             raise ExperimentError(f"{folder} holds an experiment with other options ({', '.join(differing)}); "
@@ -304,7 +307,8 @@ def assemble(experiment: Plan, folder: Path) -> StatisticsTable:
 def assemble_bests(experiment: Plan, folder: Path) -> BestsTable:
     """bests.csv from the trial files: each trial's best player, the fitness the GA saw, its replays."""
     trials = TrialFolder(folder)
-    table = BestsTable([{**_keys(m), **trials.read_best(m.spec)} for m in experiment.memberships])
+    table = BestsTable([{**_keys(m), **trials.read_best(m.spec)} for m in experiment.memberships
+                        if trials.best(m.spec).is_file()])  # none for trials from before bests were kept
     _write_atomically(folder / BESTS_FILE, table.to_csv())
     return BestsTable.read(folder / BESTS_FILE)
 

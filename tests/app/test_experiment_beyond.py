@@ -5,6 +5,7 @@ the report's "Beyond the chapter" section."""
 from __future__ import annotations
 
 import csv
+import json
 
 import numpy as np
 import pytest
@@ -15,7 +16,8 @@ from app.experiment.figures import FIGURES_FOLDER
 from app.experiment.presets import (ALL, ALL_PLUS, BEYOND_NAMES, PRESET_NAMES, ExperimentOptions, preset,
                                     presets)
 from app.experiment.report import REPORT_MD, TOO_SMALL, write_report
-from app.experiment.runner import BESTS_FILE, TrialSpec, plan, run_experiment, run_trial
+from app.experiment.runner import (BESTS_FILE, MANIFEST, TRIALS_FOLDER, ExperimentError, TrialSpec, plan,
+                                   run_experiment, run_trial)
 from app.experiment.table import BEST_COLUMNS, BestsTable, StatisticsTable
 from fuzzy.printer import format_rulebase
 from ga.algorithms import evolve
@@ -266,3 +268,19 @@ def test_the_report_shows_each_answer_with_its_test(tmp_path):
     assert f"| {NO_DIFFERENCE} |" in markdown and "Luke" in markdown
     assert (tmp_path / FIGURES_FOLDER / "restarts-true_quality.png").is_file()
     assert report.answers[0][1].verdict == NO_DIFFERENCE
+
+
+def test_a_folder_from_before_bests_were_kept_still_resumes(tmp_path):
+    """A folder made before --replays (no "replays" in its manifest, trials without a best player file) is
+    resumed, not refused: its finished trials are kept, bests.csv holds the trials that have a best."""
+    run_experiment("crossover", TINY, tmp_path, LocalExecutor(1))
+    manifest = json.loads((tmp_path / MANIFEST).read_text())
+    del manifest["replays"]
+    (tmp_path / MANIFEST).write_text(json.dumps(manifest))
+    next((tmp_path / TRIALS_FOLDER).glob("*.best.json")).unlink()
+    again = run_experiment("crossover", TINY, tmp_path, LocalExecutor(1))
+    assert (again.ran, again.skipped) == (0, 2 * TINY.trials)
+    with (tmp_path / BESTS_FILE).open(newline="") as handle:
+        assert len(list(csv.DictReader(handle))) == 2 * TINY.trials - 1
+    with pytest.raises(ExperimentError, match=r"other options \(max_ticks\)"):
+        run_experiment("crossover", TINY.model_copy(update={"max_ticks": 61}), tmp_path, LocalExecutor(1))

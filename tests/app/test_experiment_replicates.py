@@ -143,6 +143,6 @@ def test_help_names_only_options_the_command_has(cli):
     assert result.exit_code == 0
     text = " ".join(result.output.split())  # as read, whatever the wrapping
     assert "--env" not in text  # `experiment` has no --env: its servers are for the robocup preset
-    assert text.count("For the robocup preset:") == 3
+    assert text.count("For the robocup and transfer presets:") == 3
     for named in ("--replicates", "--seeds", "--replays", "uniform-crossover", "games-per-evaluation", "all-plus"):
         assert named in text
