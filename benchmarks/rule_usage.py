@@ -1,4 +1,4 @@
-"""Seconds for rule usage and simplification of one 30-rule rulebase over 100 games (README, Performance),
+"""Seconds for rule usage and simplification of one 30-rule rulebase over 100 games (docs/performance.md),
 beside the floor: the same 100 games played with nothing counted.
 
     python benchmarks/rule_usage.py [--games 100] [--rules 30] [--seed 1] [--repeats 3]

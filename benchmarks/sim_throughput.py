@@ -1,4 +1,4 @@
-"""Microseconds per game-tick of SimpleSoccer with the full controller (README, Performance): 200 random rulebases
+"""Microseconds per game-tick of SimpleSoccer with the full controller (docs/performance.md): 200 random rulebases
 played (a) together by the batched engine in one pymunk Space and (b) one Space per game in a Python
 loop (each game its own batch of one, the same kernel), and the ratio, in one run.
 

@@ -1,4 +1,4 @@
-"""Times one Table 2 trial (README, Performance): population 200 x 25 generations with the chapter's defaults,
+"""Times one Table 2 trial (docs/performance.md): population 200 x 25 generations with the chapter's defaults,
 SimpleSoccer games, 2 worker processes. Target: under 10 s on a 2-core machine.
 
 With --outputs the trial is played as `soccer-lab evolve` and the app play a run (app.run.Run, in a

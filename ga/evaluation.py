@@ -18,7 +18,7 @@ import numpy as np
 
 from fuzzy.rule import Rulebase
 
-INVALID_FITNESS = 1.0  # a ruleset with no valid rule is never played (README, The genetic algorithm)
+INVALID_FITNESS = 1.0  # a ruleset with no valid rule is never played (docs/research/index.md, "The model")
 
 Evaluator = Callable[[list[Rulebase], list[int]], Sequence[Any]]
 
