@@ -99,7 +99,7 @@ def steps(block: str) -> list[tuple[str, list[str]]]:
 def matches(expected: list[str], actual: str) -> bool:
     """The output shown, where a line `...` stands for any lines (none included)."""
     pattern = "".join(r"(?:.*\n)*?" if line == "..." else re.escape(line.rstrip()) + r"\n" for line in expected)
-    text = "\n".join(line.rstrip() for line in actual.splitlines()) + "\n"
+    text = "".join(line.rstrip() + "\n" for line in actual.splitlines())
     return re.fullmatch(pattern, text) is not None
 
 
