@@ -218,7 +218,8 @@ def _drive(run: "Run", *, history: list[dict]) -> None:
 
 
 class GenerationProgress:
-    """A progress bar over generations showing the best and mean fitness (on stderr)."""
+    """A progress bar over generations showing the best and mean fitness, and a second one over the
+    evaluations of the generation in progress (on stderr)."""
 
     def __init__(self, total: int, *, last: dict[str, Any] | None = None, label: str = "evolving"):
         """last: the statistics of the last finished generation, when resuming."""
@@ -227,12 +228,16 @@ class GenerationProgress:
 
         self.progress = Progress(
             TextColumn("[bold]{task.description}"), BarColumn(), MofNCompleteColumn(),
-            TextColumn("best {task.fields[best]}  mean {task.fields[mean]}"), TimeElapsedColumn(),
+            TextColumn("{task.fields[detail]}"), TimeElapsedColumn(),
             console=Console(stderr=True),
         )
-        self.task = self.progress.add_task(label, total=total, completed=0, best="-", mean="-")
+        self.task = self.progress.add_task(label, total=total, completed=0, detail="best -  mean -")
+        self.within = self.progress.add_task("generation 0", total=None, completed=0, detail="evaluated")
         if last is not None:
             self.on_generation(SimpleNamespace(**last))
+
+    def on_progress(self, evaluated: int, population: int) -> None:
+        self.progress.update(self.within, completed=evaluated, total=population)
 
     def __enter__(self) -> "GenerationProgress":
         self.progress.start()
@@ -243,7 +248,8 @@ class GenerationProgress:
 
     def on_generation(self, stats: Any, population: Any = None) -> None:
         self.progress.update(self.task, completed=stats.generation + 1,
-                             best=f"{stats.best:.4f}", mean=f"{stats.mean:.4f}")
+                             detail=f"best {stats.best:.4f}  mean {stats.mean:.4f}")
+        self.progress.reset(self.within, description=f"generation {stats.generation + 1}", total=None)
 
 
 def _summary(run: "Run", result: "RunResult") -> None:

@@ -25,7 +25,7 @@ from typing import TYPE_CHECKING, Any
 
 from pydantic import BaseModel, ConfigDict, Field
 
-from ga.config import SEED_BOUND, GAConfig, RouletteWeighting
+from ga.config import MAX_POPULATION, SEED_BOUND, GAConfig, RouletteWeighting
 from ga.state import GA, RANDOM_SEARCH
 from soccer.config import GameConfig, SkillSet
 
@@ -61,7 +61,7 @@ class ExperimentOptions(BaseModel):
     model_config = ConfigDict(frozen=True, extra="forbid")
 
     trials: int | None = Field(None, ge=1, le=10_000, description="trials per setting (default: the chapter's)")
-    population: int = Field(CHAPTER_POPULATION, ge=2, le=100_000, description="Table 2's population size")
+    population: int = Field(CHAPTER_POPULATION, ge=2, le=MAX_POPULATION, description="Table 2's population size")
     generations: int = Field(CHAPTER_GENERATIONS, ge=1, le=100_000, description="Table 2's generations")
     max_ticks: int = Field(GameConfig().max_ticks, ge=1, le=1_000_000, description="ticks a game lasts at most")
     seed: int = Field(0, ge=0, lt=SEED_BOUND, description="experiment seed: every trial's seed derives from it")

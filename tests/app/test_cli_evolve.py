@@ -280,3 +280,19 @@ def test_play_rejects_missing_files_and_bad_options(demo_file, tmp_path):
     assert_one_line_error(run("play", tmp_path / "none.rules"), "no such file")
     assert_one_line_error(run("play", demo_file, "--games", "0"), "--games")
     assert_one_line_error(run("play", demo_file, "--rrd", tmp_path / "no" / "x.rrd"), "does not exist")
+
+
+def test_the_progress_bar_follows_the_generation_in_progress():
+    """The CLI's second bar: players evaluated of the population, reset for each new generation (issue 22)."""
+    from types import SimpleNamespace
+
+    from app.cli.evolve import GenerationProgress
+
+    bar = GenerationProgress(3)
+    bar.on_progress(100, 250)
+    within = bar.progress.tasks[bar.within]
+    assert (within.completed, within.total, within.description) == (100, 250, "generation 0")
+    bar.on_generation(SimpleNamespace(generation=0, best=0.5, mean=0.7))
+    within = bar.progress.tasks[bar.within]
+    assert (within.completed, within.description) == (0, "generation 1")
+    assert bar.progress.tasks[bar.task].completed == 1
