@@ -9,6 +9,7 @@ from pathlib import Path
 
 MARKER = "<!-- generated: performance -->"
 RESULTS = Path(__file__).resolve().parents[1] / "results"
+SHOWN_ELSEWHERE = {"examples"}  # results that are not speeds, each in its guide's own table (docs/hooks/*_table.py)
 
 
 def shown(value: object, unit: str) -> str:
@@ -24,7 +25,8 @@ def load(average: list[float] | None) -> str:
 
 
 def performance_table(results: Path = RESULTS) -> str:
-    documents = [json.loads(path.read_text(encoding="utf-8")) for path in sorted(results.glob("*.json"))]
+    documents = [json.loads(path.read_text(encoding="utf-8")) for path in sorted(results.glob("*.json"))
+                 if path.stem not in SHOWN_ELSEWHERE]
     if not documents:
         return "No figures recorded yet: run a benchmark with `--record`."
     lines = ["| figure | measured | target | command | when, load average before/after |",
