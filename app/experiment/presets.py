@@ -34,6 +34,7 @@ if TYPE_CHECKING:  # soccer.rcss.trial loads the player's compiled skills: impor
 
 ALL = "all"
 ROBOCUP = "robocup"
+TRANSFER = "transfer"  # app/experiment/transfer.py: named here, where `experiment --help` reads it without numpy
 EXPERIMENT_TARGET_FITNESS = 0.0  # fitness is always > 0, so no trial stops early (see above)
 
 TABLE_2 = GAConfig()  # the chapter's control values are GAConfig's defaults
@@ -42,6 +43,7 @@ CHAPTER_GENERATIONS = TABLE_2.max_generations
 LATER_CONTROL = {"selection": "elitist"}  # section 4: used after the selection comparison
 
 DEFAULT_TRIALS = 10
+TRANSFER_TRIALS = 10  # a seeded rcssserver run of Table 2 takes about 20 minutes on a 2-core machine
 INITIAL_TRIALS = 20
 MAX_LENGTHS = (25, 50, 64, 75, 100)
 POPULATION_SIZES = (50, 100, 200, 500)
@@ -92,12 +94,12 @@ class ExperimentOptions(BaseModel):
                           count_touches=self.count_touches)
 
     def trial(self) -> TrialConfig:
-        """The rcssserver trials: the chapter's (1200 cycles) unless max_ticks was given, with the skill set
-        (noise is the server's own, and so is the count of kicks)."""
+        """The rcssserver trials: the chapter's (1200 cycles, the server's noise) unless max_ticks or noise was
+        given, with the skill set (the server counts the kicks)."""
         from soccer.rcss.trial import TrialConfig
 
-        length = {"max_ticks": self.max_ticks} if "max_ticks" in self.model_fields_set else {}
-        return TrialConfig(skills=self.skills, **length)
+        given = {name: getattr(self, name) for name in ("max_ticks", "noise") if name in self.model_fields_set}
+        return TrialConfig(skills=self.skills, **given)
 
     def identity(self) -> dict[str, Any]:
         """What makes two experiment folders' finished trials interchangeable (trials count excluded:

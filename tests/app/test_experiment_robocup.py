@@ -73,9 +73,11 @@ def test_the_robocup_findings_follow_the_data(tmp_path):
 
 @pytest.mark.parametrize("arguments, message", [
     (["robocup", "--workers", "2"], "--workers: robocup plays its trials on rcssservers"),
-    (["robocup", "--executor", "ray"], "--executor: robocup plays its trials on rcssservers"),
+    (["robocup", "--executor", "ray", "--server", "127.0.0.1:6000"], "--server names servers you run"),
+    (["robocup", "--address", "127.0.0.1:6379"], "--address needs --executor ray"),
+    (["robocup", "--executor", "slurm"], "--executor: unknown executor 'slurm'"),
     (["robocup", "--count-touches"], "--count-touches: robocup plays its trials on rcssservers"),
-    (["initial", "--servers", "2"], "--servers: for the robocup preset only"),
+    (["initial", "--servers", "2"], "--servers: for the robocup and transfer presets only"),
     (["robocup", "--server", "127.0.0.1:6000", "--servers", "2"], "--server names servers you run"),
     (["robocup", "--rcssserver", "/no/such/rcssserver"], "no rcssserver: '/no/such/rcssserver' does not exist"),
 ])
