@@ -95,7 +95,7 @@ def game_config(**options: Any) -> GameConfig:
 # The environment options, shared with `evolve` and `random-search`.
 EnvOption = Annotated[Optional[str], typer.Option(
     "--env", help=f"Where games are played: {' or '.join(ENVIRONMENTS)} (SimpleSoccer or a real rcssserver; with "
-    f"{RCSS} the game options left unset take the chapter's RoboCup trial settings, see the README). "
+    f"{RCSS} the game options left unset take the chapter's RoboCup trial settings, see docs/robocup/index.md). "
     f"(default: {SIMPLE})",
     show_default=False, rich_help_panel=ENV_PANEL)]
 ServerOption = Annotated[Optional[list[str]], typer.Option(
@@ -144,7 +144,8 @@ def rcss_executable(servers: list[str] | None, rcssserver: Path | None, count: i
     try:
         return find_rcssserver(rcssserver)
     except RcssLaunchError as exc:
-        fail(f"{exc}: give --rcssserver PATH (see README), or --server HOST:PORT for a server you run")
+        fail(f"{exc}: give --rcssserver PATH (see docs/robocup/index.md), or --server HOST:PORT for a server "
+             "you run")
 
 
 @contextmanager
