@@ -67,7 +67,7 @@ IdleTicksOption = Annotated[Optional[int], typer.Option(
                                      "A game ends after this many ticks without moving or kicking."),
     show_default=False, rich_help_panel=GAME_PANEL)]
 NoiseOption = Annotated[Optional[bool], typer.Option(
-    "--noise/--no-noise", help=option_help(GameConfig, "noise", "rcssserver-like movement noise; with --env rcss "
+    "--noise/--no-noise", help=option_help(GameConfig, "noise", "rcssserver-like movement noise; on rcssserver "
                                            "the server's own noise, on unless --no-noise (servers without it play a "
                                            "trial the same every time)."),
     show_default=False, rich_help_panel=GAME_PANEL)]
@@ -109,7 +109,7 @@ RcssserverOption = Annotated[Optional[Path], typer.Option(
     f"(default: ${EXECUTABLE_VARIABLE}, else rcssserver on PATH)", show_default=False, rich_help_panel=ENV_PANEL)]
 ServersOption = Annotated[Optional[int], typer.Option(
     "--servers", min=1, max=MAX_SERVERS, help="With --env rcss: how many rcssservers soccer-lab starts; trials run "
-    "on them in parallel (with --executor ray: on each node). (default: 1; with --executor ray one per CPU of "
+    "on them in parallel (on a Ray cluster: on each node). (default: 1; on a Ray cluster one per CPU of "
     "each node)", show_default=False, rich_help_panel=ENV_PANEL)]
 
 
