@@ -1,5 +1,5 @@
 """GAConfig: every GA parameter in one validated object; defaults = the chapter's Table 2, and
-for what it leaves open (the roulette weighting) the calibrated choice (README, "Calibration")."""
+for what it leaves open (the roulette weighting) the calibrated choice (docs/research/calibration.md)."""
 
 from __future__ import annotations
 

@@ -15,8 +15,8 @@ from ga.genes import GENE_DTYPE, GENE_WIDTH
 class Individual:
     """Fitness is noisy (every game starts from a fresh random position), so an individual that
     survives unchanged into the next generation is evaluated again and averages its evaluations
-    (README, The genetic algorithm: noisy fitness). `goals` is the goal count of its latest evaluation; `first_seed` the game seed of its
-    first one (a game depends only on rulebase and seed, so that game can be replayed exactly)."""
+    (docs/research/index.md, "The model": noisy fitness). `goals` is the goal count of its latest evaluation;
+    `first_seed` the game seed of its first one (a game depends only on rulebase and seed, so that game can be replayed exactly)."""
 
     chromosome: np.ndarray
     evaluations: int = 0

@@ -13,7 +13,7 @@ import typer
 
 from app.cli.common import fail
 from app.cli.play import (ENV_PANEL, CountTouchesOption, EnvOption, FitnessOption, GoalCapOption, IdleTicksOption,
-                          MaxTicksOption, NoiseOption, RayServersOption, RcssserverOption, ServerOption, SkillsOption,
+                          MaxTicksOption, NoiseOption, RcssserverOption, ServerOption, ServersOption, SkillsOption,
                           chosen_env, config_from_options, game_config, option_help, option_name, rcss_executable,
                           rcss_servers, trial_config)
 from app.environments import RCSS, RCSS_WORKERS, SIMPLE, checked_workers, default_workers
@@ -93,7 +93,7 @@ def evolve_command(
     max_ticks: MaxTicksOption = None, goal_cap: GoalCapOption = None, idle_ticks: IdleTicksOption = None,
     noise: NoiseOption = None, skills: SkillsOption = None, count_touches: CountTouchesOption = None,
     env: EnvOption = None, server: ServerOption = None,
-    rcssserver: RcssserverOption = None, servers: RayServersOption = None, executor: Executor = None,
+    rcssserver: RcssserverOption = None, servers: ServersOption = None, executor: Executor = None,
     address: Address = None, out: Out = None, resume_dir: Resume = None,
 ) -> None:
     """Evolve a goal-scoring rulebase with the messy-coded GA (defaults: the chapter's Table 2)."""
@@ -118,7 +118,7 @@ def random_search_command(
     max_ticks: MaxTicksOption = None, goal_cap: GoalCapOption = None, idle_ticks: IdleTicksOption = None,
     noise: NoiseOption = None, skills: SkillsOption = None, count_touches: CountTouchesOption = None,
     env: EnvOption = None, server: ServerOption = None,
-    rcssserver: RcssserverOption = None, servers: RayServersOption = None, executor: Executor = None,
+    rcssserver: RcssserverOption = None, servers: ServersOption = None, executor: Executor = None,
     address: Address = None, out: Out = None,
 ) -> None:
     """The baseline: spend the same evaluations on fresh random rulebases (population x generations),

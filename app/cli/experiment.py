@@ -24,8 +24,7 @@ if TYPE_CHECKING:  # the runner (the GA, the report's statistics and figures) is
     from app.experiment.transfer import TransferOutcome
 
 DEFAULT_OUT_FOLDER = "experiments"
-ServerOption, RcssserverOption, ServersOption = server_options(f"For the {ROBOCUP} and {TRANSFER} presets",
-                                                                ray=True)
+ServerOption, RcssserverOption, ServersOption = server_options(f"For the {ROBOCUP} and {TRANSFER} presets")
 
 
 def experiment_command(

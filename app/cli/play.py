@@ -67,12 +67,9 @@ IdleTicksOption = Annotated[Optional[int], typer.Option(
                                      "A game ends after this many ticks without moving or kicking."),
     show_default=False, rich_help_panel=GAME_PANEL)]
 NoiseOption = Annotated[Optional[bool], typer.Option(
-    "--noise/--no-noise", help=option_help(GameConfig, "noise", "rcssserver-like movement noise; with --env rcss "
+    "--noise/--no-noise", help=option_help(GameConfig, "noise", "rcssserver-like movement noise; on rcssserver "
                                            "the server's own noise, on unless --no-noise (servers without it play a "
                                            "trial the same every time)."),
-    show_default=False, rich_help_panel=GAME_PANEL)]
-SimpleNoiseOption = Annotated[Optional[bool], typer.Option(  # for commands that play SimpleSoccer only (no --env)
-    "--noise/--no-noise", help=option_help(GameConfig, "noise", "rcssserver-like movement noise."),
     show_default=False, rich_help_panel=GAME_PANEL)]
 
 SkillsOption = Annotated[Optional[str], typer.Option(
@@ -98,12 +95,12 @@ def game_config(**options: Any) -> GameConfig:
 # The environment options, shared with `evolve` and `random-search`.
 EnvOption = Annotated[Optional[str], typer.Option(
     "--env", help=f"Where games are played: {' or '.join(ENVIRONMENTS)} (SimpleSoccer or a real rcssserver; with "
-    f"{RCSS} the game options left unset take the chapter's RoboCup trial settings, see the README). "
+    f"{RCSS} the game options left unset take the chapter's RoboCup trial settings, see docs/robocup/index.md). "
     f"(default: {SIMPLE})",
     show_default=False, rich_help_panel=ENV_PANEL)]
-def server_options(when: str, ray: bool = False) -> tuple[Any, Any, Any]:
+def server_options(when: str) -> tuple[Any, Any, Any]:
     """The --server, --rcssserver and --servers options, their help starting with `when` they apply
-    ("With --env rcss", or for `experiment` "For the robocup preset"); `ray`: the command has --executor ray."""
+    ("With --env rcss", or for `experiment` "For the robocup and transfer presets")."""
     server = Annotated[Optional[list[str]], typer.Option(
         "--server", help=f"{when}: an rcssserver you run, as HOST:PORT (its player port; run it with "
         "server::synch_mode=true server::coach_w_referee=true). Repeat for several servers: trials run on them in "
@@ -115,14 +112,12 @@ def server_options(when: str, ray: bool = False) -> tuple[Any, Any, Any]:
         f"(default: ${EXECUTABLE_VARIABLE}, else rcssserver on PATH)", show_default=False, rich_help_panel=ENV_PANEL)]
     servers = Annotated[Optional[int], typer.Option(
         "--servers", min=1, max=MAX_SERVERS, help=f"{when}: how many rcssservers soccer-lab starts; trials run "
-        "on them in parallel" + (" (with --executor ray: on each node). (default: 1; with --executor ray one per "
-                                 "CPU of each node)" if ray else ". (default: 1)"),
-        show_default=False, rich_help_panel=ENV_PANEL)]
+        "on them in parallel (on a Ray cluster: on each node). (default: 1; on a Ray cluster one per CPU of each "
+        "node)", show_default=False, rich_help_panel=ENV_PANEL)]
     return server, rcssserver, servers
 
 
 ServerOption, RcssserverOption, ServersOption = server_options(f"With --env {RCSS}")
-RayServersOption = server_options(f"With --env {RCSS}", ray=True)[2]  # for commands with --executor
 
 
 def chosen_env(env: str | None, servers: list[str] | None, simple_only: dict[str, Any],
@@ -156,7 +151,8 @@ def rcss_executable(servers: list[str] | None, rcssserver: Path | None, count: i
     try:
         return find_rcssserver(rcssserver)
     except RcssLaunchError as exc:
-        fail(f"{exc}: give --rcssserver PATH (see README), or --server HOST:PORT for a server you run")
+        fail(f"{exc}: give --rcssserver PATH (see docs/robocup/index.md), or --server HOST:PORT for a server "
+             "you run")
 
 
 @contextmanager

@@ -13,7 +13,7 @@ import typer
 
 from app.cli.common import TYPER_SETTINGS, CommandList, OneLineErrors, fail
 from app.cli.play import (CountTouchesOption, FitnessOption, GoalCapOption, IdleTicksOption, MaxTicksOption,
-                          SimpleNoiseOption, SkillsOption, game_config)
+                          NoiseOption, SkillsOption, game_config)
 from app.rule_inspection import DEFAULT_USAGE_GAMES
 from app.rulebase_files import JSON_SUFFIX
 from fuzzy.engine import Engine, Inference
@@ -185,7 +185,7 @@ def usage(
     max_ticks: MaxTicksOption = None,
     goal_cap: GoalCapOption = None,
     idle_ticks: IdleTicksOption = None,
-    noise: SimpleNoiseOption = None,
+    noise: NoiseOption = None,
     skills: SkillsOption = None,
     count_touches: CountTouchesOption = None,
     vocabulary: Optional[Path] = VOCABULARY_OPTION,
@@ -221,7 +221,7 @@ def simplify(
     max_ticks: MaxTicksOption = None,
     goal_cap: GoalCapOption = None,
     idle_ticks: IdleTicksOption = None,
-    noise: SimpleNoiseOption = None,
+    noise: NoiseOption = None,
     skills: SkillsOption = None,
     count_touches: CountTouchesOption = None,
     vocabulary: Optional[Path] = VOCABULARY_OPTION,

@@ -64,12 +64,12 @@ class ServerParams:
         """Raise RcssConfigError naming the option when the server runs with options trials cannot use."""
         if not self.synch_mode:
             raise RcssConfigError(
-                "rcssserver is not in synch mode: start it with server::synch_mode=true (see README)"
+                "rcssserver is not in synch mode: start it with server::synch_mode=true (see docs/robocup/index.md)"
             )
         if not self.coach:
             raise RcssConfigError(
                 "rcssserver runs without the offline trainer: start it with server::coach=true "
-                "server::coach_w_referee=true (see README)"
+                "server::coach_w_referee=true (see docs/robocup/index.md)"
             )
         if not self.coach_w_referee:
             raise RcssConfigError(

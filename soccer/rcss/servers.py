@@ -34,7 +34,7 @@ from soccer.rcss.errors import RcssError
 
 EXECUTABLE_NAME = "rcssserver"
 EXECUTABLE_VARIABLE = "RCSSSERVER"  # an environment variable naming the executable
-# What trials need (see README): the server steps when the clients say (done); the offline trainer
+# What trials need (docs/robocup/index.md): the server steps when the clients say (done); the offline trainer
 # places ball and player while the referees still announce goals and out-of-play; nothing is logged;
 # the clock never reaches half time (a negative half_time switches the referee's time keeping off);
 # no offside, free-kick faults, extra time or penalties to end a trial early.

@@ -118,8 +118,8 @@ def test_rcss_without_a_server_or_an_executable_says_how_to_give_one(tmp_path, m
     monkeypatch.delenv("RCSSSERVER", raising=False)
     monkeypatch.setenv("PATH", str(tmp_path))
     result = run("evolve", "--env", "rcss", *ONE_GENERATION, "--out", tmp_path / "run")
-    assert_one_line_error(result, "no rcssserver: 'rcssserver' is not on PATH: give --rcssserver PATH (see README), "
-                                  "or --server HOST:PORT for a server you run")
+    assert_one_line_error(result, "no rcssserver: 'rcssserver' is not on PATH: give --rcssserver PATH "
+                                  "(see docs/robocup/index.md), or --server HOST:PORT for a server you run")
     assert not (tmp_path / "run").exists()
 
 
