@@ -43,7 +43,8 @@ PopulationSize = _ga_option("population_size", "Individuals per generation.", in
 Generations = _ga_option("max_generations", "Generations evaluated, the initial one included.", int)
 MaxLength = _ga_option("max_length", "Maximum genes per chromosome.", int)
 ConsequentProbability = _ga_option("consequent_probability", "Chance that an initial gene is a consequent.", float)
-Crossover = _ga_option("crossover", "Cut-and-splice crossover: one-point or two-point.", str)
+Crossover = _ga_option("crossover", "Crossover: one-point or two-point (cut-and-splice), or uniform (rule by rule).",
+                       str)
 CrossoverProbability = _ga_option("crossover_probability", "Chance that a pair of parents is crossed.", float)
 MutationProbability = _ga_option("mutation_probability", "Chance that a child is mutated.", float)
 MutationRate = _ga_option("mutation_rate", "Chance that each gene of a mutated child is hit.", float)

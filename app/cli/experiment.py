@@ -1,5 +1,6 @@
 """`soccer-lab experiment PRESET`: the chapter's study (its section 6) with one command: the SimpleSoccer
-presets on local processes or Ray, `robocup` on rcssservers."""
+presets on local processes or Ray, `robocup` (and `transfer`) on rcssservers; the experiments beyond it;
+at several seeds (--replicates, --seeds) to tell robust verdicts from lucky ones."""
 
 from __future__ import annotations
 
@@ -10,23 +11,26 @@ from typing import TYPE_CHECKING, Annotated, Optional
 import typer
 
 from app.cli.common import fail
-from app.cli.play import (RcssserverOption, ServerOption, ServersOption, config_from_options, option_help,
-                          rcss_addresses)
+from app.cli.play import config_from_options, option_help, rcss_addresses, server_options
 from app.experiment.executors import EXECUTOR_NAMES, LOCAL, RAY, ExecutorError, RcssExecutor, make_executor
-from app.experiment.presets import (CHAPTER_GENERATIONS, CHOICES, DEFAULT_TRIALS, INITIAL_TRIALS, LONG_GENERATIONS,
-                                    ROBOCUP, TRANSFER, TRANSFER_TRIALS, ExperimentOptions)
+from app.experiment.presets import (ALL, ALL_PLUS, CHAPTER_GENERATIONS, CHOICES, DEFAULT_TRIALS, INITIAL_TRIALS,
+                                    LONG_GENERATIONS, ROBOCUP, TRANSFER, TRANSFER_TRIALS, ExperimentOptions)
 from soccer.config import SKILL_SET_NAMES
 from soccer.rcss.errors import RcssError
 
 if TYPE_CHECKING:  # the runner (the GA, the report's statistics and figures) is imported when an experiment runs
+    from app.experiment.replicates import ReplicatesOutcome
     from app.experiment.runner import ExperimentOutcome
     from app.experiment.transfer import TransferOutcome
 
 DEFAULT_OUT_FOLDER = "experiments"
+ServerOption, RcssserverOption, ServersOption = server_options(f"For the {ROBOCUP} and {TRANSFER} presets")
 
 
 def experiment_command(
-    preset: Annotated[str, typer.Argument(help=f"One of: {', '.join((*CHOICES, TRANSFER))}.", show_default=False)],
+    preset: Annotated[str, typer.Argument(
+        help=f"One of: {', '.join((*CHOICES, TRANSFER))}. {ALL}: the chapter's SimpleSoccer study; {ALL_PLUS}: it "
+        "and the experiments beyond it.", show_default=False)],
     trials: Annotated[Optional[int], typer.Option(
         "--trials", help=f"Trials per setting. (default: the chapter's, {DEFAULT_TRIALS}; {INITIAL_TRIALS} for "
         f"initial and {ROBOCUP}; {TRANSFER_TRIALS} for {TRANSFER})", show_default=False)] = None,
@@ -46,6 +50,17 @@ def experiment_command(
     seed: Annotated[Optional[int], typer.Option(
         "--seed", help=option_help(ExperimentOptions, "seed", "Experiment seed; each trial's seed derives from it."),
         show_default=False)] = None,
+    replicates: Annotated[Optional[int], typer.Option(
+        "--replicates", help="Run the experiment at this many seeds (--seed, --seed + 1, ...), each in OUT/seed-S, "
+        "and report each finding's verdict per replicate and whether it is robust. (default: 1)",
+        show_default=False)] = None,
+    seeds: Annotated[Optional[str], typer.Option(
+        "--seeds", help="Replicates at these experiment seeds, comma-separated (e.g. 0,913), instead of counting "
+        "up from --seed.", show_default=False)] = None,
+    replays: Annotated[Optional[int], typer.Option(
+        "--replays", help=option_help(ExperimentOptions, "replays",
+                                      "Fresh starts each trial's best is re-played on (its true quality)."),
+        show_default=False)] = None,
     skills: Annotated[Optional[str], typer.Option(
         "--skills", help=option_help(ExperimentOptions, "skills", f"Skill set: {', '.join(SKILL_SET_NAMES)}."),
         show_default=False)] = None,
@@ -62,8 +77,8 @@ def experiment_command(
                                                  "Roulette weight: linear (1 - fitness) or inverse (1 / fitness)."),
         show_default=False)] = None,
     out: Annotated[Optional[Path], typer.Option(
-        "--out", help="Output folder; running again into it resumes. (default: experiments/PRESET-seedN)",
-        show_default=False)] = None,
+        "--out", help="Output folder; running again into it resumes. (default: experiments/PRESET-seedN, with "
+        "replicates experiments/PRESET-seedsN-M)", show_default=False)] = None,
     workers: Annotated[Optional[int], typer.Option(
         "--workers", min=1, help=f"Trials run at once. (default: all cores; not for {ROBOCUP})",
         show_default=False)] = None,
@@ -90,8 +105,14 @@ def experiment_command(
     options: ExperimentOptions = config_from_options(ExperimentOptions, {
         "trials": trials, "population": population, "generations": generations, "max_ticks": max_ticks,
         "seed": seed, "skills": skills, "noise": noise, "count_touches": count_touches,
-        "roulette_weighting": roulette_weighting})
-    folder = out or Path(DEFAULT_OUT_FOLDER) / f"{preset}-seed{options.seed}"
+        "roulette_weighting": roulette_weighting, "replays": replays})
+    replicate_seeds = _replicate_seeds(options.seed, replicates, seeds)
+    if replicate_seeds is not None and preset == TRANSFER:
+        fail(f"--replicates, --seeds: not for {TRANSFER} (its sources are the {ROBOCUP} preset's runs at --seed)")
+    if replicate_seeds is None:
+        folder = out or Path(DEFAULT_OUT_FOLDER) / f"{preset}-seed{options.seed}"
+    else:
+        folder = out or Path(DEFAULT_OUT_FOLDER) / f"{preset}-seeds{'-'.join(map(str, replicate_seeds))}"
     _check_where_trials_run(preset, {"--server": server, "--rcssserver": rcssserver, "--servers": servers},
                             {"--workers": workers, "--count-touches": count_touches})
     from app.experiment.runner import ExperimentError, run_experiment
@@ -106,8 +127,12 @@ def experiment_command(
             progress = stack.enter_context(ExperimentProgress(preset))
             if preset == TRANSFER:
                 transfer = run_transfer(options, folder, runner, progress=progress)
-            else:
+            elif replicate_seeds is None:
                 outcome = run_experiment(preset, options, folder, runner, progress=progress)
+            else:
+                from app.experiment.replicates import run_replicates
+
+                outcome = run_replicates(preset, options, replicate_seeds, folder, runner, progress=progress)
     except (ExecutorError, ExperimentError) as exc:
         fail(str(exc))
     except RcssError as exc:
@@ -122,6 +147,25 @@ def experiment_command(
     if library:
         _record(preset, options, outcome, data_dir)
     _summary(outcome)
+
+
+def _replicate_seeds(seed: int, replicates: int | None, seeds: str | None) -> list[int] | None:
+    """The replicates' seeds; None for one experiment at --seed (no --replicates nor --seeds)."""
+    if replicates is None and seeds is None:
+        return None
+    from app.experiment.replicates import replicate_seeds
+    from app.experiment.runner import ExperimentError
+
+    try:
+        given = None if seeds is None else [int(part) for part in seeds.split(",") if part.strip()]
+    except ValueError:
+        fail(f"--seeds: comma-separated whole numbers, e.g. 0,913 (got {seeds!r})")
+    if given is not None and (not given or any(not 0 <= s < 2**63 for s in given)):
+        fail("--seeds: one or more seeds in [0, 2^63)")
+    try:
+        return replicate_seeds(seed, replicates, given)
+    except ExperimentError as exc:
+        fail(str(exc))
 
 
 def _robocup_runner(stack: ExitStack, options: ExperimentOptions, executor: str | None, address: str | None,
@@ -155,7 +199,8 @@ def _check_where_trials_run(preset: str, rcss_options: dict[str, object], local_
 
 
 class ExperimentProgress:
-    """One bar for the whole experiment, counted in evaluations (trials differ in size)."""
+    """One bar for the whole experiment, counted in the games (or evaluations) its trials play: they differ in
+    size."""
 
     def __init__(self, preset: str):
         from rich.console import Console
@@ -179,7 +224,9 @@ class ExperimentProgress:
         self.progress.update(self.task, completed=completed, total=total, note=note)
 
 
-def _record(preset: str, options: ExperimentOptions, outcome: "ExperimentOutcome", data_dir: Path | None) -> None:
+def _record(preset: str, options: ExperimentOptions, outcome: "ExperimentOutcome | ReplicatesOutcome",
+            data_dir: Path | None) -> None:
+    """In the library: one experiment, or replicates as one entry (their summary report above them)."""
     from app.experiment.library import library_summary
     from app.paths import DATABASE_FILE, default_data_dir
     from app.store import Store, StoreError
@@ -207,9 +254,13 @@ def _transfer_summary(outcome: "TransferOutcome") -> None:
                f"{len(outcome.figures)} figures, transfer/ (sources and players.csv)")
 
 
-def _summary(outcome: "ExperimentOutcome") -> None:
-    trials = len(outcome.plan.specs)
+def _summary(outcome: "ExperimentOutcome | ReplicatesOutcome") -> None:
+    trials = outcome.trials
     typer.echo(f"{trials} trials ({outcome.ran} run, {outcome.skipped} already finished) in {outcome.seconds:.1f} s")
-    typer.echo("verdicts: " + ", ".join(f"{n} {v}" for v, n in outcome.report.verdicts().items() if n))
-    typer.echo(f"outputs in {outcome.folder}: statistics.csv, report.md, report.html, "
-               f"{len(outcome.report.figures)} figures, trials/ (per-trial CSV and .rrd)")
+    typer.echo("verdicts: " + (", ".join(f"{n} {v}" for v, n in outcome.report.verdicts().items() if n) or "none"))
+    if hasattr(outcome, "replicates"):
+        typer.echo(f"outputs in {outcome.folder}: report.md, report.html, verdicts.csv (each finding per replicate), "
+                   f"and seed-S/ per replicate (statistics.csv, bests.csv, report, figures, trials/)")
+        return
+    typer.echo(f"outputs in {outcome.folder}: statistics.csv, bests.csv, report.md, report.html, "
+               f"{len(outcome.report.figures)} figures, trials/ (per-trial CSV, .rrd and best player)")

@@ -98,19 +98,26 @@ EnvOption = Annotated[Optional[str], typer.Option(
     f"{RCSS} the game options left unset take the chapter's RoboCup trial settings, see docs/robocup/index.md). "
     f"(default: {SIMPLE})",
     show_default=False, rich_help_panel=ENV_PANEL)]
-ServerOption = Annotated[Optional[list[str]], typer.Option(
-    "--server", help="With --env rcss: an rcssserver you run, as HOST:PORT (its player port; run it with "
-    "server::synch_mode=true server::coach_w_referee=true). Repeat for several servers: trials run on them in "
-    "parallel, one at a time on each. (default: soccer-lab starts --servers servers itself)",
-    show_default=False, rich_help_panel=ENV_PANEL)]
-RcssserverOption = Annotated[Optional[Path], typer.Option(
-    "--rcssserver", help="With --env rcss: the rcssserver executable soccer-lab starts its servers from (each on "
-    "free ports, in a scratch folder, with the options trials need; all stopped when the command ends). "
-    f"(default: ${EXECUTABLE_VARIABLE}, else rcssserver on PATH)", show_default=False, rich_help_panel=ENV_PANEL)]
-ServersOption = Annotated[Optional[int], typer.Option(
-    "--servers", min=1, max=MAX_SERVERS, help="With --env rcss: how many rcssservers soccer-lab starts; trials run "
-    "on them in parallel (on a Ray cluster: on each node). (default: 1; on a Ray cluster one per CPU of "
-    "each node)", show_default=False, rich_help_panel=ENV_PANEL)]
+def server_options(when: str) -> tuple[Any, Any, Any]:
+    """The --server, --rcssserver and --servers options, their help starting with `when` they apply
+    ("With --env rcss", or for `experiment` "For the robocup and transfer presets")."""
+    server = Annotated[Optional[list[str]], typer.Option(
+        "--server", help=f"{when}: an rcssserver you run, as HOST:PORT (its player port; run it with "
+        "server::synch_mode=true server::coach_w_referee=true). Repeat for several servers: trials run on them in "
+        "parallel, one at a time on each. (default: soccer-lab starts --servers servers itself)",
+        show_default=False, rich_help_panel=ENV_PANEL)]
+    rcssserver = Annotated[Optional[Path], typer.Option(
+        "--rcssserver", help=f"{when}: the rcssserver executable soccer-lab starts its servers from (each on "
+        "free ports, in a scratch folder, with the options trials need; all stopped when the command ends). "
+        f"(default: ${EXECUTABLE_VARIABLE}, else rcssserver on PATH)", show_default=False, rich_help_panel=ENV_PANEL)]
+    servers = Annotated[Optional[int], typer.Option(
+        "--servers", min=1, max=MAX_SERVERS, help=f"{when}: how many rcssservers soccer-lab starts; trials run "
+        "on them in parallel (on a Ray cluster: on each node). (default: 1; on a Ray cluster one per CPU of each "
+        "node)", show_default=False, rich_help_panel=ENV_PANEL)]
+    return server, rcssserver, servers
+
+
+ServerOption, RcssserverOption, ServersOption = server_options(f"With --env {RCSS}")
 
 
 def chosen_env(env: str | None, servers: list[str] | None, simple_only: dict[str, Any],

@@ -36,7 +36,8 @@ from app.experiment.figures import DPI, FIGURES_FOLDER, SIZE_INCHES, Figure, wri
 from app.experiment.presets import TRANSFER, TRANSFER_TRIALS as DEFAULT_TRIALS
 from app.experiment.presets import ExperimentOptions, Preset, Setting, preset, trial_seed
 from app.experiment.report import ALPHA, AGREES, DISAGREES, INCONCLUSIVE, MIN_TRIALS, _html, _markdown
-from app.experiment.runner import Progress, TrialFolder, TrialSpec, prepare_folder, run_trial
+from app.experiment.runner import (Progress, TrialFolder, TrialResult, TrialSpec, best_record, prepare_folder,
+                                   run_trial)
 from app.experiment.table import ALGORITHM, PRESET, SEED, SETTING, TRIAL, StatisticsTable
 from ga.config import SEED_BOUND
 from ga.genes import GENE_DTYPE, GENE_WIDTH
@@ -173,16 +174,17 @@ def _write_rows(path: Path, rows: list[dict]) -> None:
 
 
 # ---- 3. seeded and random rcssserver runs ----------------------------------------------------------------
-def run_transfer_trial(spec: TrialSpec, evaluate: Any, sources: Sources) -> list[dict[str, Any]]:
+def run_transfer_trial(spec: TrialSpec, evaluate: Any, sources: Sources) -> TrialResult:
     """A random-start run as the robocup preset's; a seeded one from its source's last population (and from its
-    checkpoint when there is one)."""
+    checkpoint when there is one). Its best is re-played on the spec's replays, on the same servers."""
     if spec.setting.algorithm != SEEDED_GA or (spec.checkpoint is not None and spec.checkpoint.is_file()):
         return run_trial(spec, evaluate)  # a checkpoint holds all a seeded run needs to go on
     from ga.algorithms import evolve
 
     result = evolve(spec.config, evaluate, SOCCER_VOCABULARY, checkpoint=spec.checkpoint,
                     initial_population=sources.population(spec.trial))
-    return [stats.to_dict() for stats in result.history]
+    rows = [stats.to_dict() for stats in result.history]
+    return TrialResult(rows, best_record(result, rows, evaluate, spec.replay_seeds()))
 
 
 @dataclass(frozen=True)
@@ -216,9 +218,9 @@ def run_transfer(options: ExperimentOptions, folder: Path, executor: Any,
         completed = total - sum(spec.setting.evaluations for spec in pending)
         if progress is not None:
             progress.update(completed, total, skipped=len(plan.specs) - len(pending))
-        for spec, rows in executor.map_unordered(lambda spec, evaluate: run_transfer_trial(spec, evaluate, sources),
-                                                 pending):
-            trials.write(spec, rows)
+        for spec, result in executor.map_unordered(lambda spec, evaluate: run_transfer_trial(spec, evaluate, sources),
+                                                   pending):
+            trials.write(spec, result)
             completed += spec.setting.evaluations
             if progress is not None:
                 progress.update(completed, total, skipped=len(plan.specs) - len(pending))
