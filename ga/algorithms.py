@@ -3,8 +3,9 @@
 Generation 0 is the evaluated initial population; a run evaluates at most `max_generations`
 generations, i.e. population_size x max_generations evaluations. Each generation: breed (or, for
 random search, draw fresh individuals), draw one game seed per individual, evaluate, record
-statistics, checkpoint, call the callbacks. Everything random comes from one Generator seeded
-by config.seed and saved in every checkpoint, so a resumed run continues bit for bit.
+statistics (after the behaviour seeds' games, when the run counts behaviours), checkpoint, call the
+callbacks. Everything random comes from one Generator seeded by config.seed and saved in every
+checkpoint, so a resumed run continues bit for bit.
 """
 
 from __future__ import annotations
@@ -21,14 +22,16 @@ from fuzzy.vocabulary import Vocabulary
 from ga.checkpoint import load_checkpoint, save_checkpoint
 from ga.codec import ChromosomeCodec
 from ga.config import SEED_BOUND, GAConfig
+from ga.diversity import BehaviourProbe, behaviour_seeds
 from ga.evaluation import Evaluation, Evaluator
 from ga.genes import GeneSpace
 from ga.individual import Individual
 from ga.initialisation import random_population
+from ga.provenance import RANDOM_DRAW
 from ga.reproduction import next_generation
 from ga.result import GENERATIONS_DONE, STOPPED, TARGET_REACHED, RunResult
 from ga.state import GA, RANDOM_SEARCH, RunState
-from ga.statistics import generation_stats
+from ga.statistics import NOT_MEASURED, generation_stats
 
 # A callback is a function (stats, population) or an object with on_generation(stats, population).
 Callback = Any
@@ -71,11 +74,13 @@ def _run(state: RunState, evaluate: Evaluator, callbacks: Iterable[Callback], ch
     codec = ChromosomeCodec(state.vocabulary)
     listeners = [getattr(callback, "on_generation", callback) for callback in callbacks]
     started = time.perf_counter() - state.wall_time
+    probe = BehaviourProbe(behaviour_seeds(config), codec) if config.behaviour_seeds else None
     with Evaluation(evaluate, config.workers) as evaluation:
         while (reason := _stop_reason(state, stop)) is None:
             population = _next_population(state, codec.space, rng)
             population = _evaluated(population, evaluation, codec, rng)
-            state = _recorded(state, population, rng, time.perf_counter() - started)
+            behaviours = probe(population, evaluation) if probe is not None else NOT_MEASURED
+            state = _recorded(state, population, rng, time.perf_counter() - started, behaviours)
             if checkpoint is not None:
                 save_checkpoint(checkpoint, state)
             for listener in listeners:
@@ -102,7 +107,7 @@ def _next_population(state: RunState, space: GeneSpace, rng: np.random.Generator
         return next_generation(state.population, config, space, rng)
     chromosomes = random_population(space, config.population_size, config.max_length,
                                     config.consequent_probability, rng)
-    return [Individual(chromosome) for chromosome in chromosomes]
+    return [Individual(chromosome, birth=RANDOM_DRAW) for chromosome in chromosomes]
 
 
 def _evaluated(population: list[Individual], evaluation: Evaluation, codec: ChromosomeCodec,
@@ -114,8 +119,9 @@ def _evaluated(population: list[Individual], evaluation: Evaluation, codec: Chro
 
 
 def _recorded(state: RunState, population: list[Individual], rng: np.random.Generator,
-              wall_time: float) -> RunState:
-    stats = generation_stats(len(state.history), population, state.evaluations + len(population), wall_time)
+              wall_time: float, behaviours: int) -> RunState:
+    stats = generation_stats(len(state.history), population, state.evaluations + len(population), wall_time,
+                             behaviours)
     contender = min(population, key=lambda individual: individual.fitness)  # first of equals
     best = contender if state.best is None or contender.fitness < state.best.fitness else state.best
     return RunState(state.algorithm, state.config, state.vocabulary, population, rng.bit_generator.state,

@@ -2,6 +2,10 @@
 
 Cuts fall strictly inside a parent (between genes 1..n-1), so every head and tail is non-empty and
 children keep at least MIN_LENGTH genes. Children longer than `max_length` are truncated.
+
+Each operator returns its two children as `Splice` records (ga/provenance.py: which stretch of which
+parent, in order, and each parent's cut points); a child's chromosome is its splice applied to the
+parents, `splice.apply(a, (a, b))`, so what is recorded is what was done.
 """
 
 from __future__ import annotations
@@ -9,23 +13,26 @@ from __future__ import annotations
 import numpy as np
 
 from ga.genes import MIN_LENGTH
+from ga.provenance import Splice
+
+A, B = 0, 1  # the parents' slots in a splice's segments
 
 
-def one_point(a: np.ndarray, b: np.ndarray, max_length: int,
-              rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
+def one_point(a: np.ndarray, b: np.ndarray, max_length: int, rng: np.random.Generator) -> tuple[Splice, Splice]:
     """child 1 = head of a + tail of b, child 2 = head of b + tail of a."""
     i, j = _cuts(a, 1, rng)[0], _cuts(b, 1, rng)[0]
-    return (np.concatenate((a[:i], b[j:]))[:max_length],
-            np.concatenate((b[:j], a[i:]))[:max_length])
+    cuts = ((i,), (j,))
+    return (Splice.of("one-point", cuts, [(A, 0, i), (B, j, len(b))], max_length),
+            Splice.of("one-point", cuts, [(B, 0, j), (A, i, len(a))], max_length))
 
 
-def two_point(a: np.ndarray, b: np.ndarray, max_length: int,
-              rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
+def two_point(a: np.ndarray, b: np.ndarray, max_length: int, rng: np.random.Generator) -> tuple[Splice, Splice]:
     """The middle segments, between each parent's two cuts, are swapped."""
     i1, i2 = _cuts(a, 2, rng)
     j1, j2 = _cuts(b, 2, rng)
-    return (np.concatenate((a[:i1], b[j1:j2], a[i2:]))[:max_length],
-            np.concatenate((b[:j1], a[i1:i2], b[j2:]))[:max_length])
+    cuts = ((i1, i2), (j1, j2))
+    return (Splice.of("two-point", cuts, [(A, 0, i1), (B, j1, j2), (A, i2, len(a))], max_length),
+            Splice.of("two-point", cuts, [(B, 0, j1), (A, i1, i2), (B, j2, len(b))], max_length))
 
 
 def _cuts(parent: np.ndarray, count: int, rng: np.random.Generator) -> np.ndarray:

@@ -31,6 +31,15 @@ def chromosomes(draw, kind=None):
     return fields.astype(np.int8)
 
 
+def cross(crossover, a, b, max_length, rng):
+    """The two children's chromosomes: each child's recorded splice applied to its parents."""
+    return [splice.apply(a, (a, b)) for splice in crossover(a, b, max_length, rng)]
+
+
+def mutated(chromosome, rate, rng):
+    return mutate(chromosome, rate, SPACE, rng).apply(chromosome, ())
+
+
 def gene_multiset(*parts):
     return sorted(map(tuple, np.concatenate(parts).tolist()))
 
@@ -55,7 +64,7 @@ def test_initialisation_matches_the_configured_proportions():
 
 @given(chromosomes(), chromosomes(), seeds)
 def test_one_point_crossover_conserves_genes_without_truncation(a, b, seed):
-    c1, c2 = one_point(a, b, 10_000, np.random.default_rng(seed))
+    c1, c2 = cross(one_point, a, b, 10_000, np.random.default_rng(seed))
     assert len(c1) + len(c2) == len(a) + len(b)
     assert gene_multiset(c1, c2) == gene_multiset(a, b)
     assert len(c1) >= MIN_LENGTH and len(c2) >= MIN_LENGTH
@@ -64,7 +73,7 @@ def test_one_point_crossover_conserves_genes_without_truncation(a, b, seed):
 @given(chromosomes(kind=0), chromosomes(kind=1), seeds)
 def test_one_point_children_are_head_of_one_parent_and_tail_of_the_other(a, b, seed):
     # a is all premises and b all consequents, so a child's kinds show where its cut fell.
-    c1, c2 = one_point(a, b, 10_000, np.random.default_rng(seed))
+    c1, c2 = cross(one_point, a, b, 10_000, np.random.default_rng(seed))
     i, j = int((c1[:, KIND] == 0).sum()), int((c2[:, KIND] == 1).sum())
     assert 0 < i < len(a) and 0 < j < len(b)  # independent interior cuts
     assert np.array_equal(c1, np.concatenate((a[:i], b[j:])))
@@ -73,7 +82,7 @@ def test_one_point_children_are_head_of_one_parent_and_tail_of_the_other(a, b, s
 
 @given(chromosomes(), chromosomes(), seeds)
 def test_two_point_crossover_conserves_genes_without_truncation(a, b, seed):
-    c1, c2 = two_point(a, b, 10_000, np.random.default_rng(seed))
+    c1, c2 = cross(two_point, a, b, 10_000, np.random.default_rng(seed))
     assert gene_multiset(c1, c2) == gene_multiset(a, b)
     assert np.array_equal(c1[0], a[0]) and np.array_equal(c1[-1], a[-1])  # heads and tails stay
 
@@ -94,7 +103,7 @@ def origins(genes, parent):
 
 @given(distinct_genes(0), distinct_genes(1), seeds)
 def test_two_point_swaps_one_middle_segment_of_each_parent(a, b, seed):
-    c1, c2 = two_point(a, b, 10_000, np.random.default_rng(seed))
+    c1, c2 = cross(two_point, a, b, 10_000, np.random.default_rng(seed))
     for child, own, other, own_kind in ((c1, a, b, 0), (c2, b, a, 1)):
         kinds = child[:, KIND]
         assert kinds[0] == own_kind and kinds[-1] == own_kind  # own head and tail are never empty
@@ -109,14 +118,14 @@ def test_two_point_swaps_one_middle_segment_of_each_parent(a, b, seed):
 
 @given(chromosomes(), chromosomes(), seeds, max_lengths, st.sampled_from([one_point, two_point]))
 def test_crossover_children_are_in_range_and_truncated(a, b, seed, max_length, crossover):
-    for child in crossover(a, b, max_length, np.random.default_rng(seed)):
+    for child in cross(crossover, a, b, max_length, np.random.default_rng(seed)):
         SPACE.check(child)
         assert MIN_LENGTH <= len(child) <= max_length
 
 
 @given(chromosomes(), seeds, st.floats(0, 1))
 def test_mutation_changes_single_alleles_in_range_and_never_a_kind(chromosome, seed, rate):
-    mutant = mutate(chromosome, rate, SPACE, np.random.default_rng(seed))
+    mutant = mutated(chromosome, rate, np.random.default_rng(seed))
     SPACE.check(mutant)
     assert mutant.shape == chromosome.shape
     assert np.array_equal(mutant[:, KIND], chromosome[:, KIND])
@@ -127,12 +136,12 @@ def test_mutation_changes_single_alleles_in_range_and_never_a_kind(chromosome, s
 def test_mutation_rate_sets_the_share_of_genes_hit():
     chromosome = random_chromosome(SPACE, 64, 0.25, np.random.default_rng(0))
     rng = np.random.default_rng(2)
-    hit = [np.mean((mutate(chromosome, 0.3, SPACE, rng) != chromosome).any(axis=1)) for _ in range(500)]
+    hit = [np.mean((mutated(chromosome, 0.3, rng) != chromosome).any(axis=1)) for _ in range(500)]
     assert abs(np.mean(hit) - 0.3) < 0.02
 
 
 def test_mutation_leaves_its_input_untouched():
     chromosome = random_chromosome(SPACE, 64, 0.25, np.random.default_rng(0))
     before = chromosome.copy()
-    mutate(chromosome, 1.0, SPACE, np.random.default_rng(0))
+    mutated(chromosome, 1.0, np.random.default_rng(0))
     assert np.array_equal(chromosome, before)
