@@ -20,7 +20,8 @@ from pydantic import ValidationError
 from app.environments import (RCSS, SIMPLE, Announce, Environment, RcssTrials, Replay, SimpleSoccerGames,
                               checked_env, checked_servers, checked_start_servers, checked_workers)
 from app.recording import RunRecorder
-from app.run_outputs import GenerationBestsFile, RunFolder, RunFolderError, RunOutputs, generation_best
+from app.run_outputs import (GenerationBestsFile, LineageFile, RunFolder, RunFolderError, RunOutputs,
+                             generation_best, lineage_line)
 from app.validation import describe_problems
 from fuzzy.vocabulary import Vocabulary
 from ga.algorithms import Callback, evolve, random_search, resume
@@ -192,7 +193,7 @@ class Run:
         vocabulary = state.vocabulary if state else self.vocabulary
         bests = self._generation_bests(state)
         outputs = RunOutputs(self.folder, vocabulary, history=history, best=state.best if state else None,
-                             generation_bests=bests)
+                             generation_bests=bests, lineage=self.lineage_lines(state).values())
         environment = self.settings.environment
         recorder = RunRecorder(self.folder.recording, history=history, world=environment.world)
         try:
@@ -211,6 +212,17 @@ class Run:
         finally:
             recorder.close()
         return result
+
+    def lineage_lines(self, state: RunState | None) -> dict[int, str]:
+        """lineage.jsonl's line of each finished generation: those the file holds for the generations the
+        checkpoint holds, and the last one from the checkpoint when the run was killed before writing it.
+        A generation missing from the file (a run from before lineage was recorded) stays missing."""
+        if state is None:
+            return {}
+        finished = len(state.history)
+        lines = {g: line for g, line in LineageFile.read(self.folder.lineage).items() if g < finished}
+        lines.setdefault(finished - 1, lineage_line(finished - 1, state.population))
+        return dict(sorted(lines.items()))
 
     def _generation_bests(self, state: RunState | None) -> list[tuple[int, Individual]]:
         """Each finished generation's best, from generation_bests.jsonl: the lines of the generations the
