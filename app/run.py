@@ -18,7 +18,8 @@ from typing import Any, ContextManager, Iterable, Literal, Sequence
 from pydantic import ValidationError
 
 from app.environments import (RCSS, SIMPLE, Announce, Environment, RcssTrials, Replay, SimpleSoccerGames,
-                              checked_env, checked_servers, checked_start_servers, checked_workers)
+                              checked_behaviour_seeds, checked_env, checked_servers, checked_start_servers,
+                              checked_workers)
 from app.recording import RunRecorder
 from app.run_outputs import (GenerationBestsFile, LineageFile, RunFolder, RunFolderError, RunOutputs,
                              generation_best, lineage_line)
@@ -81,7 +82,8 @@ class RunSettings:
             raise ValueError(f"invalid trial parameters: {describe_problems(exc.errors())}") from None
         for where, check in (("env", lambda: checked_env(env)), ("servers", lambda: checked_servers(env, servers)),
                              ("start_servers", lambda: checked_start_servers(env, servers, start_servers)),
-                             ("ga.workers", lambda: checked_workers(env, ga.workers))):
+                             ("ga.workers", lambda: checked_workers(env, ga.workers)),
+                             ("ga.behaviour_seeds", lambda: checked_behaviour_seeds(env, ga.behaviour_seeds))):
             try:
                 check()
             except ValueError as exc:

@@ -218,10 +218,10 @@ class Lineage:
         path = [place]
         while True:
             birth = self.individual(place).birth
+            if birth is not None and not birth.parents:
+                return path, DRAWN, None
             if birth is None or place.generation <= oldest:
                 return path, EARLIER, None
-            if not birth.parents:
-                return path, DRAWN, None
             positions = [parent_position(birth, position) for position in range(first, last + 1)]
             if any(_changes_meaning(changes, position == last - 1)
                    for position, (_, _, changes) in zip(range(first, last + 1), positions)):

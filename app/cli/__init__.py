@@ -30,6 +30,9 @@ def _register() -> None:
     from app.cli import serve
 
     app.command("serve", cls=OneLineErrors)(serve.serve_command)
+    from app.cli import lineage
+
+    app.command("lineage", cls=OneLineErrors)(lineage.lineage_command)
 
 
 def main() -> None:
