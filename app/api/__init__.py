@@ -10,7 +10,7 @@ from fastapi.staticfiles import StaticFiles
 
 from app.api.errors import MAX_BODY_BYTES, BodySizeLimit, install_error_handlers
 from app.api.models import ServerInfo
-from app.api.routes import experiments, rulebases, rules, runs, vocabulary
+from app.api.routes import experiments, lineage, rulebases, rules, runs, vocabulary
 from app.rerun_viewer import viewer_home
 from app.runs import RunManager
 from app.store import Store
@@ -42,7 +42,7 @@ def create_app(
         app.add_middleware(CORSMiddleware, allow_origins=[viewer_url.rstrip("/")], allow_methods=["GET"])
 
     api = APIRouter(prefix=API_PREFIX)
-    for module in (vocabulary, rulebases, rules, runs, experiments):
+    for module in (vocabulary, rulebases, rules, runs, lineage, experiments):
         api.include_router(module.router)
 
     @api.get("/server", tags=["server"], summary="Addresses of the UI, the rerun viewer and the API docs")
