@@ -105,7 +105,7 @@ class BreedingDescription:
         if mutated and made.mutation is not None:
             for gene, column, old, new in made.mutation.changes:
                 changes.setdefault(gene, []).append(describe_change(made.crossed, gene, (column, old, new),
-                                                                    self.codec.space))
+                                                                    self.vocabulary))
         return [GeneCell(self.notation.format_gene(row), sources[gene], "; ".join(changes[gene]) if gene in changes
                          else None) for gene, row in enumerate(chromosome.tolist())]
 
@@ -120,8 +120,11 @@ class BreedingDescription:
         return [format_rule(rule, self.vocabulary) for rule in self.codec.decode(chromosome)]
 
     def changes(self, child: int) -> list[str]:
+        """What the mutation changed in a child, gene by gene, in words and compact notation."""
         made = self.breeding.children[child]
         if made.mutation is None:
             return []
-        return [describe_change(made.crossed, gene, (column, old, new), self.codec.space)
+        return [f"{describe_change(made.crossed, gene, (column, old, new), self.vocabulary)}: "
+                f"{self.notation.format_gene(made.crossed[gene].tolist())} → "
+                f"{self.notation.format_gene(made.chromosome[gene].tolist())}"
                 for gene, column, old, new in made.mutation.changes]

@@ -141,7 +141,6 @@ class FamilyTreeView:
         self.tree = tree
         self.vocabulary = vocabulary
         self.best = best  # the run's best so far, named when it is in the tree
-        self.space = GeneSpace.from_vocabulary(vocabulary)
         self.notation = CompactNotation(vocabulary)
         self.codec = ChromosomeCodec(vocabulary)
         self.letters = {place: chr(ord("A") + i) if i < 26 else str(i) for i, place in enumerate(tree.origins())}
@@ -166,7 +165,7 @@ class FamilyTreeView:
 
     def birth_text(self, ancestor: Ancestor) -> str:
         """How an ancestor came to be, in a sentence (parents named by their place in the generation before)."""
-        return describe_birth(ancestor.birth, ancestor.place.generation, self.space,
+        return describe_birth(ancestor.birth, ancestor.place.generation, self.vocabulary,
                               self.tree.individual.chromosome if ancestor.place == self.chosen else None)
 
     def short_birth(self, ancestor: Ancestor) -> str:
@@ -182,7 +181,7 @@ class FamilyTreeView:
                 letters[gene] = self.letters[origin.origin]
         changes = _changes_by_gene(self.tree.ancestors[self.chosen].mutations)
         return [GeneView(self.notation.format_gene(row), letters.get(gene),
-                         "; ".join(describe_change(chromosome, gene, change, self.space) for change in changes[gene])
+                         "; ".join(describe_change(chromosome, gene, change, self.vocabulary) for change in changes[gene])
                          if gene in changes else None)
                 for gene, row in enumerate(chromosome.tolist())]
 
@@ -191,7 +190,7 @@ class FamilyTreeView:
         rulebase = self.codec.decode(chromosome[origin.first:origin.last + 1])
         text = format_rule(rulebase.rules[0], self.vocabulary) if len(rulebase) else ""
         letter = self.letters[origin.origin]
-        mutated = tuple(describe_change(chromosome, gene, (column, old, new), self.space)
+        mutated = tuple(describe_change(chromosome, gene, (column, old, new), self.vocabulary)
                         for gene, column, old, new in origin.mutations)
         return RuleView(number, text, self.notation.format(chromosome[origin.first:origin.last + 1]), letter,
                         self.colour(origin.origin), origin.origin, origin.via, origin.how,
@@ -216,12 +215,16 @@ def _changes_by_gene(mutations: Sequence[tuple[int, int, int, int]]) -> dict[int
     return changes
 
 
-def describe_change(chromosome: Any, gene: int, change: tuple[int, int, int], space: GeneSpace) -> str:
-    """One mutation in words, e.g. "gene 9, term: NEAR -> FAR"."""
+def describe_change(chromosome: Any, gene: int, change: tuple[int, int, int], vocabulary: Vocabulary) -> str:
+    """One mutation of `chromosome` in words, e.g. "gene 9, term: Near → Far" (genes counted from 1)."""
     column, old, new = change
     kind = int(chromosome[gene, KIND])
-    return (f"gene {gene + 1}, {FIELD_NAMES[kind][column]}: {space.value_name(kind, column, old)} -> "
-            f"{space.value_name(kind, column, new)}")
+    space = GeneSpace.from_vocabulary(vocabulary)
+
+    def name(value: int) -> str:
+        return vocabulary.display(space.value_name(kind, column, value))
+
+    return f"gene {gene + 1}, {FIELD_NAMES[kind][column]}: {name(old)} → {name(new)}"
 
 
 def short_birth(birth: Birth | None) -> str:
@@ -236,7 +239,7 @@ def short_birth(birth: Birth | None) -> str:
     return " + ".join(words) or COPY
 
 
-def describe_birth(birth: Birth | None, generation: int, space: GeneSpace, chromosome: Any = None) -> str:
+def describe_birth(birth: Birth | None, generation: int, vocabulary: Vocabulary, chromosome: Any = None) -> str:
     """How an individual came to be, e.g. "one-point crossover of #12 (cut after gene 7) and #40 (cut after
     gene 15), then 2 genes mutated". `chromosome`: the individual's, to name what a mutation changed."""
     if birth is None:
@@ -252,7 +255,7 @@ def describe_birth(birth: Birth | None, generation: int, space: GeneSpace, chrom
                     f"{' and '.join(str(x) for x in c)})" for parent, c in zip(birth.parents, operation.cuts)]
             parts.append(f"{operation.operator} crossover of {' and '.join(cuts)}")
         elif isinstance(operation, Mutation):
-            changed = (": " + "; ".join(describe_change(chromosome, gene, (column, old, new), space)
+            changed = (": " + "; ".join(describe_change(chromosome, gene, (column, old, new), vocabulary)
                                         for gene, column, old, new in operation.changes)
                        if chromosome is not None else "")
             parts.append(f"{plural(len(operation.changes), 'gene')} mutated{changed}")

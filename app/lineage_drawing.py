@@ -62,11 +62,12 @@ def _ancestor_line(view: FamilyTreeView, ancestor: Ancestor) -> str:
 
 
 # ---- SVG --------------------------------------------------------------------------------------
-def tree_svg(view: FamilyTreeView, *, with_rules: bool = False, width: str | None = None) -> str:
-    """The tree as an SVG document; `with_rules` adds the player's rules and chromosome below it (a file
-    that stands alone). `width`: the SVG's width attribute (default: its natural size in pixels)."""
+def tree_svg(view: FamilyTreeView, *, with_rules: bool = False, max_row_nodes: int = MAX_ROW_NODES) -> str:
+    """The tree as an SVG document at its natural size (shrunk to fit a narrower page, never grown);
+    `with_rules` adds the player's rules and chromosome below it (a file that stands alone). A generation
+    with more than `max_row_nodes` ancestors shows the first ones and how many more."""
     rows = list(reversed(view.rows()))  # the oldest at the top
-    shown = [row[:MAX_ROW_NODES - 1] if len(row) > MAX_ROW_NODES else row for row in rows]
+    shown = [row[:max_row_nodes - 1] if len(row) > max_row_nodes else row for row in rows]
     columns = max(len(row) + (len(row) < len(full)) for row, full in zip(shown, rows))
     tree_width = LABEL_WIDTH + columns * (NODE_WIDTH + NODE_GAP) + MARGIN
     positions: dict = {}
@@ -102,9 +103,9 @@ def tree_svg(view: FamilyTreeView, *, with_rules: bool = False, width: str | Non
         parts.append(extra)
         height += extra_height
         total_width = max(tree_width, extra_width)
-    size = f'width="{width}"' if width else f'width="{total_width:.0f}" height="{height:.0f}"'
-    return (f'<svg xmlns="http://www.w3.org/2000/svg" class="family-tree" {size} '
-            f'viewBox="0 0 {total_width:.0f} {height:.0f}" style="{FONT}; background:white">'
+    return (f'<svg xmlns="http://www.w3.org/2000/svg" class="family-tree" width="{total_width:.0f}" '
+            f'height="{height:.0f}" viewBox="0 0 {total_width:.0f} {height:.0f}" '
+            f'style="{FONT}; background:white; max-width:100%; height:auto">'
             f'<title>{escape(view.title())}</title>{"".join(parts)}</svg>')
 
 

@@ -14,6 +14,7 @@ from app.environments import RCSS, RCSS_WORKERS
 from app.runs import RunEvent, RunManager, RunStateError, SampledPlayer
 from app.store import NotFound, RunStatus, Store
 from app.ui import style
+from app.ui.panels.diversity import DiversityPlot
 from app.ui.panels.svg import escape
 from app.validation import describe_problem, dotted
 from fuzzy.rule import Rulebase
@@ -41,6 +42,7 @@ LABELS = {  # what a teacher reads next to each field; fields missing here show 
     "target_fitness": "Target fitness (stop at or below)",
     "seed": "Seed",
     "workers": "Worker processes",
+    "behaviour_seeds": "Behaviour seeds (count distinct behaviours; 0: off)",
     "skills": "Skills (strict: kicks only within reach; sighted: and sees the goal)",
     "noise": "Movement noise",
     "count_touches": "Body pushes count as kicks",
@@ -112,6 +114,7 @@ class EvolvePanel:
             title=self._plot_title(),
             aspect=1.4,
         )
+        self.diversity = DiversityPlot(gui)
         self.load_best = gui.add_button("Load best so far onto the pitch", disabled=True)
         self._remove_listener = self.runs.add_listener(self._on_event)
 
@@ -163,6 +166,7 @@ class EvolvePanel:
             return
         self.run_id = record.id
         self.generations, self.best, self.mean = [], [], []
+        self.diversity.reset(int(ga["population_size"]), int(ga["max_generations"]), int(ga["behaviour_seeds"]))
         self.progress.value = 0.0
         self.progress.animated = True
         self.plot.scales = self._plot_scales()
@@ -207,6 +211,7 @@ class EvolvePanel:
             self.best.append(float(stats["best"]))
             self.mean.append(float(stats["mean"]))
             self._redraw_plot()
+            self.diversity.add(stats)
             self.on_generation(event.run_id, generation, event.players)
             self.progress.value = min(100.0, 100.0 * (generation + 1) / total)
             self.load_best.disabled = False
