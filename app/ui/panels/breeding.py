@@ -61,7 +61,7 @@ class BreedingPanel:
         with gui.add_folder(SETTINGS):
             self.source = gui.add_dropdown("Parents from", (RUN_POPULATION, LIBRARY), initial_value=RUN_POPULATION)
             self.run = gui.add_dropdown("Run", (NONE,))
-            self.generation = gui.add_number("Generation", initial_value=0, min=0, step=1)
+            self.generation = gui.add_number("Parents' generation", initial_value=0, min=0, step=1)
             self.first = gui.add_number("Parent A: individual #", initial_value=0, min=0, step=1)
             self.second = gui.add_number("Parent B: individual #", initial_value=1, min=0, step=1)
             self.first_saved = gui.add_dropdown("Parent A", (demo[1],))
