@@ -19,8 +19,8 @@ from ga.checkpoint import CheckpointError, load_checkpoint
 from ga.codec import ChromosomeCodec
 from ga.genes import FIELD_NAMES, KIND, GeneSpace
 from ga.individual import Individual
-from ga.lineage import (CUT, DRAWN, EARLIER, MUTATED, Ancestor, FamilyTree, Lineage, LineageError, Place, RuleOrigin,
-                        best_place, generation_best_index, read_generation_record)
+from ga.lineage import (CUT, DRAWN, EARLIER, MUTATED, Ancestor, FamilyTree, Lineage, LineageError, NotRecorded, Place,
+                        RuleOrigin, best_place, generation_best_index, read_generation_record)
 from ga.notation import CompactNotation
 from ga.provenance import COPY, Birth, Mutation, Splice
 
@@ -38,7 +38,7 @@ class RunLineage:
     def __init__(self, population_of: Callable[[int], Sequence[Individual]], bests: Sequence[tuple[int, float]],
                  vocabulary: Vocabulary):
         self.bests = list(bests)
-        self.lineage = Lineage(population_of, len(self.bests))
+        self.lineage = Lineage(population_of, 1 + max((g for g, _ in self.bests), default=-1))
         self.vocabulary = vocabulary
 
     @classmethod
@@ -91,12 +91,17 @@ class RunLineage:
     def family_tree(self, place: Place, generations: int | None = None) -> "FamilyTreeView":
         if generations is not None and not 0 <= generations <= MAX_GENERATIONS_BACK:
             raise LineageError(f"generations back: between 0 and {MAX_GENERATIONS_BACK}, not {generations}")
-        return FamilyTreeView(self.lineage.family_tree(place, generations), self.vocabulary,
-                              best_place(self.bests, self.lineage.population))
+        tree = self.lineage.family_tree(place, generations)
+        try:
+            best = best_place(self.bests, self.lineage.population)
+        except NotRecorded:
+            best = None  # the best so far is in a generation played before lineage was recorded
+        return FamilyTreeView(tree, self.vocabulary, best)
 
 
 def _bests(folder: RunFolder, lines: dict[int, str]) -> list[tuple[int, float]]:
-    """(generation, best fitness) from statistics.csv; for the generations it lacks, from the records."""
+    """(generation, best fitness) of every finished generation: statistics.csv's, and for a generation it
+    lacks (cut short by a kill), its record's."""
     bests: dict[int, float] = {}
     try:
         with folder.statistics.open(newline="") as handle:
@@ -108,8 +113,7 @@ def _bests(folder: RunFolder, lines: dict[int, str]) -> list[tuple[int, float]]:
         if generation not in bests:
             population = read_generation_record(json.loads(line))[1]
             bests[generation] = min(individual.fitness for individual in population)
-    finished = [g for g in sorted(bests) if g in lines]
-    return [(g, bests[g]) for g in finished]
+    return sorted(bests.items())
 
 
 # ---- the tree in words ------------------------------------------------------------------------

@@ -30,6 +30,10 @@ class LineageError(LookupError):
     """A place the records do not hold (no such generation or individual, or no records at all)."""
 
 
+class NotRecorded(LineageError):
+    """A generation the run finished without a record (it was played before soccer-lab recorded lineage)."""
+
+
 class Place(NamedTuple):
     generation: int
     index: int
@@ -163,7 +167,7 @@ class Lineage:
             try:
                 self._populations[generation] = self._population_of(generation)
             except LookupError:
-                raise LineageError(f"generation {generation} has no lineage record (the run was made before "
+                raise NotRecorded(f"generation {generation} has no lineage record (the run was made before "
                                    "soccer-lab recorded lineage)") from None
         return self._populations[generation]
 
@@ -176,8 +180,9 @@ class Lineage:
 
     def family_tree(self, chosen: Place, generations: int | None = None) -> FamilyTree:
         """The chosen player and the ancestors whose genes it carries, back `generations` generations (None:
-        to generation 0), with the origin of each of its rules within them."""
-        oldest = 0 if generations is None else max(0, chosen.generation - generations)
+        to generation 0 or the oldest recorded generation), with the origin of each of its rules within them."""
+        oldest = self._oldest_recorded(chosen.generation, 0 if generations is None else
+                                       max(0, chosen.generation - generations))
         chromosome = self.individual(chosen).chromosome
         holders = {gene: (chosen, gene) for gene in range(len(chromosome))}  # chosen gene -> (place, position)
         held: dict[Place, list[int]] = {chosen: list(range(len(chromosome)))}
@@ -201,6 +206,18 @@ class Lineage:
                      for place, genes in held.items()}
         tree = FamilyTree(chosen, oldest, ancestors)
         return FamilyTree(chosen, oldest, ancestors, tuple(self._rule_origins(tree)))
+
+    def _oldest_recorded(self, newest: int, oldest: int) -> int:
+        """`oldest`, or the generation after the newest one in newest..oldest without a record (a run resumed
+        from a checkpoint made before lineage was recorded)."""
+        for generation in range(newest, oldest - 1, -1):
+            try:
+                self.population(generation)
+            except NotRecorded:
+                if generation == newest:
+                    raise
+                return generation + 1
+        return oldest
 
     def _rule_origins(self, tree: FamilyTree) -> Iterable[RuleOrigin]:
         chromosome = tree.individual.chromosome

@@ -133,6 +133,21 @@ def test_the_cli_refuses_a_folder_without_lineage_in_one_line(folder, tmp_path):
     assert result.exit_code == 2 and "cannot write" in result.output.splitlines()[-1]
 
 
+def test_a_run_resumed_from_before_lineage_shows_its_recorded_generations(folder, tmp_path):
+    import shutil
+
+    resumed = tmp_path / "resumed"
+    shutil.copytree(folder, resumed)
+    lines = (folder / "lineage.jsonl").read_text().splitlines(keepends=True)
+    (resumed / "lineage.jsonl").write_text("".join(lines[2:]))  # generations 0 and 1 played unrecorded
+    result = cli("lineage", resumed, "--generation", 4)
+    assert result.exit_code == 0, result.output
+    assert "back to generation 2" in result.output and "gen   1" not in result.output
+    assert "gen   2" in result.output
+    result = cli("lineage", resumed, "--generation", 1)
+    assert result.exit_code == 2 and "generation 1 has no lineage record" in result.output, result.output
+
+
 # ---- the store and the API --------------------------------------------------------------------
 @pytest.fixture(scope="module")
 def api(tmp_path_factory):
@@ -247,3 +262,21 @@ def test_a_database_from_before_lineage_gains_the_table_and_keeps_its_runs(tmp_p
     store.delete_run(1)  # the records go with their run
     assert store._query("SELECT COUNT(*) FROM lineage")[0][0] == 0
     store.close()
+
+
+def test_statistics_saved_before_diversity_still_read(tmp_path):
+    import csv
+
+    from app.experiment.table import COLUMNS, StatisticsTable
+    from ga.statistics import ADDED_LATER, GenerationStats
+
+    older = [c for c in COLUMNS if c not in ADDED_LATER]
+    path = tmp_path / "statistics.csv"
+    with path.open("w", newline="") as handle:
+        writer = csv.DictWriter(handle, fieldnames=older)
+        writer.writeheader()
+        writer.writerow({c: "study" if c in ("preset", "setting", "algorithm") else 0 for c in older})
+    table = StatisticsTable.read(path)
+    assert table.rows[0]["distinct_behaviours"] == 0 and table.curves("study", "study", "best").shape == (1, 1)
+    stats = GenerationStats.from_dict({c: 0 for c in older if c in GenerationStats.field_names()})
+    assert (stats.distinct_chromosomes, stats.rule_set_distance) == (0, 0.0)

@@ -215,10 +215,11 @@ class BreedingPanel:
             batch = self.batch
             grid = population_html(self.geometry, batch.observation, batch.state.goals, batch.state.done,
                                    self.labels, columns=PITCH_COLUMNS)
-        self.pitches.content = (
-            f'<div class="breeding-games" data-games="{len(self.labels)}" style="{style.FONT}; '
-            f'font-size:{style.FONT_SIZE}px">Parents (top) and children (below), all from the start of seed '
-            f"{self._seed}, as the main pitch. Top right: goals.{grid}</div>")
+        content = (f'<div class="breeding-games" data-games="{len(self.labels)}" style="{style.FONT}; '
+                   f'font-size:{style.FONT_SIZE}px">Parents (top) and children (below), all from the start of seed '
+                   f"{self._seed}, as the main pitch. Top right: goals.{grid}</div>")
+        if content != self.pitches.content:  # finished games: nothing more to send
+            self.pitches.content = content
 
 
 def _text(text: str, *, error: bool = False, muted: bool = False) -> str:
