@@ -8,6 +8,7 @@ documentation's)."""
 from __future__ import annotations
 
 import re
+from urllib.parse import urlparse
 
 import numpy as np
 import pytest
@@ -24,6 +25,7 @@ from tests.app.test_ui_browser import (CHROMIUM, CHROMIUM_ARGS, TIMEOUT_MS, VIEW
 VOCABULARY = Vocabulary.default()
 CODEC = ChromosomeCodec(VOCABULARY)
 POPULATION, GENERATIONS, BEHAVIOUR_SEEDS = 16, 4, 2
+ELSEWHERE: list[str] = []  # requests the page made to any host but the app's own
 SAVED_TEXT = "if Ball is VeryNear then KickTowardGoal High\nif Ball is not VeryNear then GoToBall VeryHigh"
 
 
@@ -61,6 +63,9 @@ def page(ui):
         browser = playwright.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS)
         page = browser.new_page(viewport=VIEWPORT)
         page.set_default_timeout(TIMEOUT_MS)
+        own = urlparse(ui.url).hostname
+        page.on("request", lambda request: urlparse(request.url).scheme in ("http", "https", "ws", "wss")
+                and urlparse(request.url).hostname != own and ELSEWHERE.append(request.url))
         page.goto(ui.url)
         page.locator(".game-status").wait_for()
         dismiss_notifications(page)
@@ -251,3 +256,11 @@ def test_the_same_seed_breeds_the_same_children_from_the_library(ui, page, run_i
     fill(page, "Seed (the same seed gives the same cuts)", 8)
     wait_until(lambda: int(session.breeding.seed.value) == 8)
     assert bred() != first
+
+
+def test_nothing_the_tabs_show_is_fetched_from_elsewhere(ui, page, run_id):
+    """After every view above (trees, breedings, games): the page asked the app's own address only."""
+    for tab in ("Lineage", "Breeding", "Evolve", "Population"):
+        page.get_by_role("tab", name=tab).click()
+    page.wait_for_timeout(1000)
+    assert ELSEWHERE == []
