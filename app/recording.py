@@ -16,17 +16,25 @@ server can record several runs at once.
   player with its facing and view cone, ball, the action chosen and the score.
 
 Recordings carry no wall-clock timeline, so the same run gives the same data.
+
+No thread outlives its recording: rerun-sdk 0.41 keeps every stream it made (two threads each: its
+batcher and its sender) until a sweep drops the ones nothing refers to, and a blueprint stream (one per
+blueprint sent) is never dropped at all. So every blueprint goes through one blueprint stream made once
+for the process (`send_blueprint`), and closing a recording sweeps its stream away
+(tests/app/test_recording_threads.py counts the threads).
 """
 
 from __future__ import annotations
 
 import math
+import threading
 from pathlib import Path
 from typing import Any, Mapping, Sequence
 
 import numpy as np
 import rerun as rr
 import rerun.blueprint as rrb
+import rerun_bindings
 
 from app.pitch_markings import CENTRE_CIRCLE_RADIUS
 from ga.statistics import NOT_MEASURED
@@ -84,13 +92,39 @@ CONE_RADIUS = 0.05
 HUNT = "HUNT"  # the label of ticks where no rule fired and the player hunted
 
 
+_blueprint_stream: rr.RecordingStream | None = None
+_blueprint_lock = threading.Lock()
+
+
+def _blueprint_storage(blueprint: rrb.Blueprint) -> object:
+    """`blueprint` as rerun's in-memory messages, made with the process's one blueprint stream (rerun's own
+    helper makes a stream per blueprint, whose threads are never ended)."""
+    global _blueprint_stream
+    with _blueprint_lock:
+        if _blueprint_stream is None:
+            _blueprint_stream = rr.RecordingStream._from_native(rerun_bindings.new_blueprint(
+                application_id=APPLICATION_ID, make_default=False, make_thread_default=False, default_enabled=True))
+        storage = _blueprint_stream.memory_recording()  # a fresh sink: only this blueprint's messages
+        _blueprint_stream.set_time("blueprint", sequence=0)
+        blueprint._log_to_stream(_blueprint_stream)
+        return storage.storage
+
+
+def send_blueprint(stream: rr.RecordingStream, blueprint: rrb.Blueprint, *, make_active: bool = True) -> None:
+    """What `stream.send_blueprint` does, without leaving two threads behind each time."""
+    rerun_bindings.send_blueprint(_blueprint_storage(blueprint), make_active=make_active, make_default=True,
+                                  recording=stream.to_native())
+
+
 def open_stream(path: str | Path, recording_id: str | None = None,
                 blueprint: rrb.Blueprint | None = None) -> rr.RecordingStream:
     """A recording stream writing to `path` (overwritten), without wall-clock or log-tick timelines."""
     stream = rr.RecordingStream(APPLICATION_ID, recording_id=recording_id, send_properties=False)
     stream.set_log_time_enabled(False)
     stream.set_log_tick_enabled(False)
-    stream.save(str(path), default_blueprint=blueprint)
+    stream.save(str(path))
+    if blueprint is not None:  # the file's default blueprint, as rerun's save(default_blueprint=...) makes it
+        send_blueprint(stream, blueprint, make_active=False)
     return stream
 
 
@@ -195,6 +229,7 @@ class RunRecorder:
         self.path = Path(path)
         self.world = world
         self.replays: list[tuple[int, str]] = []  # (generation, tab name) of each replay logged
+        self._blueprint_sent = 0  # replay tabs in the last blueprint sent
         self.stream = open_stream(self.path, recording_id, run_blueprint())
         log_series_styles(self.stream)
         if world is not None:
@@ -208,19 +243,35 @@ class RunRecorder:
         self.stream.flush()  # a killed run keeps what it logged
 
     def log_generation_replay(self, generation: int, trace: Any, result: Any) -> None:
-        """A generation's best player's game (`result` its GameResult) under replay/generation_<g>, and
-        the blueprint with its tab added."""
+        """A generation's best player's game (`result` its GameResult) under replay/generation_<g>; its tab
+        joins the blueprint (sent when the tabs double, and when the recording closes)."""
         if self.world is None:
             raise ValueError("this recording has no world to draw replays in")
         log_replay(self.stream, trace, self.world, entity=replay_entity(generation), generation=generation,
                    pitch=False)
         self.replays.append((generation, f"generation {generation} ({result.goals} goals)"))
-        self.stream.send_blueprint(run_blueprint(self.replays, self.world))
+        if len(self.replays) & (len(self.replays) - 1) == 0:  # 1, 2, 4, 8 ... tabs: see _blueprint_sent
+            self._send_blueprint()
         self.stream.flush()
 
+    def _send_blueprint(self) -> None:
+        """The blueprint with a tab per replay so far. A blueprint grows by a tab a replay, so sending it
+        after each would make a recording grow with the square of its generations (a 117-generation run
+        wrote 82 MB, most of it blueprints); sent when the tabs double and when the recording closes, its
+        share stays about twice the last one's (docs/reference/limits.md)."""
+        send_blueprint(self.stream, run_blueprint(self.replays, self.world))
+        self._blueprint_sent = len(self.replays)
+
     def close(self) -> None:
-        self.stream.flush()
-        self.stream.disconnect()
+        stream = self.stream
+        if stream is not None and self.world is not None and self.replays and self._blueprint_sent != len(self.replays):
+            self._send_blueprint()  # every replay's tab, at the end
+        self.stream = None
+        if stream is not None:
+            stream.flush()
+            stream.disconnect()
+            del stream  # the last reference: the sweep below ends its threads
+            rerun_bindings.flush_and_cleanup_orphaned_recordings()
 
 
 # ---- replays ---------------------------------------------------------------------------------

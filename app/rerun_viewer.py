@@ -8,6 +8,10 @@ starts (on a port the system picks) both listen on HOST only.
 The viewer's welcome screen links to rerun's online examples, which a machine without internet cannot
 load. The CLI's `--hide-welcome-screen` only reaches the native viewer; the web viewer takes it from its
 own address, so the app links to `viewer_home(...)`, whose `?hide_welcome_screen` turns that screen off.
+
+The viewer dies with the process that started it, `kill -9` included: the kernel sends it SIGKILL when
+its parent thread ends (prctl PR_SET_PDEATHSIG, as the rcssservers the app starts), so a restart finds
+its ports free. Start it from a thread that lives as long as the app (serve's main thread).
 """
 
 from __future__ import annotations
@@ -17,6 +21,8 @@ import socket
 import subprocess
 import time
 from pathlib import Path
+
+from soccer.rcss.servers import die_with_parent
 
 CLI_PATH_VARIABLE = "RERUN_CLI_PATH"
 START_TIMEOUT_SECONDS = 15.0
@@ -63,7 +69,8 @@ class RerunViewer:
         if not Path(command[0]).is_file():
             raise RerunViewerError(f"rerun's viewer program is missing at {command[0]} (reinstall rerun-sdk)")
         with self.log_path.open("ab") as log:
-            self.process = subprocess.Popen(command, stdin=subprocess.DEVNULL, stdout=log, stderr=log)
+            self.process = subprocess.Popen(command, stdin=subprocess.DEVNULL, stdout=log, stderr=log,
+                                            preexec_fn=die_with_parent(os.getpid()))
         deadline = time.monotonic() + START_TIMEOUT_SECONDS
         while time.monotonic() < deadline:
             if self.process.poll() is not None:

@@ -19,8 +19,20 @@ if TYPE_CHECKING:  # these compile the game kernels: imported when games are pla
     from soccer.usage import Usage
 
 DEFAULT_USAGE_GAMES = 100
-MAX_GAMES = 1000  # the API's and UI's limits: a request plays its games while the client waits
+# The API's and UI's limits: a request plays its games while the client waits (docs/reference/limits.md)
+MAX_GAMES = 1000
 MAX_GAME_TICKS = 1_000_000  # games x max ticks (a few seconds)
+MAX_RULES = 1000  # rules in a rulebase to play or simplify (an evolved one has at most max_length / 2)
+MAX_RULE_TICKS = 20_000_000  # rules x games x max ticks: about 5 s of usage or simplification, memory flat
+
+
+def checked_cost(rules: int, games: int, max_ticks: int) -> None:
+    """ValueError naming the limit when playing `games` games of `max_ticks` with `rules` rules costs too much."""
+    if rules > MAX_RULES:
+        raise ValueError(f"the rulebase has {rules:,} rules; at most {MAX_RULES:,} are played or simplified")
+    if rules * games * max_ticks > MAX_RULE_TICKS:
+        raise ValueError(f"rules x games x game.max_ticks is {rules * games * max_ticks:,}; it must be at most "
+                         f"{MAX_RULE_TICKS:,} (the request plays them while you wait): fewer games or ticks")
 
 
 def seeds_from(seed: int, games: int) -> list[int]:

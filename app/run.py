@@ -185,7 +185,7 @@ class Run:
 
     def play(self, evaluate: Evaluator, callbacks: Iterable[Callback] = (),
              stop: threading.Event | None = None) -> RunResult:
-        """Play the run to its end (or until `stop`, after the generation in progress); the GA's result.
+        """Play the run to its end (or until `stop`, within the generation in progress); the GA's result.
         The environment's failures (a server gone...) and KeyboardInterrupt propagate; every finished
         generation is kept and the run can be continued."""
         if not self.folder.manifest.exists():
@@ -209,8 +209,9 @@ class Run:
                 algorithm = evolve if self.settings.algorithm == GA else random_search
                 result = algorithm(self.settings.ga, evaluate, vocabulary, callbacks=everything,
                                    checkpoint=self.folder.checkpoint, stop=stop)
-            outputs.write_best(result.best_rulebase)
-            self.best_game = replays.game_of(result.best)
+            if result.best is not None:  # None: stopped before its first generation finished
+                outputs.write_best(result.best_rulebase)
+                self.best_game = replays.game_of(result.best)
         finally:
             recorder.close()
         return result

@@ -4,8 +4,10 @@ Each run is a thread playing one `app.run.Run` (the GA or random search, on Simp
 rcssservers: the same orchestrator as the command line) in its folder `<data_dir>/runs/<id>`. After
 every generation the run's folder is brought up to date (checkpoint, statistics.csv, best rules, the
 rerun recording); then its statistics and best individual go to the store (one transaction) and
-listeners hear about it. A run stopped, crashed or cut off by the app ending keeps every finished
-generation and resumes from its checkpoint.
+listeners hear about it; within a generation they hear its progress after every chunk of evaluations.
+A stop is obeyed between two chunks (about a second), abandoning the generation in progress. A run
+stopped, crashed or cut off by the app ending keeps every finished generation and resumes from its
+checkpoint, finishing as the uninterrupted run would.
 """
 
 from __future__ import annotations
@@ -13,6 +15,7 @@ from __future__ import annotations
 import logging
 import shutil
 import threading
+import time
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable, Sequence
@@ -39,7 +42,10 @@ from soccer.rcss.trial import TrialConfig
 log = logging.getLogger(__name__)
 
 MAX_CONCURRENT_RUNS = 2  # the GA is CPU-bound; more runs than cores only slows every one of them
-STOP_WAIT_SECONDS = 30.0
+# A run obeys a stop between two chunks of evaluations (well under a second for SimpleSoccer, one trial for
+# rcssserver): waiting longer only delays the answer of a run that is stuck
+STOP_WAIT_SECONDS = 10.0
+SHUTDOWN_WAIT_SECONDS = 2.0  # serve exits within 3 s of Ctrl+C or SIGTERM; runs are marked interrupted first
 SAMPLED_PLAYERS = 12  # the best players of each generation that listeners (the population view) receive
 
 
@@ -57,15 +63,25 @@ class SampledPlayer:
 
 
 @dataclass(frozen=True)
+class GenerationProgress:
+    """How far the generation being evaluated is: `evaluated` of its `population` individuals."""
+
+    generation: int
+    evaluated: int
+    population: int
+
+
+@dataclass(frozen=True)
 class RunEvent:
     """What listeners hear: a finished generation (stats set, with `players`: its best SAMPLED_PLAYERS
-    playable individuals, best first) or a status change."""
+    playable individuals, best first), the progress within a generation (`progress` set) or a status change."""
 
     run_id: int
     status: RunStatus
     stats: dict[str, Any] | None = None
     best_fitness: float | None = None
     players: tuple[SampledPlayer, ...] = ()
+    progress: GenerationProgress | None = None
 
 
 def sample_players(population: Sequence[Individual], codec: ChromosomeCodec,
@@ -115,12 +131,29 @@ class StoreWriter:
         self.notify(RunEvent(self.run_id, RunStatus.RUNNING, stats, best.fitness, players))
 
 
+class ProgressWatcher:
+    """GA callback keeping the progress within the generation being evaluated, and telling listeners."""
+
+    def __init__(self, run_id: int, generation: int, notify: Callable[[RunEvent], None]):
+        self.run_id = run_id
+        self.notify = notify
+        self.current = GenerationProgress(generation, 0, 0)
+
+    def on_progress(self, evaluated: int, population: int) -> None:
+        self.current = GenerationProgress(self.current.generation, evaluated, population)
+        self.notify(RunEvent(self.run_id, RunStatus.RUNNING, progress=self.current))
+
+    def on_generation(self, stats: Any, population: Any = None) -> None:
+        self.current = GenerationProgress(stats.generation + 1, 0, 0)
+
+
 @dataclass
 class _ActiveRun:
     thread: threading.Thread
     servers: frozenset[tuple[str, int]]  # the rcssservers it plays on: one run at a time on each
     stop: threading.Event = field(default_factory=threading.Event)
     stop_status: RunStatus = RunStatus.STOPPED  # what a stop means: the user's stop, or the app ending
+    watcher: ProgressWatcher | None = None
 
 
 class RunManager:
@@ -208,7 +241,8 @@ class RunManager:
         return record
 
     def stop(self, run_id: int, *, wait: float = STOP_WAIT_SECONDS) -> RunRecord:
-        """Ask a run to stop after its current generation and wait (up to `wait` s) for it."""
+        """Ask a run to stop (it abandons the generation in progress between two chunks of evaluations) and
+        wait (up to `wait` s) for it."""
         record = self.store.get_run(run_id)
         active = self._active.get(run_id)
         if active is None:
@@ -217,15 +251,33 @@ class RunManager:
         active.thread.join(wait)
         return self.store.get_run(run_id)
 
-    def shutdown(self, *, wait: float = STOP_WAIT_SECONDS) -> None:
-        """Stop every run as 'interrupted' (resumable when the app starts again)."""
+    def interrupt_all(self) -> None:
+        """Ask every run to stop as 'interrupted' (resumable when the app starts again), marked so in the
+        store at once: the app is ending. Returns without waiting (safe in a signal handler's thread)."""
         with self._lock:
-            active = list(self._active.values())
-        for run in active:
+            active = dict(self._active)
+        for run_id, run in active.items():
             run.stop_status = RunStatus.INTERRUPTED
             run.stop.set()
+            try:
+                self.store.set_run_status(run_id, RunStatus.INTERRUPTED)
+            except NotFound:
+                pass
+
+    def shutdown(self, *, wait: float = SHUTDOWN_WAIT_SECONDS) -> None:
+        """interrupt_all, then give the runs' threads `wait` s in all to end (they are daemon threads: one
+        still busy ends with the process, its last checkpoint kept)."""
+        with self._lock:
+            active = list(self._active.values())
+        self.interrupt_all()
+        deadline = time.monotonic() + wait
         for run in active:
-            run.thread.join(wait)
+            run.thread.join(max(0.0, deadline - time.monotonic()))
+
+    def progress(self, run_id: int) -> GenerationProgress | None:
+        """How far a running run's current generation is; None when it is not running."""
+        active = self._active.get(run_id)
+        return active.watcher.current if active is not None and active.watcher is not None else None
 
     def is_active(self, run_id: int) -> bool:
         return run_id in self._active
@@ -330,5 +382,7 @@ class RunManager:
         state = run.saved_state() if resume_run else None
         if state is not None:
             writer.restore([stats.to_dict() for stats in state.history], state.best, run.lineage_lines(state))
+        watcher = ProgressWatcher(record.id, len(state.history) if state else 0, self._notify)
+        self._active[record.id].watcher = watcher
         with run.evaluator(announce=lambda line: log.info("run %s: %s", record.id, line)) as evaluate:
-            return run.play(evaluate, callbacks=[writer], stop=stop).stop_reason
+            return run.play(evaluate, callbacks=[writer, watcher], stop=stop).stop_reason

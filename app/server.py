@@ -4,25 +4,22 @@ server, started together on checked ports and stopped together."""
 from __future__ import annotations
 
 import errno
+import signal
 import socket
+import threading
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable
 
-import uvicorn
-
-from app.api import create_app
 from app.paths import DATABASE_FILE
-from app.rerun_viewer import RerunViewer, RerunViewerError, viewer_home
-from app.runs import RunManager
-from app.store import Store
-from app.ui import PortBusyError, start_ui
 
 DEFAULT_HOST = "127.0.0.1"
 DEFAULT_PORT = 8000
 DEFAULT_UI_PORT = 8080
 DEFAULT_RERUN_PORT = 9090
 RERUN_VIEWER_LOG = "rerun-viewer.log"  # in the data folder
+# Requests still open when serve is told to stop get this long: serve exits within 3 s of Ctrl+C or SIGTERM
+GRACEFUL_SHUTDOWN_SECONDS = 1
 
 
 class ServeError(RuntimeError):
@@ -67,8 +64,36 @@ def check_ports(options: ServeOptions) -> None:
     check_port_free(options.host, options.rerun_port, "rerun viewer", "--rerun-port")
 
 
+def _cleanup_after_sigterm(signum: int, frame: object) -> None:
+    """Where uvicorn's re-raised SIGTERM lands once it has shut down: nowhere, so that serve's own cleanup
+    runs (the default action would end the process at once, runs still 'running', the viewer orphaned)."""
+
+
 def serve(options: ServeOptions, echo: Callable[[str], None] = print) -> None:
-    """Run everything until Ctrl+C; runs still going are then marked interrupted (resumable)."""
+    """Run everything until Ctrl+C or SIGTERM; runs still going are then marked interrupted (resumable) at
+    once, and everything stops within about 3 s."""
+    # Imported here: the command's help and its option checks do without the app (FastAPI, viser, rerun).
+    import uvicorn
+
+    from app.api import create_app
+    from app.api.ui_page import UI_PATH
+    from app.origins import SiteAddresses
+    from app.rerun_viewer import RerunViewer, RerunViewerError, viewer_home
+    from app.runs import RunManager
+    from app.store import Store
+    from app.ui import PortBusyError, start_ui
+
+    class Server(uvicorn.Server):
+        """uvicorn's server, telling `on_exit` as soon as a signal (Ctrl+C, SIGTERM) asks it to stop."""
+
+        def __init__(self, config: uvicorn.Config, on_exit: Callable[[], None]):
+            super().__init__(config)
+            self.on_exit = on_exit
+
+        def handle_exit(self, sig: int, frame: object) -> None:
+            self.on_exit()
+            super().handle_exit(sig, frame)
+
     check_ports(options)
     try:
         options.data_dir.mkdir(parents=True, exist_ok=True)
@@ -81,13 +106,17 @@ def serve(options: ServeOptions, echo: Callable[[str], None] = print) -> None:
     api_url = options.url(options.port)
     try:
         try:
-            ui = start_ui(store, runs, options.host, options.ui_port, api_url=api_url)
+            # The UI's page is served from the API's address (no other site can frame it there), and only
+            # that page may open the UI's websocket (docs/design.md, "Security")
+            ui = start_ui(store, runs, options.host, options.ui_port, api_url=api_url, page_port=options.port)
             viewer.start()
         except (PortBusyError, RerunViewerError) as exc:  # a port taken between the check and now
             raise ServeError(str(exc)) from exc
-        ui_url = options.url(options.ui_port)
+        ui_url = f"{api_url}{UI_PATH}"
         viewer_url = options.url(options.rerun_port)
-        app = create_app(store, runs, ui_url=ui_url, viewer_url=viewer_url)
+        app = create_app(store, runs, ui_url=ui_url, viewer_url=viewer_url,
+                         site=SiteAddresses.of(options.host, {options.port}, {options.port}),
+                         ui_websocket=f"ws://{options.host}:{options.ui_port}")
         echo("soccer-lab is running (Ctrl+C to stop)")
         echo(f"  home          {api_url}/")
         echo(f"  UI            {ui_url}")
@@ -97,7 +126,11 @@ def serve(options: ServeOptions, echo: Callable[[str], None] = print) -> None:
         if runs.interrupted_at_start:
             listed = ", ".join(map(str, runs.interrupted_at_start))
             echo(f"  runs cut off last time, now interrupted and resumable: {listed}")
-        uvicorn.run(app, host=options.host, port=options.port, log_level="warning")
+        config = uvicorn.Config(app, host=options.host, port=options.port, log_level="warning",
+                                timeout_graceful_shutdown=GRACEFUL_SHUTDOWN_SECONDS)
+        if threading.current_thread() is threading.main_thread():
+            signal.signal(signal.SIGTERM, _cleanup_after_sigterm)
+        Server(config, on_exit=runs.interrupt_all).run()
     finally:
         runs.shutdown()
         viewer.stop()

@@ -11,6 +11,7 @@ from __future__ import annotations
 import json
 import math
 import sqlite3
+import unicodedata
 import threading
 from contextlib import contextmanager
 from dataclasses import asdict, dataclass
@@ -427,11 +428,23 @@ def _valid_id(record_id: object) -> int:
     return record_id
 
 
+# Characters that change how the text around them is laid out: bidirectional embeddings, overrides and
+# isolates (a name "abc\u202efdp.exe" shows as "abcexe.pdf") and the directional marks.
+BIDI_CONTROLS = frozenset("\u061c\u200e\u200f\u202a\u202b\u202c\u202d\u202e\u2066\u2067\u2068\u2069")
+
+
 def _valid_name(name: object) -> str:
+    """A name as users see it everywhere: one line of plain text (no control character, no bidirectional
+    override); StoreError saying what was wrong."""
     if not isinstance(name, str) or not name.strip():
         raise StoreError("a name must be a non-empty string")
     if len(name) > NAME_MAX_LENGTH:
         raise StoreError(f"a name is at most {NAME_MAX_LENGTH} characters")
+    for position, character in enumerate(name, 1):
+        if unicodedata.category(character) == "Cc" or character in BIDI_CONTROLS:
+            kind = "a control character" if unicodedata.category(character) == "Cc" else "a bidirectional control"
+            raise StoreError(f"a name cannot hold {kind} (U+{ord(character):04X} at character {position}): "
+                             "use plain text on one line")
     return name.strip()
 
 

@@ -1,18 +1,30 @@
-"""Messy-coded genetic algorithm over fuzzy rulebases (the chapter, 4). Imports fuzzy, never soccer."""
+"""Messy-coded genetic algorithm over fuzzy rulebases (the chapter, 4). Imports fuzzy, never soccer.
 
-from ga.algorithms import evolve, random_search, resume
-from ga.checkpoint import CheckpointError, load_checkpoint, save_checkpoint
-from ga.codec import ChromosomeCodec
-from ga.config import GAConfig
-from ga.evaluation import INVALID_FITNESS, EvaluationError
-from ga.genes import GeneSpace
-from ga.individual import Individual
-from ga.notation import NotationError, format_compact, parse_compact
-from ga.result import RunResult
-from ga.statistics import GenerationStats
+The names below are imported from their modules on first use (PEP 562), so importing one light module
+(`ga.config` for GAConfig's defaults in a command's help) does not import the whole algorithm and numpy.
+"""
 
-__all__ = [
-    "evolve", "random_search", "resume", "CheckpointError", "load_checkpoint", "save_checkpoint",
-    "ChromosomeCodec", "GAConfig", "INVALID_FITNESS", "EvaluationError", "GeneSpace",
-    "Individual", "NotationError", "format_compact", "parse_compact", "RunResult", "GenerationStats",
-]
+from __future__ import annotations
+
+import importlib
+from typing import Any
+
+_MODULES = {
+    "evolve": "ga.algorithms", "random_search": "ga.algorithms", "resume": "ga.algorithms",
+    "CheckpointError": "ga.checkpoint", "load_checkpoint": "ga.checkpoint", "save_checkpoint": "ga.checkpoint",
+    "ChromosomeCodec": "ga.codec", "GAConfig": "ga.config", "INVALID_FITNESS": "ga.evaluation",
+    "EvaluationError": "ga.evaluation", "GeneSpace": "ga.genes", "Individual": "ga.individual",
+    "NotationError": "ga.notation", "format_compact": "ga.notation", "parse_compact": "ga.notation",
+    "RunResult": "ga.result", "GenerationStats": "ga.statistics",
+}
+__all__ = list(_MODULES)
+
+
+def __getattr__(name: str) -> Any:
+    if name not in _MODULES:
+        raise AttributeError(f"module 'ga' has no attribute {name!r}")
+    return getattr(importlib.import_module(_MODULES[name]), name)
+
+
+def __dir__() -> list[str]:
+    return sorted(__all__)

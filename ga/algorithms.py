@@ -6,6 +6,12 @@ random search, draw fresh individuals), draw one game seed per individual, evalu
 statistics (after the behaviour seeds' games, when the run counts behaviours), checkpoint, call the
 callbacks. Everything random comes from one Generator seeded by config.seed and saved in every
 checkpoint, so a resumed run continues bit for bit.
+
+`stop` is obeyed within a generation too (ga/evaluation.py plays it in chunks and checks between them,
+the behaviour seeds' games included): the generation in progress is abandoned and the run ends as it was
+after the last finished generation, which is what its checkpoint holds, so a resumed run plays the
+abandoned generation again, the same. Callbacks with an `on_progress(done, total)` method hear how many
+of the generation's individuals have been evaluated, after every chunk.
 """
 
 from __future__ import annotations
@@ -14,16 +20,17 @@ import threading
 import time
 from dataclasses import replace
 from pathlib import Path
-from typing import Any, Iterable
+from typing import Any, Iterable, Sequence
 
 import numpy as np
 
+from fuzzy.rule import Rulebase
 from fuzzy.vocabulary import Vocabulary
 from ga.checkpoint import load_checkpoint, save_checkpoint
 from ga.codec import ChromosomeCodec
 from ga.config import SEED_BOUND, GAConfig
 from ga.diversity import BehaviourProbe, behaviour_seeds
-from ga.evaluation import Evaluation, Evaluator
+from ga.evaluation import Evaluation, EvaluationStopped, Evaluator
 from ga.genes import GeneSpace
 from ga.individual import Individual
 from ga.initialisation import random_population
@@ -40,7 +47,7 @@ Callback = Any
 def evolve(config: GAConfig, evaluate: Evaluator, vocabulary: Vocabulary, *, callbacks: Iterable[Callback] = (),
            checkpoint: str | Path | None = None, stop: threading.Event | None = None) -> RunResult:
     """Run the messy-coded GA over rules in `vocabulary` (the one `evaluate` plays them in); `stop`
-    ends it after the generation in progress."""
+    ends it within the generation in progress (which is abandoned)."""
     return _run(_fresh_state(GA, config, vocabulary), evaluate, callbacks, checkpoint, stop)
 
 
@@ -72,26 +79,37 @@ def _run(state: RunState, evaluate: Evaluator, callbacks: Iterable[Callback], ch
     rng = np.random.default_rng()
     rng.bit_generator.state = state.rng_state
     codec = ChromosomeCodec(state.vocabulary)
+    callbacks = list(callbacks)
     listeners = [getattr(callback, "on_generation", callback) for callback in callbacks]
+    watchers = [callback.on_progress for callback in callbacks if hasattr(callback, "on_progress")]
+
+    def progress(done: int, total: int) -> None:
+        for watcher in watchers:
+            watcher(done, total)
+
     started = time.perf_counter() - state.wall_time
     probe = BehaviourProbe(behaviour_seeds(config), codec) if config.behaviour_seeds else None
-    with Evaluation(evaluate, config.workers) as evaluation:
+    with Evaluation(evaluate, config.workers, stop=stop, progress=progress) as evaluation:
         while (reason := _stop_reason(state, stop)) is None:
             population = _next_population(state, codec.space, rng)
-            population = _evaluated(population, evaluation, codec, rng)
-            behaviours = probe(population, evaluation) if probe is not None else NOT_MEASURED
+            try:
+                population = _evaluated(population, evaluation, codec, rng)
+                behaviours = probe(population, evaluation) if probe is not None else NOT_MEASURED
+            except EvaluationStopped:
+                reason = STOPPED  # the state (and rng) stay as after the last finished generation
+                break
             state = _recorded(state, population, rng, time.perf_counter() - started, behaviours)
             if checkpoint is not None:
                 save_checkpoint(checkpoint, state)
             for listener in listeners:
                 listener(state.history[-1], state.population)
-    return RunResult(config, state.vocabulary, state.history, state.population, state.best,
-                     codec.decode(state.best.chromosome), reason)
+    best_rulebase = codec.decode(state.best.chromosome) if state.best is not None else None
+    return RunResult(config, state.vocabulary, state.history, state.population, state.best, best_rulebase, reason)
 
 
 def _stop_reason(state: RunState, stop: threading.Event | None) -> str | None:
     if not state.history:
-        return None  # generation 0 always runs, so a result always has a best individual
+        return None  # generation 0 runs to its end unless stopped within it
     if state.history[-1].best <= state.config.target_fitness:
         return TARGET_REACHED
     if len(state.history) >= state.config.max_generations:
@@ -110,10 +128,26 @@ def _next_population(state: RunState, space: GeneSpace, rng: np.random.Generator
     return [Individual(chromosome, birth=RANDOM_DRAW) for chromosome in chromosomes]
 
 
+class _Decoded(Sequence[Rulebase]):
+    """The population's rulebases, each decoded when the evaluation reaches its chunk (a large population's
+    rulebases would take seconds to decode up front, with no stop obeyed meanwhile)."""
+
+    def __init__(self, population: list[Individual], codec: ChromosomeCodec):
+        self.population, self.codec = population, codec
+
+    def __len__(self) -> int:
+        return len(self.population)
+
+    def __getitem__(self, index):  # type: ignore[override]
+        if isinstance(index, slice):
+            return [self.codec.decode(individual.chromosome) for individual in self.population[index]]
+        return self.codec.decode(self.population[index].chromosome)
+
+
 def _evaluated(population: list[Individual], evaluation: Evaluation, codec: ChromosomeCodec,
                rng: np.random.Generator) -> list[Individual]:
     seeds = rng.integers(0, SEED_BOUND, size=len(population)).tolist()
-    scores = evaluation([codec.decode(individual.chromosome) for individual in population], seeds)
+    scores = evaluation(_Decoded(population, codec), seeds)
     return [individual.evaluated(score.fitness, score.goals, seed)
             for individual, score, seed in zip(population, scores, seeds)]
 

@@ -10,13 +10,18 @@ from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 SEED_BOUND = 2**63  # seeds (the run's and its games') lie in [0, SEED_BOUND)
 MAX_BEHAVIOUR_SEEDS = 16
+# Breeding a generation is not interrupted by a stop (evaluation is, between chunks): at this size it takes
+# about a second, at 100,000 tens of seconds (docs/reference/limits.md, benchmarks/stop_latency.py)
+MAX_POPULATION = 10_000
+# Each worker is a process of about 180 MB (the game kernels): 32 take about 6 GB, two runs at once 12 GB
+MAX_WORKERS = 32
 RouletteWeighting = Literal["linear", "inverse"]  # ga/selection.py roulette_weights says what each does
 
 
 class GAConfig(BaseModel):
     model_config = ConfigDict(frozen=True, extra="forbid")
 
-    population_size: int = Field(200, ge=2, le=100_000, description="individuals per generation")
+    population_size: int = Field(200, ge=2, le=MAX_POPULATION, description="individuals per generation")
     max_generations: int = Field(25, ge=1, le=100_000,
                                  description="generations evaluated, the initial population (generation 0) included")
     max_length: int = Field(64, ge=2, le=10_000, description="maximum genes per chromosome")
@@ -35,7 +40,7 @@ class GAConfig(BaseModel):
     elite_fraction: float = Field(0.05, ge=0, lt=1, description="share of the population copied unchanged (elitist)")
     target_fitness: float = Field(0.05, ge=0, le=1, description="stop once the best fitness reaches this")
     seed: int = Field(0, ge=0, lt=SEED_BOUND)
-    workers: int = Field(1, ge=1, le=256, description="evaluation processes; results do not depend on it")
+    workers: int = Field(1, ge=1, le=MAX_WORKERS, description="evaluation processes; results do not depend on it")
     behaviour_seeds: int = Field(0, ge=0, le=MAX_BEHAVIOUR_SEEDS,
                                  description="K: every generation each distinct chromosome also plays K common "
                                              "seeds, to count the distinct ways the population plays "

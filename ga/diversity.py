@@ -111,7 +111,8 @@ class BehaviourProbe:
         keys = [individual.chromosome.tobytes() for individual in population]
         new = {key: individual for key, individual in zip(keys, population) if key not in self.outcomes}
         rulebases = [self.codec.decode(individual.chromosome) for individual in new.values()]
-        scores = evaluation([rulebase for rulebase in rulebases for _ in self.seeds], self.seeds * len(rulebases))
+        scores = evaluation([rulebase for rulebase in rulebases for _ in self.seeds], self.seeds * len(rulebases),
+                            report=False)  # the progress shown is the generation's evaluation
         k = len(self.seeds)
         played = {key: tuple(scores[i * k:(i + 1) * k]) for i, key in enumerate(new)}
         self.outcomes = {key: self.outcomes.get(key) or played[key] for key in keys}

@@ -1,9 +1,12 @@
-"""Scoring rulebases with the caller's evaluator, serially or across worker processes.
+"""Scoring rulebases with the caller's evaluator, in bounded chunks, serially or across worker processes.
 
 The evaluator is any picklable callable `evaluate(rulebases, seeds) -> results`, each result with
 `.fitness` and `.goals`, whose result for one (rulebase, seed) does not depend on the rest of the
-batch. Then splitting a generation into contiguous chunks, one per worker, gives exactly the
-serial results, whatever the number of workers.
+batch. Then splitting a generation into contiguous chunks gives exactly the unsplit results, whatever
+the chunk size and the number of workers. A generation is played a chunk at a time (at most
+`evaluate.chunk_size` rulebases, else CHUNK_SIZE): what a chunk's games hold in memory is bounded
+whatever the population, the caller hears the progress after each chunk, and a stop asked for is
+obeyed between chunks (EvaluationStopped), so within about one chunk's time.
 """
 
 from __future__ import annotations
@@ -11,20 +14,27 @@ from __future__ import annotations
 import gc
 import math
 import multiprocessing
+import threading
 from concurrent.futures import ProcessPoolExecutor
 from typing import Any, Callable, NamedTuple, Sequence
-
-import numpy as np
 
 from fuzzy.rule import Rulebase
 
 INVALID_FITNESS = 1.0  # a ruleset with no valid rule is never played (README, The genetic algorithm)
+# Rulebases per chunk for an evaluator that does not say (`chunk_size`): a SimpleSoccer chunk of this many
+# 1000-tick games plays in well under a second and holds a few MB (benchmarks/stop_latency.py)
+CHUNK_SIZE = 100
 
 Evaluator = Callable[[list[Rulebase], list[int]], Sequence[Any]]
+Progress = Callable[[int, int], None]  # (rulebases evaluated so far in this generation, the generation's size)
 
 
 class EvaluationError(RuntimeError):
     pass
+
+
+class EvaluationStopped(Exception):
+    """The stop event was set: the generation in progress was abandoned between two chunks."""
 
 
 class Score(NamedTuple):
@@ -37,12 +47,18 @@ INVALID_SCORE = Score(INVALID_FITNESS, 0)
 
 class Evaluation:
     """Use as a context manager: worker processes (spawned, so safe beside threads) live for one run.
-    With `workers` = k, k - 1 processes are spawned and this process plays the first chunk itself
-    while they play the others: it would otherwise sit idle, and one process fewer starts."""
+    With `workers` = k, k - 1 processes are spawned and, chunk after chunk, this process plays one chunk
+    itself while they play the next k - 1: it would otherwise sit idle, and one process fewer starts.
+    `stop` (an Event) abandons a generation between chunks (chunks not started are cancelled);
+    `progress(done, total)` is called after every chunk."""
 
-    def __init__(self, evaluate: Evaluator, workers: int = 1):
+    def __init__(self, evaluate: Evaluator, workers: int = 1, *, stop: threading.Event | None = None,
+                 progress: Progress | None = None, chunk_size: int | None = None):
         self.evaluate = evaluate
         self.workers = workers
+        self.stop = stop
+        self.progress = progress
+        self.chunk_size = max(1, int(chunk_size or getattr(evaluate, "chunk_size", None) or CHUNK_SIZE))
         self._pool: ProcessPoolExecutor | None = None
 
     def __enter__(self) -> "Evaluation":
@@ -63,25 +79,47 @@ class Evaluation:
             self._pool = None
         gc.unfreeze()
 
-    def __call__(self, rulebases: list[Rulebase], seeds: list[int]) -> list[Score]:
-        """One Score per rulebase; empty (invalid) rulebases score INVALID_SCORE without being played."""
-        playable = [i for i, rulebase in enumerate(rulebases) if len(rulebase)]
+    def __call__(self, rulebases: Sequence[Rulebase], seeds: Sequence[int], *, report: bool = True) -> list[Score]:
+        """One Score per rulebase; empty (invalid) rulebases score INVALID_SCORE without being played.
+        `rulebases` may decode each on access: only a chunk's are held at a time. EvaluationStopped when
+        the stop event is set before the last chunk is played. `report`: call `progress` (False for games
+        that are not the generation's evaluation, such as the behaviour seeds')."""
+        start_generation = getattr(self.evaluate, "start_generation", None)
+        if start_generation is not None:  # an evaluator keeping something per generation (rcss traces)
+            start_generation()
         scores = [INVALID_SCORE] * len(rulebases)
-        for i, result in zip(playable, self._play([rulebases[i] for i in playable], [seeds[i] for i in playable])):
-            scores[i] = _score(result)
+        spans = [range(lo, min(lo + self.chunk_size, len(rulebases))) for lo in range(0, len(rulebases), self.chunk_size)]
+        group = self.workers if self._pool is not None else 1
+        for first in range(0, len(spans), group):
+            self._check_stop()
+            chunks = [[(i, rulebase) for i in span if len(rulebase := rulebases[i])] for span in spans[first:first + group]]
+            for chunk, results in zip(chunks, self._play_group(chunks, seeds)):
+                for (i, _), result in zip(chunk, results):
+                    scores[i] = _score(result)
+            if self.progress is not None and report:
+                self.progress(spans[min(first + group, len(spans)) - 1].stop, len(rulebases))
         return scores
 
-    def _play(self, rulebases: list[Rulebase], seeds: list[int]) -> list[Any]:
-        if not rulebases:
-            return []
-        if self._pool is None:
-            return _checked(self.evaluate(rulebases, seeds), len(rulebases))
-        bounds = np.linspace(0, len(rulebases), min(self.workers, len(rulebases)) + 1).astype(int)
-        spans = list(zip(bounds[:-1], bounds[1:]))  # contiguous chunks, one per worker, in order
-        futures = [self._pool.submit(self.evaluate, rulebases[lo:hi], seeds[lo:hi]) for lo, hi in spans[1:]]
-        (lo, hi), rest = spans[0], spans[1:]
-        first = _checked(self.evaluate(rulebases[lo:hi], seeds[lo:hi]), hi - lo)
-        return [*first, *(result for (lo, hi), future in zip(rest, futures) for result in _checked(future.result(), hi - lo))]
+    def _check_stop(self) -> None:
+        if self.stop is not None and self.stop.is_set():
+            raise EvaluationStopped()
+
+    def _play_group(self, chunks: list[list[tuple[int, Rulebase]]], seeds: Sequence[int]) -> list[Sequence[Any]]:
+        """The results of each chunk ((index, rulebase) pairs), in order: the first played here, the others
+        by the worker processes meanwhile."""
+        def play(chunk: list[tuple[int, Rulebase]]) -> Sequence[Any]:
+            return _checked(self.evaluate([r for _, r in chunk], [seeds[i] for i, _ in chunk]), len(chunk)) if chunk else []
+
+        futures = [self._pool.submit(self.evaluate, [r for _, r in chunk], [seeds[i] for i, _ in chunk]) if chunk else None
+                   for chunk in chunks[1:]] if self._pool is not None else []
+        try:
+            first = play(chunks[0])
+            return [first, *(_checked(future.result(), len(chunk)) if future is not None else []
+                             for chunk, future in zip(chunks[1:], futures))]
+        finally:
+            for future in futures:
+                if future is not None:
+                    future.cancel()  # only what has not started: an error or interruption leaves nothing queued
 
 
 def _checked(results: Sequence[Any], expected: int) -> Sequence[Any]:

@@ -19,8 +19,10 @@ class RunResult:
     vocabulary: Vocabulary
     history: list[GenerationStats]
     population: list[Individual]  # the last evaluated generation
-    best: Individual  # best running mean seen in the run: chromosome, fitness, evaluations, goals
-    best_rulebase: Rulebase
+    # best running mean seen in the run: chromosome, fitness, evaluations, goals; None (and best_rulebase
+    # None) only for a run stopped before its first generation finished
+    best: Individual | None
+    best_rulebase: Rulebase | None
     stop_reason: str  # TARGET_REACHED, GENERATIONS_DONE or STOPPED
 
     @property

@@ -3,12 +3,14 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-from fuzzy.vocabulary import Vocabulary
 from ga.config import GAConfig
-from ga.individual import Individual
-from ga.statistics import GenerationStats
+
+if TYPE_CHECKING:  # annotations only: the algorithm names above are read where numpy is not wanted (CLI help)
+    from fuzzy.vocabulary import Vocabulary
+    from ga.individual import Individual
+    from ga.statistics import GenerationStats
 
 GA, RANDOM_SEARCH = "ga", "random-search"
 ALGORITHMS = (GA, RANDOM_SEARCH)

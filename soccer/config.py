@@ -15,6 +15,12 @@ from fuzzy.vocabulary import Vocabulary
 # given another; GameBatch, the engine itself, always takes its vocabulary explicitly.
 SOCCER_VOCABULARY = Vocabulary.default()
 
+# Upper bounds of the evaluation rules (docs/reference/limits.md): every game or trial, and so every request
+# and run, has a bounded cost. Ten times the chapter's trial length; a cap or idle limit past the game's
+# length never ends it; a mean over more games than this adds nothing the GA can use.
+MAX_TICKS = 10_000
+MAX_GAMES_PER_EVALUATION = 100
+
 FitnessName = Literal["simple-composite", "goals-only", "robocup-composite"]
 FITNESS_NAMES: tuple[str, ...] = get_args(FitnessName)
 SkillSet = Literal["strict", "assisted", "sighted"]  # soccer/skills.py says what each does
@@ -149,9 +155,9 @@ class EvaluationRules(BaseModel):
 
     model_config = ConfigDict(frozen=True, extra="forbid")
 
-    max_ticks: PositiveInt = 1000
-    goal_cap: PositiveInt = 10
-    idle_ticks: PositiveInt = 100  # consecutive ticks without moving more than idle_distance nor kicking
+    max_ticks: int = Field(1000, ge=1, le=MAX_TICKS)
+    goal_cap: int = Field(10, ge=1, le=MAX_TICKS)
+    idle_ticks: int = Field(100, ge=1, le=MAX_TICKS)  # consecutive ticks without moving more than idle_distance nor kicking
     idle_distance: float = Field(0.01, ge=0.0)
     fitness: FitnessName = "simple-composite"
     # What the kicking skills do with the ball out of reach, and what the player knows of the goal
@@ -164,7 +170,7 @@ class EvaluationRules(BaseModel):
 class GameConfig(EvaluationRules):
     """The rules of one SimpleSoccer game, and its world."""
 
-    games_per_evaluation: PositiveInt = 1
+    games_per_evaluation: int = Field(1, ge=1, le=MAX_GAMES_PER_EVALUATION)
     noise: bool = False  # rcssserver-like velocity and turn noise
     # What the fitness counts as a kick: the kicks that reached the ball (default), or also every tick the
     # player's body pushes the ball (README, "Calibration": the chapter's 5.2.3 reads fitness 1.0 as "no ball

@@ -13,6 +13,10 @@ from fuzzy.vocabulary import Vocabulary
 from soccer.config import SOCCER_VOCABULARY, GameConfig
 from soccer.engine import GameResult, play_games
 
+# Games per chunk of a generation: a batch of this many games plays in well under a second at the default
+# max_ticks and holds a few MB, so a stop is obeyed quickly and memory is bounded (benchmarks/stop_latency.py)
+CHUNK_GAMES = 100
+
 
 def game_seeds(seed: int, games: int) -> list[int]:
     """The seeds of an evaluation's games: the seed itself for one game, else derived from it."""
@@ -29,6 +33,11 @@ class SimpleSoccerEvaluator:
 
     config: GameConfig = GameConfig()
     vocabulary: Vocabulary = SOCCER_VOCABULARY  # the rulebases' vocabulary (the GA's)
+
+    @property
+    def chunk_size(self) -> int:
+        """Rulebases per chunk when the GA plays a generation in chunks (ga/evaluation.py): CHUNK_GAMES games."""
+        return max(1, CHUNK_GAMES // self.config.games_per_evaluation)
 
     def __call__(self, rulebases: Sequence[Rulebase], seeds: Sequence[int]) -> list[GameResult]:
         if len(rulebases) != len(seeds):

@@ -111,6 +111,7 @@ class _UsageCounter:
     """Counts ticks in chunks: a few large numpy operations instead of several per tick."""
 
     CHUNK = 20_000  # decisions buffered before they are counted
+    CHUNK_CELLS = 2_000_000  # at most this many (decision, rule) strengths buffered: 16 MB, whatever the rules
 
     def __init__(self, rulebase: Rulebase, vocabulary: Vocabulary):
         self.vocabulary = vocabulary
@@ -133,7 +134,7 @@ class _UsageCounter:
         self._strengths.append(strengths.copy())
         self._actions.append(actions.copy())
         self._buffered += len(actions)
-        if self._buffered >= self.CHUNK:
+        if self._buffered >= self.CHUNK or self._buffered * len(self.rule_action) >= self.CHUNK_CELLS:
             self.count()
 
     def count(self) -> None:

@@ -9,8 +9,11 @@ from fastapi.middleware.cors import CORSMiddleware
 from fastapi.staticfiles import StaticFiles
 
 from app.api.errors import MAX_BODY_BYTES, BodySizeLimit, install_error_handlers
+from app.api.guard import RequestGuard
 from app.api.models import ServerInfo
 from app.api.routes import experiments, lineage, rulebases, rules, runs, vocabulary
+from app.api.ui_page import UI_PATH, ui_router
+from app.origins import SiteAddresses
 from app.rerun_viewer import viewer_home
 from app.runs import RunManager
 from app.store import Store
@@ -26,9 +29,13 @@ def create_app(
     ui_url: str | None = None,
     viewer_url: str | None = None,
     max_body_bytes: int = MAX_BODY_BYTES,
+    site: SiteAddresses | None = None,
+    ui_websocket: str | None = None,
 ) -> FastAPI:
     """The API over `store` and `run_manager`; ui_url/viewer_url are linked from the landing page
-    (the rerun viewer also fetches recordings from here, hence CORS for its origin)."""
+    (the rerun viewer also fetches recordings from here, hence CORS for its origin). `site`: the address
+    served, whose Host headers and origins are accepted (app/api/guard.py; None: any Host, for tests).
+    `ui_websocket`: the UI's websocket (ws://host:ui_port), whose page the app then serves at /ui/."""
     app = FastAPI(
         title="soccer-lab",
         summary="Evolve, inspect and teach fuzzy-rule robot soccer players.",
@@ -40,6 +47,7 @@ def create_app(
     app.add_middleware(BodySizeLimit, limit=max_body_bytes)
     if viewer_url:
         app.add_middleware(CORSMiddleware, allow_origins=[viewer_url.rstrip("/")], allow_methods=["GET"])
+    app.add_middleware(RequestGuard, site=site)  # outermost: checked before anything else runs
 
     api = APIRouter(prefix=API_PREFIX)
     for module in (vocabulary, rulebases, rules, runs, lineage, experiments):
@@ -51,5 +59,7 @@ def create_app(
                           docs=app.docs_url or "")
 
     app.include_router(api)
+    if ui_websocket:
+        app.include_router(ui_router(ui_websocket))
     app.mount("/", StaticFiles(directory=STATIC_DIR, html=True), name="static")
     return app

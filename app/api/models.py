@@ -283,6 +283,15 @@ class RunRename(Strict):
     name: Name
 
 
+class GenerationProgressOut(BaseModel):
+    """How far a running run's current generation is: `evaluated` of its `population` individuals (each
+    evaluation games_per_evaluation games, or one rcssserver trial)."""
+
+    generation: int
+    evaluated: int
+    population: int
+
+
 class RunOut(BaseModel):
     id: int
     name: str
@@ -295,11 +304,15 @@ class RunOut(BaseModel):
     best_fitness: float | None
     resumable: bool
     recording: str | None  # URL of the rerun recording, once there is one
+    progress: GenerationProgressOut | None = None  # while running: the generation being evaluated
 
     @classmethod
-    def of(cls, record: RunRecord, statistics: list[dict[str, Any]], recording: str | None) -> "RunOut":
+    def of(cls, record: RunRecord, statistics: list[dict[str, Any]], recording: str | None,
+           progress: Any = None) -> "RunOut":
         bests = [s["best"] for s in statistics if isinstance(s.get("best"), (int, float))]
         return cls(
+            progress=GenerationProgressOut(generation=progress.generation, evaluated=progress.evaluated,
+                                           population=progress.population) if progress is not None else None,
             id=record.id,
             name=record.name,
             status=str(record.status),
@@ -345,7 +358,7 @@ class ExperimentOut(BaseModel):
     id: int
     preset: str
     created: str
-    folder: str
+    folder: str  # the folder's name (the API returns no filesystem path)
     available: bool  # the folder is still there
     presets: list[str]
     trials: int | None

@@ -6,9 +6,12 @@ from typing import Any, NoReturn
 
 import typer
 from typer._click.exceptions import UsageError  # typer vendors click: its errors are not click's
-from typer.core import TyperCommand
+from typer.core import TyperCommand, TyperGroup
 
 USAGE_ERROR = 2
+# Every Typer of the CLI takes these: help as plain text wrapped to the terminal (rich's tables cut long option
+# names at 80 columns, and importing rich costs every --help); no shell-completion options.
+TYPER_SETTINGS: dict[str, Any] = {"rich_markup_mode": None, "add_completion": False}
 
 
 def fail(message: str) -> NoReturn:
@@ -18,7 +21,21 @@ def fail(message: str) -> NoReturn:
 
 class OneLineErrors(TyperCommand):
     """Use as `@app.command(cls=OneLineErrors)`: a malformed option or argument of the command (click's
-    own checks: unknown option, not an integer...) prints one `error:` line too, not a usage box."""
+    own checks: unknown option, not an integer...) prints one `error:` line too, not a usage box. Its help
+    lists the options under their panel's heading (`rich_help_panel`, e.g. "Game"), plain text wrapped to
+    the terminal."""
+
+    def format_options(self, ctx: Any, formatter: Any) -> None:
+        sections: dict[str, list[tuple[str, str]]] = {}
+        for param in self.get_params(ctx):
+            record = param.get_help_record(ctx)
+            if record is not None:
+                heading = ("Arguments" if param.param_type_name == "argument"
+                           else getattr(param, "rich_help_panel", None) or "Options")
+                sections.setdefault(heading, []).append(record)
+        for heading, records in sections.items():
+            with formatter.section(heading):
+                formatter.write_dl(records)
 
     def make_context(self, info_name: str | None, args: list[str], parent: Any = None, **extra: Any) -> Any:
         try:
@@ -31,3 +48,16 @@ class OneLineErrors(TyperCommand):
             return super().invoke(ctx)
         except UsageError as exc:
             fail(exc.format_message())
+
+
+class CommandList(TyperGroup):
+    """A group of commands (`typer.Typer(cls=CommandList)`) whose help lists each command with the first
+    paragraph of its help whole, wrapped (click cuts it at 45 columns with "...")."""
+
+    def format_commands(self, ctx: Any, formatter: Any) -> None:
+        with formatter.section("Commands"):
+            formatter.write_dl([(name, self.summary(ctx, name)) for name in self.list_commands(ctx)])
+
+    def summary(self, ctx: Any, name: str) -> str:
+        command = self.get_command(ctx, name)
+        return command.short_help or " ".join((command.help or "").split("\n\n")[0].split())

@@ -11,8 +11,6 @@ from types import SimpleNamespace
 from typing import TYPE_CHECKING, Annotated, Any, Optional
 
 import typer
-from rich.console import Console
-from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
 
 from app.cli.common import fail
 from app.cli.play import (CountTouchesOption, EnvOption, FitnessOption, GoalCapOption, IdleTicksOption,
@@ -20,16 +18,13 @@ from app.cli.play import (CountTouchesOption, EnvOption, FitnessOption, GoalCapO
                           chosen_env, config_from_options, game_config, option_help, option_name, rcss_executable,
                           rcss_servers, trial_config)
 from app.environments import RCSS, RCSS_WORKERS, SIMPLE, checked_workers
-from app.rulebase_files import rulebase_text
-from app.run_outputs import RunFolder, RunFolderError, default_run_dir
-from ga.checkpoint import CheckpointError
 from ga.config import GAConfig
-from ga.result import RunResult
-from ga.state import GA, RANDOM_SEARCH
 from soccer.config import GameConfig
 
-if TYPE_CHECKING:
+if TYPE_CHECKING:  # the run's machinery (numpy, numba, rerun) is imported when a run starts, not for --help
     from app.run import Run, RunSettings
+    from app.run_outputs import RunFolder
+    from ga.result import RunResult
 
 GA_PANEL = "Genetic algorithm"
 RUN_PANEL = "Run"
@@ -96,7 +91,9 @@ def evolve_command(
     rcssserver: RcssserverOption = None, servers: ServersOption = None, out: Out = None, resume_dir: Resume = None,
 ) -> None:
     """Evolve a goal-scoring rulebase with the messy-coded GA (defaults: the chapter's Table 2)."""
-    options = dict(locals())
+    options = dict(locals())  # first: the options are the function's locals
+    from ga.state import GA
+
     if resume_dir is not None:
         # The servers may change: a resumed rcss run can use other servers (or ports) than before.
         given = [f"--{name.replace('_', '-')}" for name, value in options.items()
@@ -120,7 +117,10 @@ def random_search_command(
 ) -> None:
     """The baseline: spend the same evaluations on fresh random rulebases (population x generations),
     with the same statistics and outputs as evolve. Continue a killed one with `evolve --resume`."""
-    _start(RANDOM_SEARCH, dict(locals()))
+    options = dict(locals())  # first: the options are the function's locals
+    from ga.state import RANDOM_SEARCH
+
+    _start(RANDOM_SEARCH, options)
 
 
 # ---- where evaluations play -------------------------------------------------------------------
@@ -164,6 +164,7 @@ def _start(algorithm: str, options: dict[str, Any]) -> None:
     out = options["out"]
     settings = _settings(algorithm, options)
     from app.run import Run
+    from app.run_outputs import RunFolderError, default_run_dir
 
     try:
         run = Run.create(settings, out or default_run_dir())
@@ -174,6 +175,8 @@ def _start(algorithm: str, options: dict[str, Any]) -> None:
 
 def _resume(path: Path, servers: list[str] | None, rcssserver: Path | None, count: int | None) -> None:
     from app.run import Run
+    from app.run_outputs import RunFolderError
+    from ga.checkpoint import CheckpointError
 
     try:
         run = Run.open(path)
@@ -196,6 +199,9 @@ def _resume(path: Path, servers: list[str] | None, rcssserver: Path | None, coun
 def _drive(run: "Run", *, history: list[dict]) -> None:
     """Play the run with a progress bar, then print the summary. Ctrl-C and a failing environment end it
     with a line saying how to continue."""
+    from app.run_outputs import RunFolderError
+    from ga.state import GA
+
     settings, folder = run.settings, run.folder
     label = "evolving" if settings.algorithm == GA else "random search"
     try:
@@ -204,7 +210,7 @@ def _drive(run: "Run", *, history: list[dict]) -> None:
                 typer.echo(f"resuming {folder.path} after generation {len(history) - 1}", err=True)
             with GenerationProgress(settings.ga.max_generations, last=history[-1] if history else None,
                                     label=label) as progress:
-                result: RunResult = run.play(evaluate, callbacks=[progress])
+                result = run.play(evaluate, callbacks=[progress])
     except RunFolderError as exc:
         fail(str(exc))
     except KeyboardInterrupt:
@@ -217,18 +223,26 @@ def _drive(run: "Run", *, history: list[dict]) -> None:
 
 
 class GenerationProgress:
-    """A progress bar over generations showing the best and mean fitness (on stderr)."""
+    """A progress bar over generations showing the best and mean fitness, and a second one over the
+    evaluations of the generation in progress (on stderr)."""
 
     def __init__(self, total: int, *, last: dict[str, Any] | None = None, label: str = "evolving"):
         """last: the statistics of the last finished generation, when resuming."""
+        from rich.console import Console
+        from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+
         self.progress = Progress(
             TextColumn("[bold]{task.description}"), BarColumn(), MofNCompleteColumn(),
-            TextColumn("best {task.fields[best]}  mean {task.fields[mean]}"), TimeElapsedColumn(),
+            TextColumn("{task.fields[detail]}"), TimeElapsedColumn(),
             console=Console(stderr=True),
         )
-        self.task = self.progress.add_task(label, total=total, completed=0, best="-", mean="-")
+        self.task = self.progress.add_task(label, total=total, completed=0, detail="best -  mean -")
+        self.within = self.progress.add_task("generation 0", total=None, completed=0, detail="evaluated")
         if last is not None:
             self.on_generation(SimpleNamespace(**last))
+
+    def on_progress(self, evaluated: int, population: int) -> None:
+        self.progress.update(self.within, completed=evaluated, total=population)
 
     def __enter__(self) -> "GenerationProgress":
         self.progress.start()
@@ -239,10 +253,13 @@ class GenerationProgress:
 
     def on_generation(self, stats: Any, population: Any = None) -> None:
         self.progress.update(self.task, completed=stats.generation + 1,
-                             best=f"{stats.best:.4f}", mean=f"{stats.mean:.4f}")
+                             detail=f"best {stats.best:.4f}  mean {stats.mean:.4f}")
+        self.progress.reset(self.within, description=f"generation {stats.generation + 1}", total=None)
 
 
-def _summary(run: "Run", result: RunResult) -> None:
+def _summary(run: "Run", result: "RunResult") -> None:
+    from app.rulebase_files import rulebase_text
+
     folder, best = run.folder, result.best
     typer.echo(f"{len(result.history)} generations, {result.evaluations} evaluations ({result.stop_reason}), "
                f"{result.history[-1].wall_time:.1f} s")
@@ -275,6 +292,6 @@ def _replay_line(run: "Run") -> str:
     return line
 
 
-def _outputs(folder: RunFolder) -> list[Path]:
+def _outputs(folder: "RunFolder") -> list[Path]:
     return [p for p in (folder.best_rules, folder.best_json, folder.statistics, folder.lineage, folder.checkpoint,
                         folder.recording, folder.manifest) if p.exists()]

@@ -5,11 +5,9 @@ from __future__ import annotations
 
 from contextlib import ExitStack
 from pathlib import Path
-from typing import Annotated, Optional
+from typing import TYPE_CHECKING, Annotated, Optional
 
 import typer
-from rich.console import Console
-from rich.progress import BarColumn, Progress, TaskProgressColumn, TextColumn, TimeElapsedColumn, TimeRemainingColumn
 
 from app.cli.common import fail
 from app.cli.play import (RcssserverOption, ServerOption, ServersOption, config_from_options, option_help,
@@ -17,9 +15,11 @@ from app.cli.play import (RcssserverOption, ServerOption, ServersOption, config_
 from app.experiment.executors import EXECUTOR_NAMES, LOCAL, ExecutorError, RcssExecutor, make_executor
 from app.experiment.presets import (CHAPTER_GENERATIONS, CHOICES, DEFAULT_TRIALS, INITIAL_TRIALS, LONG_GENERATIONS,
                                     ROBOCUP, ExperimentOptions)
-from app.experiment.runner import ExperimentError, ExperimentOutcome, run_experiment
 from soccer.config import SKILL_SET_NAMES
 from soccer.rcss.errors import RcssError
+
+if TYPE_CHECKING:  # the runner (the GA, the report's statistics and figures) is imported when an experiment runs
+    from app.experiment.runner import ExperimentOutcome
 
 DEFAULT_OUT_FOLDER = "experiments"
 
@@ -91,6 +91,8 @@ def experiment_command(
     _check_where_trials_run(preset, {"--server": server, "--rcssserver": rcssserver, "--servers": servers},
                             {"--executor": executor, "--workers": workers, "--address": address, "--noise": noise,
                              "--count-touches": count_touches})
+    from app.experiment.runner import ExperimentError, run_experiment
+
     try:
         with ExitStack() as stack:
             if preset == ROBOCUP:
@@ -128,6 +130,10 @@ class ExperimentProgress:
     """One bar for the whole experiment, counted in evaluations (trials differ in size)."""
 
     def __init__(self, preset: str):
+        from rich.console import Console
+        from rich.progress import (BarColumn, Progress, TaskProgressColumn, TextColumn, TimeElapsedColumn,
+                                   TimeRemainingColumn)
+
         self.progress = Progress(TextColumn("[bold]experiment {task.description}"), BarColumn(),
                                  TaskProgressColumn(), TextColumn("{task.fields[note]}"), TimeElapsedColumn(),
                                  TimeRemainingColumn(), console=Console(stderr=True))
@@ -145,7 +151,7 @@ class ExperimentProgress:
         self.progress.update(self.task, completed=completed, total=total, note=note)
 
 
-def _record(preset: str, options: ExperimentOptions, outcome: ExperimentOutcome, data_dir: Path | None) -> None:
+def _record(preset: str, options: ExperimentOptions, outcome: "ExperimentOutcome", data_dir: Path | None) -> None:
     from app.experiment.library import library_summary
     from app.paths import DATABASE_FILE, default_data_dir
     from app.store import Store, StoreError
@@ -162,7 +168,7 @@ def _record(preset: str, options: ExperimentOptions, outcome: ExperimentOutcome,
         typer.echo(f"warning: not recorded in the library: {exc}", err=True)
 
 
-def _summary(outcome: ExperimentOutcome) -> None:
+def _summary(outcome: "ExperimentOutcome") -> None:
     trials = len(outcome.plan.specs)
     typer.echo(f"{trials} trials ({outcome.ran} run, {outcome.skipped} already finished) in {outcome.seconds:.1f} s")
     typer.echo("verdicts: " + ", ".join(f"{n} {v}" for v, n in outcome.report.verdicts().items() if n))

@@ -15,8 +15,6 @@ from pydantic import BaseModel, ValidationError
 
 from app.cli.common import fail
 from app.environments import ENVIRONMENTS, RCSS, SIMPLE, checked_env, checked_servers
-from app.recording import log_replay, open_stream
-from app.rulebase_files import RulebaseFileError, load_rulebase
 from app.validation import describe_problems
 from soccer.config import FITNESS_NAMES, SKILL_SET_NAMES, GameConfig
 from soccer.rcss.servers import EXECUTABLE_VARIABLE, MAX_SERVERS
@@ -186,8 +184,8 @@ def consecutive_seeds(seed: int, games: int) -> list[int]:
 
 
 def play_command(
-    rulebase: Annotated[Path, typer.Argument(help="Rulebase file: rule text (.rules) or JSON (.json).",
-                                             show_default=False)],
+    rulebase: Annotated[Path, typer.Argument(
+        metavar="RULEBASE", help="Rulebase file: rule text (.rules) or JSON (.json).", show_default=False)],
     games: Annotated[int, typer.Option("--games", "-n", min=1, help="Games to play.")] = DEFAULT_GAMES,
     seed: Annotated[int, typer.Option("--seed", min=0, help="Seed of the first game's start; game i uses seed + i.")]
     = DEFAULT_SEED,
@@ -207,6 +205,8 @@ def play_command(
     servers: ServersOption = None,
 ) -> None:
     """Play RULEBASE in SimpleSoccer (or on rcssserver) from seeded random starts; print goals, kicks, ticks and fitness."""
+    from app.recording import log_replay
+    from app.rulebase_files import RulebaseFileError, load_rulebase
     from soccer.engine import play_game, play_games
 
     env = chosen_env(env, server, {"--noise": noise, "--count-touches": count_touches},
@@ -258,6 +258,8 @@ def _open_replay_file(path: Path):
         fail(f"--rrd: {path} is a folder")
     if not path.parent.is_dir():
         fail(f"--rrd: folder {path.parent} does not exist")
+    from app.recording import open_stream
+
     return open_stream(path)
 
 

@@ -11,7 +11,7 @@ from typing import TYPE_CHECKING, Optional
 
 import typer
 
-from app.cli.common import OneLineErrors, fail
+from app.cli.common import TYPER_SETTINGS, CommandList, OneLineErrors, fail
 from app.cli.play import (CountTouchesOption, FitnessOption, GoalCapOption, IdleTicksOption, MaxTicksOption,
                           NoiseOption, SkillsOption, game_config)
 from app.rule_inspection import DEFAULT_USAGE_GAMES
@@ -29,7 +29,8 @@ if TYPE_CHECKING:  # these play games (numba kernels): imported by the commands 
     from soccer.simplify import CheckedSimplification
     from soccer.usage import Usage
 
-app = typer.Typer(help="Work with rulebases: check, infer, export, decode, usage, simplify.", no_args_is_help=True)
+app = typer.Typer(help="Work with rulebases: check, infer, export, decode, usage, simplify.", no_args_is_help=True,
+                  cls=CommandList, **TYPER_SETTINGS)
 
 VOCABULARY_OPTION = typer.Option(None, "--vocabulary", help="Vocabulary JSON for rule text (default: the soccer one).")
 
@@ -58,7 +59,7 @@ def load_rulebase(path: Path, vocabulary_path: Path | None = None) -> tuple[Rule
 
 
 @app.command(cls=OneLineErrors)
-def check(file: Path = typer.Argument(..., help="Rule text or rulebase JSON."),
+def check(file: Path = typer.Argument(..., metavar="FILE", help="Rule text or rulebase JSON."),
           vocabulary: Optional[Path] = VOCABULARY_OPTION) -> None:
     """Parse FILE and print its rules normalised, or every error as FILE:LINE:COL: message (exit 2)."""
     rulebase, vocab = load_rulebase(file, vocabulary)
@@ -117,7 +118,7 @@ def inference_report(rulebase: Rulebase, vocabulary: Vocabulary, inputs: dict[st
 
 @app.command(cls=OneLineErrors)
 def infer(
-    file: Path = typer.Argument(..., help="Rule text or rulebase JSON."),
+    file: Path = typer.Argument(..., metavar="FILE", help="Rule text or rulebase JSON."),
     input: list[str] = typer.Option([], "--input", "-i", help="NAME=VALUE, e.g. ball_distance=3.5 (repeatable)."),
     vocabulary: Optional[Path] = VOCABULARY_OPTION,
 ) -> None:
@@ -132,7 +133,7 @@ def infer(
 
 @app.command(cls=OneLineErrors)
 def export(
-    file: Path = typer.Argument(..., help="Rule text or rulebase JSON."),
+    file: Path = typer.Argument(..., metavar="FILE", help="Rule text or rulebase JSON."),
     format: str = typer.Option("json", "--format", "-f", help=f"One of {', '.join(FORMATS)}."),
     output: Optional[Path] = typer.Option(None, "--output", "-o", help="Write here instead of standard output."),
     vocabulary: Optional[Path] = VOCABULARY_OPTION,
@@ -153,7 +154,8 @@ def export(
 
 @app.command()
 def decode(
-    notation: str = typer.Argument(..., help='A chromosome in compact notation, e.g. "(B,N,O) (RB,n,L)".'),
+    notation: str = typer.Argument(..., metavar="NOTATION",
+                                   help='A chromosome in compact notation, e.g. "(B,N,O) (RB,n,L)".'),
 ) -> None:
     """Decode a chromosome in the chapter's compact notation (Figs. 6, 7) and print its rules."""
     from ga.codec import ChromosomeCodec
@@ -175,7 +177,7 @@ def decode(
 
 @app.command(cls=OneLineErrors)
 def usage(
-    file: Path = typer.Argument(..., help="Rule text or rulebase JSON."),
+    file: Path = typer.Argument(..., metavar="FILE", help="Rule text or rulebase JSON."),
     games: int = typer.Option(DEFAULT_USAGE_GAMES, "--games", "-n", min=1, help="Games to play."),
     seed: int = typer.Option(0, "--seed", min=0, help="Seed of the first game's start; game i uses seed + i."),
     as_json: bool = typer.Option(False, "--json", help="Print the counts as JSON."),
@@ -205,7 +207,7 @@ def usage(
 
 @app.command(cls=OneLineErrors)
 def simplify(
-    file: Path = typer.Argument(..., help="Rule text or rulebase JSON."),
+    file: Path = typer.Argument(..., metavar="FILE", help="Rule text or rulebase JSON."),
     games: int = typer.Option(0, "--games", "-n", min=0,
                               help="Also drop the rules that never won in this many games, if the games replay "
                                    "identically (0: only the exact steps)."),

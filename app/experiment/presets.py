@@ -23,10 +23,9 @@ import json
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
-import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
 
-from ga.config import SEED_BOUND, GAConfig, RouletteWeighting
+from ga.config import MAX_POPULATION, SEED_BOUND, GAConfig, RouletteWeighting
 from ga.state import GA, RANDOM_SEARCH
 from soccer.config import GameConfig, SkillSet
 
@@ -62,7 +61,7 @@ class ExperimentOptions(BaseModel):
     model_config = ConfigDict(frozen=True, extra="forbid")
 
     trials: int | None = Field(None, ge=1, le=10_000, description="trials per setting (default: the chapter's)")
-    population: int = Field(CHAPTER_POPULATION, ge=2, le=100_000, description="Table 2's population size")
+    population: int = Field(CHAPTER_POPULATION, ge=2, le=MAX_POPULATION, description="Table 2's population size")
     generations: int = Field(CHAPTER_GENERATIONS, ge=1, le=100_000, description="Table 2's generations")
     max_ticks: int = Field(GameConfig().max_ticks, ge=1, le=1_000_000, description="ticks a game lasts at most")
     seed: int = Field(0, ge=0, lt=SEED_BOUND, description="experiment seed: every trial's seed derives from it")
@@ -223,6 +222,8 @@ def presets(name: str, options: ExperimentOptions) -> list[Preset]:
 
 def trial_seed(experiment_seed: int, setting: Setting, trial: int) -> int:
     """Each trial's seed, stable per (experiment seed, setting configuration, trial number)."""
+    import numpy as np  # here, not at the top: `soccer-lab experiment --help` reads this module's defaults
+
     key = [int(setting.key.rsplit("-", 1)[1], 16), trial]
     state = np.random.SeedSequence(experiment_seed, spawn_key=key).generate_state(1, np.uint64)[0]
     return int(state) % SEED_BOUND

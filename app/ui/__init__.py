@@ -5,6 +5,13 @@ game, editor and panels; evolution runs in the RunManager's threads and sessions
     print(handle.url)
     ...
     handle.stop()
+
+viser (1.1) checks no Origin: any web page could open the UI's websocket and drive it (delete a saved
+rulebase...). `admit_only` hooks into viser's websocket server, whose connect callbacks run before it sends
+anything and before any per-client GUI is built: a handshake whose Host is not the address served or whose
+Origin is not the app's own page is closed at once (1008). It reads viser's `_live_connections`; if an
+upgrade changes that, the UI refuses to start (tests/app/test_ui_origin.py guards it). docs/design.md,
+"Security", says why this hook and not a proxy.
 """
 
 from __future__ import annotations
@@ -13,11 +20,13 @@ import logging
 import threading
 import warnings
 from dataclasses import dataclass, field
+from typing import Any
 
 import viser
 
 from typing import TYPE_CHECKING
 
+from app.origins import SiteAddresses
 from app.ui.context import UiContext
 from app.ui.layout import Layout
 from app.ui.pitch import PitchGeometry, draw_pitch
@@ -44,6 +53,43 @@ CLOSED_TAB_WARNING = r"Queued a \w+ on a closed connection"
 
 class PortBusyError(OSError):
     pass
+
+
+POLICY_VIOLATION = 1008  # the websocket close code for a refused handshake
+
+
+def admit_only(server: viser.ViserServer, site: SiteAddresses) -> None:
+    """Close at once every websocket whose handshake is not from `site`'s own pages (see the module's doc)."""
+    websockets_server = server._websock_server
+    live = getattr(websockets_server, "_live_connections", None)
+    if not isinstance(live, dict):
+        server.stop()
+        raise RuntimeError("this viser version keeps no _live_connections: the UI cannot check origins "
+                           f"(viser {viser.__version__}; see app/ui/__init__.py)")
+
+    told: set[str] = set()
+
+    def refusal_of(websocket: Any) -> str | None:
+        try:
+            headers = websocket.request.headers
+            hosts, origins = headers.get_all("Host"), headers.get_all("Origin")
+        except Exception:  # fail closed: a handshake this code cannot read is refused
+            return "the handshake cannot be read"
+        if len(hosts) != 1 or len(origins) > 1:
+            return "a handshake with several Host or Origin headers is refused"
+        return site.host_refusal(hosts[0]) or site.origin_refusal(origins[0] if origins else None)
+
+    async def admit(connection: Any) -> None:
+        websocket = live.get(connection.client_id)
+        refusal = refusal_of(websocket)
+        if refusal is not None:
+            if refusal not in told:  # a refused page's client retries every few seconds: say it once
+                told.add(refusal)
+                log.warning("UI websocket refused: %s", refusal)
+            if websocket is not None:
+                await websocket.close(POLICY_VIOLATION, refusal[:120])
+
+    websockets_server.on_client_connect(admit)
 
 
 @dataclass
@@ -77,10 +123,13 @@ def start_ui(
     game: GameConfig | None = None,
     vocabulary: Vocabulary = Vocabulary.default(),
     api_url: str | None = None,
+    page_port: int | None = None,
 ) -> UiHandle:
     """Start the viser server on host:port (PortBusyError if the port is taken: viser would silently
     move to the next one) and give every connecting browser tab its own session. `api_url`: where the
-    JSON API answers, for links to the files it serves."""
+    JSON API answers, for links to the files it serves. Only pages served from host:`page_port` (default:
+    viser's own, `port`) may open the UI's websocket; `soccer-lab serve` serves the UI's page from the API's
+    address, with headers forbidding framing (app/api/ui_page.py)."""
     from app.ui.session import Session
 
     warnings.filterwarnings("ignore", message=CLOSED_TAB_WARNING, category=UserWarning)
@@ -89,6 +138,7 @@ def start_ui(
     if server.get_port() != port:
         server.stop()
         raise PortBusyError(f"port {port} on {host} is busy (choose another with --ui-port)")
+    admit_only(server, SiteAddresses.of(host, {port}, {page_port or port}))
     draw_pitch(server.scene, PitchGeometry.from_world(context.game.world), Session.first_game(context).frame())
     layout = Layout(server)
     handle = UiHandle(server, context)

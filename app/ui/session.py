@@ -14,7 +14,7 @@ from collections.abc import Callable
 
 import viser
 
-from app.rule_inspection import rule_usage, simplification
+from app.rule_inspection import checked_cost, rule_usage, simplification
 from app.ui import style
 from app.ui.context import UiContext
 from app.ui.game import Game
@@ -203,6 +203,12 @@ class Session:
         played outside the lock, so the pitch goes on meanwhile."""
         with self.lock:
             rulebase, seed, config = self.game.rulebase, self.game.seed, self.game.config
+        try:
+            checked_cost(len(rulebase), games, config.max_ticks)
+        except ValueError as exc:
+            with self.lock:
+                self.editor.show_error(f"Usage not measured: {exc}")
+            return
         usage = rule_usage(rulebase, self.context.vocabulary, games, seed, config)
         with self.lock:
             if self.game.rulebase is rulebase:
@@ -213,6 +219,7 @@ class Session:
         """The rules simplified: exact steps, then checked on `games` games from the pitch's seed."""
         with self.lock:
             seed, config = self.game.seed, self.game.config
+        checked_cost(len(rulebase), max(games, 1), config.max_ticks)  # ValueError naming the limit
         return simplification(rulebase, self.context.vocabulary, games, seed, config)
 
     def refresh(self) -> None:

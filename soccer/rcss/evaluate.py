@@ -35,7 +35,7 @@ class RcssEvaluator:
         trainer_ports: Sequence[int | None] | None = None,
         trace: bool = False,
     ):
-        """With `trace`, every trial is traced and `traced` holds the last call's results by (rulebase,
+        """With `trace`, every trial is traced and `traced` holds the generation's results by (rulebase,
         seed), traces included: where a run finds its generation bests' trials to replay."""
         if not servers:
             raise ValueError("at least one server is needed, e.g. 127.0.0.1:6000")
@@ -106,8 +106,19 @@ class RcssEvaluator:
             raise ValueError(f"{len(rulebases)} rulebases but {len(seeds)} seeds")
         results = self._play(rulebases, seeds)
         if self.trace:
-            self.traced = dict(zip(zip(rulebases, seeds), results))
+            self.traced.update(zip(zip(rulebases, seeds), results))
         return results
+
+    @property
+    def chunk_size(self) -> int:
+        """Trials per chunk of a generation (ga/evaluation.py): one round over the servers, so that a stop
+        waits for one trial at most."""
+        return len(self.servers)
+
+    def start_generation(self) -> None:
+        """A generation starts (ga/evaluation.py says so before its first chunk): `traced` holds its
+        trials only, from now on."""
+        self.traced = {}
 
     def _play(self, rulebases: Sequence[Rulebase], seeds: Sequence[int]) -> list[TrialResult]:
         if len(self.servers) == 1:

@@ -100,7 +100,7 @@ _libc_name = ctypes.util.find_library("c")
 _prctl = getattr(ctypes.CDLL(_libc_name, use_errno=True), "prctl", None) if _libc_name else None
 
 
-def _die_with_parent(parent: int):
+def die_with_parent(parent: int):
     """preexec_fn for the server: the kernel sends SIGKILL when the starting thread dies; if the parent
     is already gone (it died between fork and here), exit at once. Resolved before the fork: the child
     only calls into libc."""
@@ -202,7 +202,7 @@ def launch_server(executable: Path, options: Mapping[str, str] = TRIAL_OPTIONS,
         try:
             process = subprocess.Popen([str(executable), *arguments], cwd=folder, stdin=subprocess.DEVNULL,
                                        stdout=log, stderr=subprocess.STDOUT, process_group=0,
-                                       preexec_fn=_die_with_parent(os.getpid()))
+                                       preexec_fn=die_with_parent(os.getpid()))
         except OSError as exc:
             shutil.rmtree(folder, ignore_errors=True)
             raise RcssLaunchError(f"cannot start rcssserver {executable}: {exc.strerror or exc}") from None

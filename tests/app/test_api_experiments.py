@@ -45,6 +45,8 @@ def test_list_and_read_give_the_summary_and_links_to_every_file(client, experime
     read = client.get(f"/api/experiments/{listed['id']}").json()
     assert read == listed
     assert read["preset"] == "initial" and read["presets"] == ["initial"] and read["available"]
+    assert read["folder"] == "initial-seed3"  # its name: no filesystem path leaves the API
+    assert str(folder.resolve().parent) not in client.get("/api/experiments").text
     assert read["trials"] == 2 and read["options"]["population"] == 6
     assert read["verdicts"] == outcome.report.verdicts()
     assert [f["name"] for f in read["figures"]] == [f.path.name for f in outcome.report.figures]

@@ -8,7 +8,6 @@ import threading
 
 from typer.testing import CliRunner
 
-from app.cli import _register
 from app.cli import app as cli_app
 from app.paths import DATABASE_FILE
 from app.run import RunSettings
@@ -28,7 +27,6 @@ from tests.app.api_client import SHORT_GAMES, TINY_GA, api_client, wait_for
 VOCABULARY = Vocabulary.default()
 
 LONG_GA = {**TINY_GA, "max_generations": 10_000}  # runs until stopped
-_register()
 
 
 def finished(client, run_id: int) -> dict | None:

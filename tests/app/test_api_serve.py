@@ -7,9 +7,8 @@ import socket
 import pytest
 from typer.testing import CliRunner
 
-from app.cli import _register, app
+from app.cli import app
 
-_register()
 
 
 @pytest.fixture

@@ -11,7 +11,7 @@ import pytest
 from typer.testing import CliRunner
 
 from app import recording
-from app.cli import _register, app
+from app.cli import app
 from fuzzy.export import rulebase_from_json
 from fuzzy.parser import parse_rulebase
 from fuzzy.vocabulary import Vocabulary
@@ -23,7 +23,6 @@ from soccer.engine import play_game
 
 VOCABULARY = Vocabulary.default()
 
-_register()
 TINY = ["--population-size", "8", "--generations", "3", "--max-ticks", "60", "--workers", "1", "--seed", "5"]
 DETERMINISTIC = [name for name in GenerationStats.field_names() if name != "wall_time"]
 
@@ -281,3 +280,19 @@ def test_play_rejects_missing_files_and_bad_options(demo_file, tmp_path):
     assert_one_line_error(run("play", tmp_path / "none.rules"), "no such file")
     assert_one_line_error(run("play", demo_file, "--games", "0"), "--games")
     assert_one_line_error(run("play", demo_file, "--rrd", tmp_path / "no" / "x.rrd"), "does not exist")
+
+
+def test_the_progress_bar_follows_the_generation_in_progress():
+    """The CLI's second bar: players evaluated of the population, reset for each new generation (issue 22)."""
+    from types import SimpleNamespace
+
+    from app.cli.evolve import GenerationProgress
+
+    bar = GenerationProgress(3)
+    bar.on_progress(100, 250)
+    within = bar.progress.tasks[bar.within]
+    assert (within.completed, within.total, within.description) == (100, 250, "generation 0")
+    bar.on_generation(SimpleNamespace(generation=0, best=0.5, mean=0.7))
+    within = bar.progress.tasks[bar.within]
+    assert (within.completed, within.description) == (0, "generation 1")
+    assert bar.progress.tasks[bar.task].completed == 1

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 from typer.testing import CliRunner
 
-from app.cli import _register, app
+from app.cli import app
 from soccer.rcss import client as rcss_client
 from soccer.rcss import servers as rcss_servers
 from soccer.rcss.messages import SeeGlobal, parse_message
@@ -21,7 +21,6 @@ from tests.app.test_cli_evolve import assert_one_line_error, read_recording
 from tests.rcss.conftest import GOALS
 from tests.rcss.replay import read_transcript
 
-_register()
 # Two rulebases (both with rules at this seed), one generation: one trial on each of two servers.
 ONE_GENERATION = ["--population-size", "2", "--generations", "1", "--max-length", "16", "--seed", "0"]
 NO_SERVER_WITHIN = 10.0  # seconds; the client gives up on init after 2 s: anything near this is a hang

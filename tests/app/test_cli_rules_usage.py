@@ -10,7 +10,7 @@ from pathlib import Path
 import pytest
 from typer.testing import CliRunner
 
-from app.cli import _register, app
+from app.cli import app
 from fuzzy.export import rulebase_from_json
 from fuzzy.parser import parse_rulebase
 from fuzzy.printer import format_rulebase
@@ -29,7 +29,6 @@ if Ball is VeryFar or Ball is VeryFar then RunTowardBall Low
 if Ball is Straight and Goal is Far then Dash Low
 """
 
-_register()
 
 
 def run(*args):

@@ -13,7 +13,7 @@ from pathlib import Path
 import pytest
 from typer.testing import CliRunner
 
-from app.cli import _register, app
+from app.cli import app
 from app.experiment.executors import LocalExecutor
 from app.experiment.figures import FIGURES_FOLDER
 from app.experiment.presets import ALL, PRESET_NAMES, ExperimentOptions, preset, presets, trial_seed
@@ -112,7 +112,7 @@ def test_same_seed_same_statistics_whatever_the_number_of_workers(tmp_path):
 
 
 def test_ray_gives_the_same_statistics_as_local_processes(tmp_path):
-    ray = pytest.importorskip("ray")
+    ray = pytest.importorskip("ray", reason="Ray is not installed: pip install -e '.[test]' (or '.[ray]')")
     from app.experiment.executors import RayExecutor
 
     run_experiment("crossover", TINY, tmp_path / "local", LocalExecutor(1))
@@ -151,7 +151,6 @@ def test_a_killed_experiment_resumes_skipping_finished_trials(tmp_path):
 # ---- command line --------------------------------------------------------------------------------------
 @pytest.fixture(scope="module")
 def cli():
-    _register()
     return CliRunner()
 
 

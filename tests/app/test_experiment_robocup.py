@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 from typer.testing import CliRunner
 
-from app.cli import _register, app
+from app.cli import app
 from app.experiment.figures import FIGURES_FOLDER
 from app.experiment.presets import ExperimentOptions, preset, presets
 from app.experiment.report import AGREES, DISAGREES, NOT_RUN, REPORT_MD, write_report
@@ -20,7 +20,6 @@ from ga.checkpoint import load_checkpoint
 from soccer.rcss.evaluate import RcssEvaluator
 from tests.app.test_experiment_report import fabricated, falling, verdict
 
-_register()
 # 2 trials of Table 2 shrunk to 4 x 5 (5 generations: the fewest a trend test takes), 60-cycle trials.
 SHRUNK = ["--trials", "2", "--population", "4", "--generations", "5", "--max-ticks", "60", "--seed", "1"]
 

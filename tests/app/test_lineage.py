@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 from typer.testing import CliRunner
 
-from app.cli import _register, app
+from app.cli import app
 from app.lineage import RunLineage, tree_data
 from app.run import Run, RunSettings
 from app.run_outputs import LineageFile
@@ -29,7 +29,6 @@ GA = {"population_size": 16, "max_generations": 5, "max_length": 24, "seed": 3, 
       "target_fitness": 0.0, "workers": 1}
 GAME = {"max_ticks": 150, "idle_ticks": 60}
 
-_register()
 
 
 def cli(*args: object):

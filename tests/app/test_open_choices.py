@@ -11,14 +11,13 @@ from pathlib import Path
 import pytest
 from typer.testing import CliRunner
 
-from app.cli import _register, app
+from app.cli import app
 from app.experiment.presets import ExperimentOptions
 from app.experiment.runner import plan
 from ga.config import GAConfig
 from soccer.config import GameConfig
 from tests.app.api_client import SHORT_GAMES, TINY_GA, api_client, wait_for
 
-_register()
 # "Kick toward the goal whenever the ball is in view": a striker only if the skill fetches the ball.
 KICKER = "if Ball is VeryFar or Ball is not VeryFar then KickTowardGoal High\n"
 # "Run at the ball whenever it is in view": it never kicks, it shoves the ball along with its body.

@@ -16,13 +16,12 @@ from pathlib import Path
 import pytest
 from typer.testing import CliRunner
 
-from app.cli import _register, app
+from app.cli import app
 from soccer.rcss.servers import ServerPool
 from tests.app.api_client import api_client, wait_for
 from tests.rcss.conftest import CHASER
 from tests.rcss.real_server import kill, rcssserver_children, wait_until_gone
 
-_register()
 SMALL_RUN = ["--population-size", "4", "--generations", "2", "--max-length", "16", "--max-ticks", "80", "--seed", "3"]
 SOCCER_LAB = Path(sys.executable).with_name("soccer-lab")  # the installed script, run as a user would
 

@@ -185,7 +185,8 @@ def test_the_blueprint_lays_a_run_out_like_the_chapters_figures_with_a_tab_per_r
     assert viewport["ViewportBlueprint:auto_views"] == [False] and viewport["ViewportBlueprint:auto_layout"] == [False]
     tabs = next(row for row in latest.values() if row.get("ContainerBlueprint:active_tab"))
     assert tabs["ContainerBlueprint:contents"][-1] == tabs["ContainerBlueprint:active_tab"][0]  # the latest replay open
-    assert len(blueprints) == 1 + len(games)  # the first, statistics only, then one more with each replay
+    # One blueprint store (the process's blueprint stream: app/recording.py), sent again with each replay.
+    assert len(blueprints) == 1
     # The replays: each under its own generation, on the tick timeline and at its generation.
     ball = columns(path, "/replay/generation_1/ball")
     assert ball["tick"] == list(range(games[1].ticks)) and set(ball["generation"]) == {1}

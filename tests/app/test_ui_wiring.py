@@ -134,3 +134,33 @@ def test_library_lists_newest_first_and_selects_what_was_just_made(gui, store, t
     store.update_rulebase(first.id, name="renamed")
     library.refresh()
     assert library.rulebases.value == f"#{first.id} renamed"
+
+
+def test_evolve_shows_the_progress_within_a_generation_and_stops_it(gui, store, tmp_path):
+    """Beside the generation bar: players evaluated of the population, from the run's own progress; Stop
+    is obeyed within the generation (issue 22)."""
+    import threading
+    import time
+
+    from app.runs import RunManager
+    from app.store import RunStatus
+    from app.ui.panels.evolve import EvolvePanel
+
+    runs = RunManager(store, tmp_path)
+    ended = threading.Event()
+    panel = EvolvePanel(gui, runs, store, on_load=lambda *a: None, on_generation=lambda *a: None,
+                        on_run_ended=lambda run_id, status: ended.set(), on_runs_changed=lambda: None)
+    panel.inputs["population_size"].value = 3000  # generation 0 lasts seconds: the stop lands inside it
+    panel.start()
+    try:
+        deadline = time.monotonic() + 120
+        while "players evaluated" not in panel.within.content and time.monotonic() < deadline:
+            time.sleep(0.05)
+        assert "Generation 0:" in panel.within.content and "of 3,000 players evaluated" in panel.within.content
+        panel.stop()
+        assert ended.wait(30)
+        assert store.get_run(panel.run_id).status is RunStatus.STOPPED and not store.statistics(panel.run_id)
+        assert panel.within.content == ""
+    finally:
+        panel.close()
+        runs.shutdown()

@@ -16,7 +16,8 @@ from fuzzy.random_rulebase import random_rulebase
 from fuzzy.vocabulary import Vocabulary
 from tests.fuzzy.iec_fcl import FclError, parse_fcl
 
-fl = pytest.importorskip("fuzzylite")
+fl = pytest.importorskip("fuzzylite", reason="pyfuzzylite is not installed: "
+                                              "pip install --no-deps pyfuzzylite==8.0.6 (scripts/test does)")
 
 VOCABULARY = Vocabulary.default()
 EXAMPLE = parse_rulebase(

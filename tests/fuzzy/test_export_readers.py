@@ -231,7 +231,8 @@ def test_fuzzylite_command_decides_what_our_engine_decides(fmt, tmp_path):
 
 
 def test_pyfuzzylite_decides_what_our_engine_decides():
-    fl = pytest.importorskip("fuzzylite")
+    fl = pytest.importorskip("fuzzylite", reason="pyfuzzylite is not installed: "
+                                                  "pip install --no-deps pyfuzzylite==8.0.6 (scripts/test does)")
     comparison = Comparison("pyfuzzylite 8, fll")
     for k, (rulebase, engine, crisp, visible, inferences) in enumerate(cases("fll")):
         reader = fl.FllImporter().from_string(export_rulebase(rulebase, "fll", VOCABULARY))

@@ -2,8 +2,8 @@
 scratch folders, stopped by PID after the test) with soccer-lab's own launcher.
 
 The executable: $RCSSSERVER, else `rcssserver` on PATH, else `shared/rcss/server/bin/rcssserver` in the
-repository's folder or any folder above it (the team's prebuilt server sits beside the repository).
-Without one, the tests that need it skip and say how to provide it.
+repository's folder or any folder above it (where the team's CI keeps a prebuilt server). Without one, the
+tests that need it skip and say what to install or set.
 """
 
 from __future__ import annotations
@@ -21,8 +21,8 @@ from soccer.rcss.servers import EXECUTABLE_VARIABLE, RcssLaunchError, RcssServer
 
 REPOSITORY = Path(__file__).resolve().parents[2]
 SHARED_SERVER = Path("shared/rcss/server/bin/rcssserver")
-NO_SERVER = (f"no rcssserver: set ${EXECUTABLE_VARIABLE}, put rcssserver on PATH, or build "
-             f"{SHARED_SERVER} beside the repository (shared/rcss/build-rcssserver.sh)")
+NO_SERVER = (f"no rcssserver: install the RoboCup soccer simulator's rcssserver 19 and put it on PATH, or set "
+             f"{EXECUTABLE_VARIABLE}=/path/to/rcssserver")
 
 StartServers = Callable[..., ServerPool]
 

@@ -34,7 +34,7 @@ def _out(record: ExperimentRecord, request: Request) -> ExperimentOut:
         id=record.id,
         preset=record.preset,
         created=record.created,
-        folder=record.folder,
+        folder=Path(record.folder).name,  # where it lies is the server's business: no path leaves the API
         available=folder.exists,
         presets=[str(p) for p in summary.get("presets", [record.preset])],
         trials=trials if isinstance(trials, int) else None,

@@ -12,17 +12,24 @@ from fastapi.responses import FileResponse
 from app.api.models import BestOut, ErrorBody, RunOut, RunRename, RunStart
 from app.api.routes.dependencies import RecordId, RunsDependency, StoreDependency
 from app.run_outputs import RunFolder
+from app.served_files import regular_file_inside
 from app.store import NotFound, RunRecord, Store
 
 router = APIRouter(prefix="/runs", tags=["runs"], responses={404: {"model": ErrorBody}})
 CONFLICT = {409: {"model": ErrorBody, "description": "The run's state does not allow this"}}
 
 
+def _recording(record: RunRecord) -> Path | None:
+    """The run's recording, when it is a regular file inside the run's folder (no symbolic link)."""
+    folder = RunFolder(Path(record.folder))
+    return regular_file_inside(folder.path, folder.recording.name)
+
+
 def _out(record: RunRecord, store: Store, request: Request) -> RunOut:
     recording = None
-    if RunFolder(Path(record.folder)).recording.is_file():
+    if _recording(record) is not None:
         recording = str(request.url_for("run_recording", run_id=record.id))
-    return RunOut.of(record, store.statistics(record.id), recording)
+    return RunOut.of(record, store.statistics(record.id), recording, request.app.state.runs.progress(record.id))
 
 
 @router.post("", status_code=201, summary="Start a GA or random-search run in the background", responses=CONFLICT)
@@ -58,7 +65,8 @@ def statistics(run_id: RecordId, store: StoreDependency) -> list[dict[str, Any]]
     return store.statistics(run_id)
 
 
-@router.post("/{run_id}/stop", summary="Stop a run after its current generation", responses=CONFLICT)
+@router.post("/{run_id}/stop", summary="Stop a run within about a second: the generation in progress is abandoned, "
+             "every finished one kept (resume plays on as if never stopped)", responses=CONFLICT)
 def stop(run_id: RecordId, runs: RunsDependency, store: StoreDependency, request: Request) -> RunOut:
     return _out(runs.stop(run_id), store, request)
 
@@ -80,7 +88,7 @@ def best(run_id: RecordId, store: StoreDependency) -> BestOut:
     response_class=FileResponse,
 )
 def recording(run_id: RecordId, store: StoreDependency) -> FileResponse:
-    path = RunFolder(Path(store.get_run(run_id).folder)).recording
-    if not path.is_file():
+    path = _recording(store.get_run(run_id))
+    if path is None:
         raise NotFound("recording of run", run_id)
     return FileResponse(path, media_type="application/octet-stream", filename=f"run-{run_id}.rrd")

@@ -112,6 +112,9 @@ class EditorPanel:
             f'{f"<ul style=margin:4px 0 0 18px;padding:0>{items}</ul>" if items else ""}</div>'
         )
 
+    def show_error(self, text: str) -> None:
+        self._say(text, error=True)
+
     # ---- actions ----------------------------------------------------------------------------
     def apply(self) -> None:
         try:
@@ -136,7 +139,11 @@ class EditorPanel:
 
     def simplify(self) -> None:
         rulebase, name = self.on_pitch
-        result = self.simplify_with(rulebase, int(self.check_games.value))
+        try:
+            result = self.simplify_with(rulebase, int(self.check_games.value))
+        except ValueError as exc:  # over a limit (app/rule_inspection.py checked_cost)
+            self._say(f"Not simplified: {exc}", error=True)
+            return
         simplified = result.simplification.rulebase
         lines = [_step_line(step) for step in result.simplification.steps if step.changes]
         if simplified == rulebase:

@@ -51,6 +51,19 @@ LABELS = {  # what a teacher reads next to each field; fields missing here show 
 GAME_FIELDS = ("skills", "noise", "count_touches")
 
 
+JS_SAFE_INTEGER = 2**53  # the browser's numbers hold integers exactly below this (a seed's bound does not fit)
+
+
+def field_bounds(field: Any) -> dict[str, int]:
+    """min and max of an integer pydantic field, from its ge/gt/le/lt constraints."""
+    bounds = {}
+    for constraint in field.metadata:
+        for attribute, key, shift in (("ge", "min", 0), ("gt", "min", 1), ("le", "max", 0), ("lt", "max", -1)):
+            if (value := getattr(constraint, attribute, None)) is not None and abs(value) < JS_SAFE_INTEGER:
+                bounds[key] = int(value) + shift
+    return bounds
+
+
 def ga_fields() -> dict[str, Any]:
     """Field name -> pydantic FieldInfo of GAConfig, the one place the parameters and defaults live."""
     return dict(GAConfig.model_fields)
@@ -104,6 +117,7 @@ class EvolvePanel:
                 self.game_inputs[name] = self._input(gui, name, field)
         buttons = gui.add_button_group("Evolution", ("Start", "Stop"))
         self.progress = gui.add_progress_bar(0.0)
+        self.within = gui.add_html("")  # the generation in progress: players evaluated of the population
         self.status = gui.add_html(self._status_html("Not started. Press Start: the chapter's defaults are set."))
         self.plot = gui.add_uplot(
             data=self._plot_data(),
@@ -135,8 +149,8 @@ class EvolvePanel:
             return gui.add_dropdown(label, tuple(choices), initial_value=default)
         if isinstance(default, bool):
             return gui.add_checkbox(label, default)
-        if isinstance(default, int):
-            return gui.add_number(label, initial_value=default, step=1)
+        if isinstance(default, int):  # the field's own bounds (a population over the limit cannot be typed)
+            return gui.add_number(label, initial_value=default, step=1, **field_bounds(field))
         return gui.add_number(label, initial_value=float(default), step=0.01)
 
     def config(self) -> dict[str, Any]:
@@ -178,7 +192,7 @@ class EvolvePanel:
         if self.run_id is None or not self.runs.is_active(self.run_id):
             self.status.content = self._status_html("No evolution of this tab is running.", error=True)
             return
-        self.status.content = self._status_html(f"Stopping run #{self.run_id} after this generation …")
+        self.status.content = self._status_html(f"Stopping run #{self.run_id} …")
         try:
             self.runs.stop(self.run_id, wait=0.0)
         except (RunStateError, NotFound) as exc:
@@ -204,7 +218,11 @@ class EvolvePanel:
         if event.run_id != self.run_id:
             return
         total = int(self.inputs["max_generations"].value)  # generations 0 .. total - 1
-        if event.stats is not None:
+        if event.progress is not None:
+            self.within.content = self._status_html(
+                f"Generation {event.progress.generation}: {event.progress.evaluated:,} of "
+                f"{event.progress.population:,} players evaluated")
+        elif event.stats is not None:
             stats = event.stats
             generation = int(stats["generation"])
             self.generations.append(generation)
@@ -221,6 +239,7 @@ class EvolvePanel:
             )
         elif event.status is not RunStatus.RUNNING:
             self.progress.animated = False
+            self.within.content = ""
             if event.status is RunStatus.FINISHED:
                 self.progress.value = 100.0
             best = f" — best {min(self.best):.3f}" if self.best else ""

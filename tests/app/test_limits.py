@@ -1,0 +1,84 @@
+"""Every request's cost is bounded (issues 22 and 25): each upper bound refused with a message naming the
+limit, in the API, the CLI and the UI's fields; the heaviest allowed usage request answers, one step past
+it is refused before any game is played. docs/reference/limits.md lists the limits."""
+
+from __future__ import annotations
+
+import pytest
+from typer.testing import CliRunner
+
+from app.cli import app
+from app.rule_inspection import MAX_RULE_TICKS, MAX_RULES
+from app.ui.panels.evolve import field_bounds, ga_fields
+from ga.config import MAX_POPULATION, MAX_WORKERS
+from soccer.config import MAX_GAMES_PER_EVALUATION, MAX_TICKS
+from tests.app.api_client import api_client
+
+RULE = "if Ball is not At then GoToBall VeryHigh"
+
+
+@pytest.fixture(scope="module")
+def client(tmp_path_factory):
+    with api_client(tmp_path_factory.mktemp("limits")) as opened:
+        yield opened
+
+
+@pytest.mark.parametrize("body, where, limit", [
+    ({"ga": {"population_size": MAX_POPULATION + 1}}, "ga.population_size", MAX_POPULATION),
+    ({"ga": {"workers": MAX_WORKERS + 1}}, "ga.workers", MAX_WORKERS),
+    ({"game": {"max_ticks": MAX_TICKS + 1}}, "game.max_ticks", MAX_TICKS),
+    ({"game": {"goal_cap": MAX_TICKS + 1}}, "game.goal_cap", MAX_TICKS),
+    ({"game": {"idle_ticks": 10**9}}, "game.idle_ticks", MAX_TICKS),
+    ({"game": {"games_per_evaluation": MAX_GAMES_PER_EVALUATION + 1}}, "game.games_per_evaluation",
+     MAX_GAMES_PER_EVALUATION),
+])
+def test_the_api_refuses_a_run_past_each_limit_naming_it(client, body, where, limit):
+    response = client.post("/api/runs", json=body)
+    assert response.status_code == 422, response.text
+    detail = response.json()["detail"]
+    assert where.split(".")[-1] in detail and (str(limit) in detail or f"{limit:,}" in detail), detail
+    assert client.get("/api/runs").json() == []
+
+
+def test_usage_and_simplify_refuse_too_many_rules_or_rule_ticks(client):
+    many = "\n".join([RULE] * (MAX_RULES + 1))
+    for route in ("usage", "simplify"):
+        response = client.post(f"/api/rules/{route}", json={"text": many, "games": 1, "game": {"max_ticks": 10}})
+        assert response.status_code == 422 and f"{MAX_RULES:,}" in response.json()["detail"], route
+        # 5,000 rules, 1 game of 20,000 ticks (the issue's probe took 3 GB): refused at once
+        probe = {"text": "\n".join([RULE] * 5000), "games": 1,
+                 "game": {"max_ticks": 20_000, "goal_cap": 10**9, "idle_ticks": 10**9}}
+        assert client.post(f"/api/rules/{route}", json=probe).status_code == 422
+    thirty = "\n".join([RULE] * 30)  # 30 x 1,000 games x 1,000 ticks: within games x ticks, past rules x ...
+    over = {"text": thirty, "games": 1000, "game": {"max_ticks": 1000}}
+    response = client.post("/api/rules/usage", json=over)
+    assert response.status_code == 422 and f"{MAX_RULE_TICKS:,}" in response.json()["detail"]
+
+
+def test_the_heaviest_allowed_usage_request_answers(client):
+    """rules x games x max_ticks exactly at the limit (games end early here: the cost is the bound's)."""
+    twenty = "\n".join([RULE] * 20)
+    body = {"text": twenty, "games": 1000, "game": {"max_ticks": 1000}}
+    assert 20 * body["games"] * body["game"]["max_ticks"] == MAX_RULE_TICKS
+    response = client.post("/api/rules/usage", json=body)
+    assert response.status_code == 200 and response.json()["games"] == 1000
+
+
+@pytest.mark.parametrize("option, value, limit", [
+    ("--population-size", MAX_POPULATION + 1, MAX_POPULATION),
+    ("--workers", MAX_WORKERS + 1, MAX_WORKERS),
+    ("--max-ticks", MAX_TICKS + 1, MAX_TICKS),
+    ("--games-per-evaluation", MAX_GAMES_PER_EVALUATION + 1, MAX_GAMES_PER_EVALUATION),
+])
+def test_the_cli_refuses_each_limit_in_one_line(tmp_path, option, value, limit):
+    result = CliRunner().invoke(app, ["evolve", option, str(value), "--out", str(tmp_path / "run")])
+    assert result.exit_code == 2, result.output
+    lines = result.output.strip().splitlines()
+    assert len(lines) == 1 and option in lines[0] and str(limit) in lines[0].replace(",", ""), result.output
+    assert not (tmp_path / "run").exists()
+
+
+def test_the_ui_fields_cannot_go_past_the_limits():
+    fields = ga_fields()
+    assert field_bounds(fields["population_size"]) == {"min": 2, "max": MAX_POPULATION}
+    assert field_bounds(fields["workers"]) == {"min": 1, "max": MAX_WORKERS}

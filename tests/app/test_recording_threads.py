@@ -1,0 +1,38 @@
+"""No thread leaks (issue 25): rerun's recording streams (a batcher and a sender thread each) end with their
+run, and blueprints sent every generation leave none behind. Counted on the process's own threads (rerun's
+are native, not Python's) across 100 generations of runs, played as the app plays them."""
+
+from __future__ import annotations
+
+import os
+
+from app.paths import DATABASE_FILE
+from app.runs import RunManager
+from app.store import Store
+from tests.app.api_client import SHORT_GAMES
+
+RUNS, GENERATIONS = 5, 20
+
+
+def threads() -> int:
+    return len(os.listdir("/proc/self/task"))
+
+
+def test_threads_stay_flat_across_100_generations_of_runs(tmp_path):
+    store = Store(tmp_path / DATABASE_FILE)
+    runs = RunManager(store, tmp_path)
+    counts = []
+    try:
+        for i in range(RUNS):
+            record = runs.start(f"run {i}", {"population_size": 4, "max_generations": GENERATIONS, "max_length": 16,
+                                             "seed": i}, SHORT_GAMES)
+            assert str(runs.wait(record.id, timeout=300).status) == "finished"
+            assert len(store.statistics(record.id)) == GENERATIONS
+            counts.append(threads())
+    finally:
+        runs.shutdown()
+        store.close()
+    # The first run starts what lives as long as the process (rerun's runtime, the one blueprint stream); a
+    # thread or so comes and goes (rerun's and sqlite's own). A stream left per generation added 2 threads
+    # each: 160 over these runs.
+    assert max(counts) - min(counts) <= 2, counts
