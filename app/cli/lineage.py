@@ -11,8 +11,8 @@ import typer
 
 from app.cli.common import fail
 
-RunDir = Annotated[Path, typer.Argument(help="A run folder (soccer-lab evolve's --out, or the app's runs/<id>).",
-                                        show_default=False)]
+RunDir = Annotated[Path, typer.Argument(
+    help="A run folder (what soccer-lab evolve --out wrote, or the app's runs/<id>).", show_default=False)]
 Generation = Annotated[Optional[int], typer.Option(
     "--generation", "-g", min=0, help="The generation of the player. (default: the generation of the best so far)",
     show_default=False)]

@@ -110,3 +110,33 @@ def test_the_behaviour_seeds_are_the_runs_own():
     assert behaviour_seeds(CONFIG.model_copy(update={"behaviour_seeds": 2})) != behaviour_seeds(
         CONFIG.model_copy(update={"behaviour_seeds": 2, "seed": 5}))
     assert behaviour_seeds(CONFIG) == []
+
+
+def test_the_behaviour_games_report_no_progress_and_obey_a_stop_within_a_generation(tmp_path):
+    import threading
+
+    config = CONFIG.model_copy(update={"behaviour_seeds": 2})
+    whole = evolve(config, SyntheticEvaluator(chunk_size=7), VOCABULARY)
+    stop = threading.Event()
+
+    class StopAfterEvaluating:
+        """Sets the stop once generation 2's own evaluation is complete: only the behaviour games remain."""
+        finished = 0
+        heard: list[tuple[int, int, int]] = []
+
+        def on_progress(self, evaluated, population):
+            self.heard.append((self.finished, evaluated, population))
+            if self.finished == 2 and evaluated == population:
+                stop.set()
+
+        def on_generation(self, stats, population):
+            self.finished = stats.generation + 1
+
+    watcher = StopAfterEvaluating()
+    stopped = evolve(config, SyntheticEvaluator(chunk_size=7), VOCABULARY, callbacks=[watcher],
+                     checkpoint=tmp_path / "checkpoint", stop=stop)
+    assert {total for _, _, total in watcher.heard} == {config.population_size}  # never the behaviour games'
+    assert [s.generation for s in stopped.history] == [0, 1]  # generation 2 abandoned in its behaviour games
+    resumed = resume(tmp_path / "checkpoint", SyntheticEvaluator(chunk_size=7))
+    assert [s.distinct_behaviours for s in resumed.history] == [s.distinct_behaviours for s in whole.history]
+    assert [i.to_dict() for i in resumed.population] == [i.to_dict() for i in whole.population]
