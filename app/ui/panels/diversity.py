@@ -19,6 +19,9 @@ SERIES = (("distinct_chromosomes", "distinct chromosomes", style.ACCENT, ()),
           ("rule_set_distance", "rule-set distance", style.SELECTED, ()))
 
 
+TOP = 1.08  # a little above 1, so that the label of the tick at 1 is not cut off at the plot's edge
+
+
 class DiversityPlot:
     def __init__(self, gui: viser.GuiApi):
         self.population_size = 1
@@ -79,7 +82,7 @@ class DiversityPlot:
 
     def _scales(self) -> dict[str, viser.uplot.Scale]:
         return {"x": viser.uplot.Scale(time=False, auto=False, range=(0.0, float(self.last_generation))),
-                "y": viser.uplot.Scale(auto=False, range=(0.0, 1.0))}
+                "y": viser.uplot.Scale(auto=False, range=(0.0, TOP))}
 
     def _title(self) -> str:
         rules = f": {int(self.rows[-1]['distinct_rules'])} distinct rules" if self.rows else ""
