@@ -9,6 +9,7 @@ for the recording when it can.
 
 from __future__ import annotations
 
+import os
 from contextlib import ExitStack, contextmanager
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, Callable, ClassVar, Iterator, Literal, NamedTuple, Sequence
@@ -76,6 +77,15 @@ def checked_start_servers(env: str, servers: Sequence[str] | None, start_servers
     if not 1 <= count <= MAX_SERVERS:
         raise ValueError(f"between 1 and {MAX_SERVERS} servers, not {count}")
     return count
+
+
+def default_workers() -> int:
+    """Worker processes of a SimpleSoccer run when not told (the CLI and the UI alike): every core, within
+    GAConfig's limit."""
+    from ga.config import GAConfig
+
+    limit = next(bound.le for bound in GAConfig.model_fields["workers"].metadata if hasattr(bound, "le"))
+    return min(os.cpu_count() or 1, limit)
 
 
 def checked_workers(env: str, workers: int) -> int:

@@ -1,4 +1,5 @@
-"""Where soccer-lab keeps its data: the SQLite store and the runs' recordings and checkpoints."""
+"""Where soccer-lab keeps its data (the SQLite store, the runs' recordings and checkpoints) and its cache (files
+made again when lost, such as rerun's web viewer)."""
 
 from __future__ import annotations
 
@@ -18,4 +19,11 @@ def default_data_dir() -> Path:
         return Path(explicit).expanduser()
     xdg = os.environ.get("XDG_DATA_HOME")
     base = Path(xdg).expanduser() if xdg else Path.home() / ".local" / "share"
+    return base / APP_FOLDER
+
+
+def default_cache_dir() -> Path:
+    """$XDG_CACHE_HOME/soccer-lab, else ~/.cache/soccer-lab: shared by every data folder on this machine."""
+    xdg = os.environ.get("XDG_CACHE_HOME")
+    base = Path(xdg).expanduser() if xdg else Path.home() / ".cache"
     return base / APP_FOLDER

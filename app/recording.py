@@ -47,10 +47,11 @@ STATISTICS_ENTITY = "statistics"
 GOAL_HISTOGRAM_ENTITY = f"{STATISTICS_ENTITY}/goal_histogram"
 SPREAD_ENTITY = f"{STATISTICS_ENTITY}/chromosome_spread"
 REPLAY_ENTITY = "replay"
+BEST_SO_FAR = "best_so_far"  # not a GenerationStats field: the recorder derives it from the generations' bests
 GOAL_BINS = ("goals_0", "goals_1", "goals_2", "goals_3", "goals_4", "goals_more")
 # Statistic name prefix -> the group (one plot in the viewer) its series joins; the rest go to "run".
 STATISTIC_GROUPS = (
-    (("best", "mean", "worst", "std"), "fitness"),
+    (("best", BEST_SO_FAR, "mean", "worst", "std"), "fitness"),
     (GOAL_BINS, "goals"),
     (("genes_", "premises_", "rules_", "valid_rules_"), "chromosome"),
     (("unique_",), "gene_pool"),
@@ -58,8 +59,10 @@ STATISTIC_GROUPS = (
 )
 NOT_A_SERIES = ("generation",)
 
-# What each figure of the blueprint plots: statistic -> (legend name, colour).
-FITNESS_SERIES = {"best": ("best", (0, 150, 60)), "mean": ("mean", (30, 120, 255)), "worst": ("worst", (220, 60, 50))}
+# What each figure of the blueprint plots: statistic -> (legend name, colour). The generation's best is what
+# the chapter's Figs. 9 and 12 plot; the best so far (the run's running minimum) is what a class watches fall.
+FITNESS_SERIES = {"best": ("best of the generation", (0, 150, 60)), BEST_SO_FAR: ("best so far", (0, 90, 40)),
+                  "mean": ("mean", (30, 120, 255)), "worst": ("worst", (220, 60, 50))}
 GOAL_SERIES = {"goals_0": ("0 goals", (150, 150, 150)), "goals_1": ("1 goal", (70, 130, 180)),
                "goals_2": ("2 goals", (60, 170, 110)), "goals_3": ("3 goals", (230, 170, 30)),
                "goals_4": ("4 goals", (230, 110, 40)), "goals_more": ("more than 4", (200, 40, 40))}
@@ -180,7 +183,7 @@ def run_blueprint(replays: Sequence[tuple[int, str]] = (), world: WorldConfig | 
     """The viewer's layout for a run: the chapter's figures and, when there are replays, one tab per
     replayed generation ((generation, tab name), the last one open). No automatic views are added."""
     figures = rrb.Vertical(
-        _series_view("Fitness: best, mean, worst (Figs. 11, 12; lower is better)",
+        _series_view("Fitness: best of the generation, best so far, mean, worst (Figs. 11, 12; lower is better)",
                      [statistic_entity(s) for s in FITNESS_SERIES], unit_range=True),
         rrb.Horizontal(
             _series_view("Share of the population scoring 0 .. more than 4 goals (Fig. 13)",
@@ -229,18 +232,25 @@ class RunRecorder:
         self.path = Path(path)
         self.world = world
         self.replays: list[tuple[int, str]] = []  # (generation, tab name) of each replay logged
+        self.best_so_far = math.inf
         self._blueprint_sent = 0  # replay tabs in the last blueprint sent
         self.stream = open_stream(self.path, recording_id, run_blueprint())
         log_series_styles(self.stream)
         if world is not None:
             log_pitch(self.stream, world, REPLAY_ENTITY)
         for row in history:
-            log_statistics(self.stream, row)
+            self._log(row)
         self.stream.flush()
 
     def on_generation(self, stats: Any, population: Any = None) -> None:
-        log_statistics(self.stream, stats.to_dict())
+        self._log(stats.to_dict())
         self.stream.flush()  # a killed run keeps what it logged
+
+    def _log(self, row: Mapping[str, Any]) -> None:
+        """A generation's statistics, and the run's best so far after it."""
+        log_statistics(self.stream, row)
+        self.best_so_far = min(self.best_so_far, float(row["best"]))
+        self.stream.log(statistic_entity(BEST_SO_FAR), rr.Scalars(self.best_so_far))
 
     def log_generation_replay(self, generation: int, trace: Any, result: Any) -> None:
         """A generation's best player's game (`result` its GameResult) under replay/generation_<g>; its tab

@@ -1,5 +1,5 @@
-"""`soccer-lab serve`: the store, the run manager, the viser UI, rerun's web viewer and the FastAPI
-server, started together on checked ports and stopped together."""
+"""`soccer-lab serve`: the store, the run manager, the viser UI and the FastAPI server (the API, the pages,
+rerun's web viewer at /viewer/), started together on checked ports and stopped together."""
 
 from __future__ import annotations
 
@@ -11,13 +11,12 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable
 
-from app.paths import DATABASE_FILE
+from app.paths import DATABASE_FILE, default_cache_dir
 
 DEFAULT_HOST = "127.0.0.1"
 DEFAULT_PORT = 8000
 DEFAULT_UI_PORT = 8080
-DEFAULT_RERUN_PORT = 9090
-RERUN_VIEWER_LOG = "rerun-viewer.log"  # in the data folder
+VIEWER_FILES = "rerun-web-viewer"  # in the cache folder: the web viewer's files, one folder per rerun version
 # Requests still open when serve is told to stop get this long: serve exits within 3 s of Ctrl+C or SIGTERM
 GRACEFUL_SHUTDOWN_SECONDS = 1
 
@@ -31,7 +30,6 @@ class ServeOptions:
     host: str = DEFAULT_HOST
     port: int = DEFAULT_PORT
     ui_port: int = DEFAULT_UI_PORT
-    rerun_port: int = DEFAULT_RERUN_PORT
     data_dir: Path = Path(".")
     rcssserver: Path | None = None  # the executable rcss runs start their servers from (default: $RCSSSERVER, PATH)
 
@@ -56,12 +54,10 @@ def check_port_free(host: str, port: int, what: str, option: str) -> None:
 
 
 def check_ports(options: ServeOptions) -> None:
-    ports = {"--port": options.port, "--ui-port": options.ui_port, "--rerun-port": options.rerun_port}
-    if len(set(ports.values())) != len(ports):
-        raise ServeError("--port, --ui-port and --rerun-port must be three different ports")
+    if options.port == options.ui_port:
+        raise ServeError("--port and --ui-port must be two different ports")
     check_port_free(options.host, options.port, "API server", "--port")
     check_port_free(options.host, options.ui_port, "UI", "--ui-port")
-    check_port_free(options.host, options.rerun_port, "rerun viewer", "--rerun-port")
 
 
 def _cleanup_after_sigterm(signum: int, frame: object) -> None:
@@ -78,7 +74,7 @@ def serve(options: ServeOptions, echo: Callable[[str], None] = print) -> None:
     from app.api import create_app
     from app.api.ui_page import UI_PATH
     from app.origins import SiteAddresses
-    from app.rerun_viewer import RerunViewer, RerunViewerError, viewer_home
+    from app.rerun_viewer import RerunViewerError, viewer_files, viewer_home
     from app.runs import RunManager
     from app.store import Store
     from app.ui import PortBusyError, start_ui
@@ -102,26 +98,27 @@ def serve(options: ServeOptions, echo: Callable[[str], None] = print) -> None:
     store = Store(options.data_dir / DATABASE_FILE)
     runs = RunManager(store, options.data_dir, rcssserver=options.rcssserver)
     ui = None
-    viewer = RerunViewer(options.host, options.rerun_port, options.data_dir / RERUN_VIEWER_LOG)
     api_url = options.url(options.port)
     try:
+        try:  # without rerun's viewer the app still serves everything else, and says why
+            viewer, viewer_problem = viewer_files(default_cache_dir() / VIEWER_FILES), None
+        except RerunViewerError as exc:
+            viewer, viewer_problem = None, str(exc)
         try:
             # The UI's page is served from the API's address (no other site can frame it there), and only
             # that page may open the UI's websocket (docs/design.md, "Security")
             ui = start_ui(store, runs, options.host, options.ui_port, api_url=api_url, page_port=options.port)
-            viewer.start()
-        except (PortBusyError, RerunViewerError) as exc:  # a port taken between the check and now
+        except PortBusyError as exc:  # a port taken between the check and now
             raise ServeError(str(exc)) from exc
         ui_url = f"{api_url}{UI_PATH}"
-        viewer_url = options.url(options.rerun_port)
-        app = create_app(store, runs, ui_url=ui_url, viewer_url=viewer_url,
+        app = create_app(store, runs, ui_url=ui_url, api_url=api_url, viewer_files=viewer,
                          site=SiteAddresses.of(options.host, {options.port}, {options.port}),
                          ui_websocket=f"ws://{options.host}:{options.ui_port}")
         echo("soccer-lab is running (Ctrl+C to stop)")
         echo(f"  home          {api_url}/")
         echo(f"  UI            {ui_url}")
         echo(f"  API           {api_url}/api   docs: {api_url}/docs")
-        echo(f"  rerun viewer  {viewer_home(viewer_url)}")
+        echo(f"  rerun viewer  {viewer_home(api_url) if viewer else 'not available: ' + viewer_problem}")
         echo(f"  data          {options.data_dir.resolve()}")
         if runs.interrupted_at_start:
             listed = ", ".join(map(str, runs.interrupted_at_start))
@@ -133,7 +130,6 @@ def serve(options: ServeOptions, echo: Callable[[str], None] = print) -> None:
         Server(config, on_exit=runs.interrupt_all).run()
     finally:
         runs.shutdown()
-        viewer.stop()
         if ui is not None:
             ui.stop()
         store.close()

@@ -67,7 +67,7 @@ def main() -> None:
     folder = tempfile.mkdtemp()
     port = free_port()
     command = [sys.executable, "-c", "from app.cli import main; main()", "serve", "--data-dir", folder,
-               "--port", str(port), "--ui-port", str(free_port()), "--rerun-port", str(free_port())]
+               "--port", str(port), "--ui-port", str(free_port())]
     serve = subprocess.Popen(command, cwd=ROOT, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     api = f"http://127.0.0.1:{port}/api"
     http = httpx.Client(headers=HEADERS, timeout=600)

@@ -69,9 +69,9 @@ def serve_exit(population: int) -> float:
     import httpx
 
     with tempfile.TemporaryDirectory() as folder:
-        ports = [free_port() for _ in range(3)]
+        ports = [free_port() for _ in range(2)]
         command = [sys.executable, "-c", "from app.cli import main; main()", "serve", "--data-dir", folder,
-                   "--port", str(ports[0]), "--ui-port", str(ports[1]), "--rerun-port", str(ports[2])]
+                   "--port", str(ports[0]), "--ui-port", str(ports[1])]
         serve = subprocess.Popen(command, cwd=ROOT, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
         api = f"http://127.0.0.1:{ports[0]}/api"
         try:

@@ -11,9 +11,13 @@ obeyed between chunks (EvaluationStopped), so within about one chunk's time.
 
 from __future__ import annotations
 
+import ctypes
+import ctypes.util
 import gc
 import math
 import multiprocessing
+import os
+import signal
 import threading
 from concurrent.futures import ProcessPoolExecutor
 from typing import Any, Callable, NamedTuple, Sequence
@@ -25,8 +29,24 @@ INVALID_FITNESS = 1.0  # a ruleset with no valid rule is never played (README, T
 # 1000-tick games plays in well under a second and holds a few MB (benchmarks/stop_latency.py)
 CHUNK_SIZE = 100
 
+PR_SET_PDEATHSIG = 1  # Linux's prctl option: a signal for this process when the thread that started it ends
+
 Evaluator = Callable[[list[Rulebase], list[int]], Sequence[Any]]
 Progress = Callable[[int, int], None]  # (rulebases evaluated so far in this generation, the generation's size)
+
+
+def start_worker(parent: int) -> None:
+    """A worker process's first step. It dies with the process that started it (Linux): a worker holds both
+    ends of its task queue, so when that process is killed (`kill -9` on serve) it would otherwise wait
+    forever. And gc.freeze: what a worker has imported lives as long as it, and every full collection of
+    the cyclic garbage collector walked it all again (3% of a trial's CPU time)."""
+    libc = ctypes.util.find_library("c")
+    prctl = getattr(ctypes.CDLL(libc, use_errno=True), "prctl", None) if libc else None
+    if prctl is not None:
+        prctl(PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0)
+        if os.getppid() != parent:  # it died while this one started
+            os._exit(1)
+    gc.freeze()
 
 
 class EvaluationError(RuntimeError):
@@ -67,10 +87,8 @@ class Evaluation:
         # CPU); thawed when the run ends, so that what the process drops later is still collected
         gc.freeze()
         if self.workers > 1:
-            # gc.freeze: what a worker has imported lives as long as it, and every full collection of the
-            # cyclic garbage collector walked it all again (3% of a trial's CPU time)
             self._pool = ProcessPoolExecutor(self.workers - 1, mp_context=multiprocessing.get_context("spawn"),
-                                             initializer=gc.freeze)
+                                             initializer=start_worker, initargs=(os.getpid(),))
         return self
 
     def __exit__(self, *exc_info: object) -> None:

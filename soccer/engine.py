@@ -37,6 +37,7 @@ from soccer.skills import (DASH, HUNT, KICK, LEFT, RIGHT, TURN, goal_direction_f
 from soccer.world import Pitches, World
 
 RUNNING, MAX_TICKS, GOAL_CAP, IDLE = 0, 1, 2, 3
+NO_OUTCOME = -1  # Decision.outcome before a game's first tick
 END_REASONS = ("running", "max-ticks", "goal-cap", "idle")
 
 
@@ -132,6 +133,12 @@ class Decision(NamedTuple):
     action: np.ndarray  # int64[n]: the vocabulary's action index, NO_ACTION when no rule fired (the hunt)
     values: np.ndarray  # float64[n, n_outputs]: the action's output values (the defaults where it uses none)
     strengths: np.ndarray  # float64[n, max_rules]: every rule's strength (0 past the game's own rules)
+    # What the skill then did (soccer/skills.py, worded by soccer/outcome.py): the body command it sent
+    # (kind NONE/TURN/DASH/KICK, its moment or power, a kick's direction) and why (the outcome code).
+    command: np.ndarray  # int64[n]
+    command_value: np.ndarray  # float64[n]
+    command_direction: np.ndarray  # float64[n]
+    outcome: np.ndarray  # int64[n]
 
 
 @dataclass(frozen=True)
@@ -161,6 +168,10 @@ class GameTrace:
     power: np.ndarray  # float[T]
     goals: np.ndarray  # int[T]: goals scored before this tick
     vocabulary: Vocabulary  # the one the game was played in: it names `action` and orders `inputs`
+    command: np.ndarray  # int[T]: the body command the skill sent (soccer/skills.py NONE/TURN/DASH/KICK)
+    command_value: np.ndarray  # float[T]: its moment or power
+    command_direction: np.ndarray  # float[T]: a kick's direction, relative to the facing
+    outcome: np.ndarray  # int[T]: why the skill gave that command (soccer/skills.py, soccer/outcome.py)
 
     def __len__(self) -> int:
         return len(self.action)
@@ -338,17 +349,24 @@ def decide_step(g, observation, decision, rulebases, scratch):
 
 @numba.njit(cache=True, inline="always")
 def act_step(g, action, perceived, speed, state, decision, layout, constants, rules):
-    """The body command (kind, value, direction) the action's skill gives, and whether the ball is kickable."""
+    """The body command (kind, value, direction) the action's skill gives, and whether the ball is kickable;
+    the command and why the skill gave it are kept in decision[g]."""
     last_side, values, skills = state.last_side, decision.values, layout.skills
+    commands, command_values, command_directions, outcomes = (decision.command, decision.command_value,
+                                                              decision.command_direction, decision.outcome)
     ball_distance, ball_direction, ball_seen, _, goal_direction, goal_seen = perceived
     goal_direction = goal_direction_for_skills(goal_direction, goal_seen, rules.goal_in_view_only)
     if ball_seen:
         last_side[g] = LEFT if ball_direction < 0.0 else RIGHT
     kickable = is_kickable(ball_distance, constants)
     skill = HUNT if action == NO_ACTION else skills[action]
-    kind, value, direction = skill_command(
+    kind, value, direction, outcome = skill_command(
         skill, values[g, layout.direction], values[g, layout.power], ball_seen, ball_distance, ball_direction,
         goal_direction, kickable, last_side[g], speed, rules.assisted_skills, constants)
+    commands[g] = kind
+    command_values[g] = value
+    command_directions[g] = direction
+    outcomes[g] = outcome
     return kind, value, direction, kickable
 
 
@@ -516,7 +534,9 @@ class GameBatch:
             visible=np.zeros((n, len(vocabulary.object_names)), dtype=np.bool_),
         )
         self.decision = Decision(action=np.full(n, NO_ACTION, dtype=np.int64),
-                                 values=np.zeros((n, len(vocabulary.output_names))), strengths=np.zeros((n, 1)))
+                                 values=np.zeros((n, len(vocabulary.output_names))), strengths=np.zeros((n, 1)),
+                                 command=np.zeros(n, dtype=np.int64), command_value=np.zeros(n),
+                                 command_direction=np.zeros(n), outcome=np.full(n, NO_OUTCOME, dtype=np.int64))
         self.set_rulebases(rulebases)
         self._live = n
         a = self._arguments
@@ -595,7 +615,9 @@ def play_game(rulebase: Rulebase, seed: int, config: GameConfig = GameConfig(), 
             seen, decided = batch.observation, batch.decision
             rows.append((seen.player_x[0], seen.player_y[0], seen.facing[0], seen.ball_x[0], seen.ball_y[0],
                          seen.visible[0].copy(), seen.inputs[0].copy(), decided.strengths[0, : len(rulebase)].copy(),
-                         int(decided.action[0]), decided.values[0].copy(), int(batch.state.goals[0])))
+                         int(decided.action[0]), decided.values[0].copy(), int(batch.state.goals[0]),
+                         int(decided.command[0]), float(decided.command_value[0]),
+                         float(decided.command_direction[0]), int(decided.outcome[0])))
     result = batch.result(0)
     if not trace:
         return result, None
@@ -603,8 +625,9 @@ def play_game(rulebase: Rulebase, seed: int, config: GameConfig = GameConfig(), 
 
 
 def _trace(rows: list[tuple], layout: VocabularyLayout, rules: int, vocabulary: Vocabulary) -> GameTrace:
-    columns = list(zip(*rows)) if rows else [()] * 11
-    player_x, player_y, facing, ball_x, ball_y, visible, inputs, strengths, action, values, goals = columns
+    columns = list(zip(*rows)) if rows else [()] * 15
+    (player_x, player_y, facing, ball_x, ball_y, visible, inputs, strengths, action, values, goals, command,
+     command_value, command_direction, outcome) = columns
     values = np.array(values).reshape(len(rows), len(vocabulary.output_names))
     return GameTrace(
         player_x=np.array(player_x, dtype=np.float64),
@@ -620,4 +643,8 @@ def _trace(rows: list[tuple], layout: VocabularyLayout, rules: int, vocabulary: 
         power=values[:, layout.power],
         goals=np.array(goals, dtype=np.int64),
         vocabulary=vocabulary,
+        command=np.array(command, dtype=np.int64),
+        command_value=np.array(command_value, dtype=np.float64),
+        command_direction=np.array(command_direction, dtype=np.float64),
+        outcome=np.array(outcome, dtype=np.int64),
     )

@@ -12,7 +12,8 @@ from fuzzy.batched import NO_ACTION
 from fuzzy.rule import Rulebase
 from fuzzy.vocabulary import Vocabulary
 from soccer.config import SOCCER_VOCABULARY, GameConfig
-from soccer.engine import END_REASONS, GameBatch
+from soccer.engine import END_REASONS, NO_OUTCOME, GameBatch
+from soccer.outcome import Outcome
 
 TRAIL_LENGTH = 60  # ball positions kept for the trail (6 s)
 
@@ -30,6 +31,8 @@ class SoccerState:
     strengths: tuple[float, ...]  # every rule's strength at the last decision (0 before the first)
     action: str | None  # the last selected action (None: no rule fired, the player hunted)
     parameters: dict[str, float]  # the selected action's outputs it uses
+    outcome: Outcome | None  # what the last decision's skill did and why (None before the first decision)
+    idle: int  # consecutive ticks the player neither moved nor kicked (the game ends at config.idle_ticks)
     goals: int
     kicks: int
     done: bool
@@ -94,6 +97,10 @@ class SoccerEnv:
             strengths=tuple(float(s) for s in decided.strengths[0, : len(self.rulebase)]),
             action=action,
             parameters={o: float(decided.values[0, vocabulary.output_names.index(o)]) for o in uses},
+            outcome=None if decided.outcome[0] == NO_OUTCOME else Outcome(
+                action, int(decided.command[0]), float(decided.command_value[0]),
+                float(decided.command_direction[0]), int(decided.outcome[0])),
+            idle=int(game.idle[0]),
             goals=int(game.goals[0]),
             kicks=int(game.kicks[0]),
             done=done,

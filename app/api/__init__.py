@@ -5,21 +5,23 @@ from __future__ import annotations
 from pathlib import Path
 
 from fastapi import APIRouter, FastAPI
-from fastapi.middleware.cors import CORSMiddleware
+from fastapi_offline import FastAPIOffline
 from fastapi.staticfiles import StaticFiles
 
+from app.api.docs_pages import install_redoc
 from app.api.errors import MAX_BODY_BYTES, BodySizeLimit, install_error_handlers
 from app.api.guard import RequestGuard
 from app.api.models import ServerInfo
 from app.api.routes import experiments, lineage, rulebases, rules, runs, vocabulary
 from app.api.ui_page import UI_PATH, ui_router
 from app.origins import SiteAddresses
-from app.rerun_viewer import viewer_home
+from app.rerun_viewer import VIEWER_PATH, viewer_home
 from app.runs import RunManager
 from app.store import Store
 
 STATIC_DIR = Path(__file__).resolve().parents[2] / "static"
 API_PREFIX = "/api"
+DOCS_URL = "/docs"  # fastapi-offline's Swagger UI (FastAPI's own docs_url is off)
 
 
 def create_app(
@@ -27,26 +29,29 @@ def create_app(
     run_manager: RunManager,
     *,
     ui_url: str | None = None,
-    viewer_url: str | None = None,
+    api_url: str | None = None,
+    viewer_files: Path | None = None,
     max_body_bytes: int = MAX_BODY_BYTES,
     site: SiteAddresses | None = None,
     ui_websocket: str | None = None,
 ) -> FastAPI:
-    """The API over `store` and `run_manager`; ui_url/viewer_url are linked from the landing page
-    (the rerun viewer also fetches recordings from here, hence CORS for its origin). `site`: the address
+    """The API over `store` and `run_manager`; `ui_url` is linked from the landing page. With `viewer_files`
+    (app/rerun_viewer.py) rerun's web viewer is served at /viewer/, at `api_url`'s address. `site`: the address
     served, whose Host headers and origins are accepted (app/api/guard.py; None: any Host, for tests).
-    `ui_websocket`: the UI's websocket (ws://host:ui_port), whose page the app then serves at /ui/."""
-    app = FastAPI(
+    `ui_websocket`: the UI's websocket (ws://host:ui_port), whose page the app then serves at /ui/.
+    The interactive docs (/docs, /redoc) come whole from here: a school network without internet shows
+    them too (docs_pages.py)."""
+    app = FastAPIOffline(
+        redoc_url=None,  # docs_pages.install_redoc: fastapi-offline's ReDoc still fetches its maker's logo
         title="soccer-lab",
         summary="Evolve, inspect and teach fuzzy-rule robot soccer players.",
         version="0.1.0",
     )
     app.state.store = store
     app.state.runs = run_manager
+    install_redoc(app)
     install_error_handlers(app)
     app.add_middleware(BodySizeLimit, limit=max_body_bytes)
-    if viewer_url:
-        app.add_middleware(CORSMiddleware, allow_origins=[viewer_url.rstrip("/")], allow_methods=["GET"])
     app.add_middleware(RequestGuard, site=site)  # outermost: checked before anything else runs
 
     api = APIRouter(prefix=API_PREFIX)
@@ -55,11 +60,14 @@ def create_app(
 
     @api.get("/server", tags=["server"], summary="Addresses of the UI, the rerun viewer and the API docs")
     def server() -> ServerInfo:
-        return ServerInfo(ui=ui_url, viewer=viewer_url, viewer_home=viewer_home(viewer_url) if viewer_url else None,
-                          docs=app.docs_url or "")
+        viewer = viewer_files is not None and api_url is not None
+        return ServerInfo(ui=ui_url, viewer=f"{api_url}{VIEWER_PATH}" if viewer else None,
+                          viewer_home=viewer_home(api_url) if viewer else None, docs=DOCS_URL)
 
     app.include_router(api)
     if ui_websocket:
         app.include_router(ui_router(ui_websocket))
+    if viewer_files is not None:
+        app.mount(VIEWER_PATH.rstrip("/"), StaticFiles(directory=viewer_files, html=True), name="viewer")
     app.mount("/", StaticFiles(directory=STATIC_DIR, html=True), name="static")
     return app

@@ -373,6 +373,6 @@ class ExperimentOut(BaseModel):
 
 class ServerInfo(BaseModel):
     ui: str | None
-    viewer: str | None  # the rerun viewer's address; open a recording at `<viewer>/?url=<recording URL>`
-    viewer_home: str | None  # where to open the viewer itself (without rerun's welcome screen)
+    viewer: str | None  # rerun's web viewer, served by the app (/viewer/)
+    viewer_home: str | None  # the viewer without rerun's welcome screen; a recording: `<viewer_home>&url=<recording URL>`
     docs: str

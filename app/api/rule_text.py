@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from fastapi.exceptions import RequestValidationError
+
 from app.api.models import ConsequentOut, PremiseOut, RuleOut
 from fuzzy.parser import parse_rulebase
 from fuzzy.printer import format_rule
@@ -14,6 +16,16 @@ VOCABULARY = Vocabulary.default()  # the API's rules are written in the soccer v
 def parse(text: str) -> Rulebase:
     """The rulebase; RuleSyntaxError (every error of the text) is answered 422 by the error handlers."""
     return parse_rulebase(text, VOCABULARY)
+
+
+NO_RULE = "the rulebase holds no rule: write at least one (a player without rules only hunts)"
+
+
+def playable(rulebase: Rulebase, where: tuple[str, ...] = ("body", "text")) -> Rulebase:
+    """The rulebase, if it has a rule to play or save (the UI refuses the same); else a 422 at `where`."""
+    if not len(rulebase):
+        raise RequestValidationError([{"type": "value_error", "loc": where, "input": "", "msg": NO_RULE}])
+    return rulebase
 
 
 def rule_out(rule: Rule) -> RuleOut:

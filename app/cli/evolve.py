@@ -5,7 +5,6 @@ a killed run (either kind) from its checkpoint. Evaluations play SimpleSoccer ga
 
 from __future__ import annotations
 
-import os
 from pathlib import Path
 from types import SimpleNamespace
 from typing import TYPE_CHECKING, Annotated, Any, Optional
@@ -17,7 +16,7 @@ from app.cli.play import (CountTouchesOption, EnvOption, FitnessOption, GoalCapO
                           MaxTicksOption, NoiseOption, RcssserverOption, ServerOption, ServersOption, SkillsOption,
                           chosen_env, config_from_options, game_config, option_help, option_name, rcss_executable,
                           rcss_servers, trial_config)
-from app.environments import RCSS, RCSS_WORKERS, SIMPLE, checked_workers
+from app.environments import RCSS, RCSS_WORKERS, SIMPLE, checked_workers, default_workers
 from ga.config import GAConfig
 from soccer.config import GameConfig
 
@@ -30,7 +29,6 @@ GA_PANEL = "Genetic algorithm"
 RUN_PANEL = "Run"
 # GAConfig fields whose option is not simply --field-name.
 RENAMED = {"max_generations": "generations"}
-WORKERS_LIMIT = next(limit.le for limit in GAConfig.model_fields["workers"].metadata if hasattr(limit, "le"))
 
 
 def _ga_option(field: str, text: str, kind: Any) -> Any:
@@ -139,7 +137,7 @@ def _settings(algorithm: str, options: dict[str, Any]) -> "RunSettings":
     options["max_generations"] = options.pop("generations")
     if env == SIMPLE:
         if options["workers"] is None:
-            options["workers"] = min(os.cpu_count() or 1, WORKERS_LIMIT)
+            options["workers"] = default_workers()
         where = {"game": game_config(**game_options, **simple_options)}
     else:
         if options["workers"] is not None:

@@ -11,7 +11,7 @@ import typer
 
 from app.cli.common import fail
 from app.paths import default_data_dir
-from app.server import DEFAULT_HOST, DEFAULT_PORT, DEFAULT_RERUN_PORT, DEFAULT_UI_PORT, ServeError, ServeOptions, serve
+from app.server import DEFAULT_HOST, DEFAULT_PORT, DEFAULT_UI_PORT, ServeError, ServeOptions, serve
 from app.store import StoreError
 
 PORT_RANGE = {"min": 1, "max": 65535}
@@ -19,9 +19,9 @@ PORT_RANGE = {"min": 1, "max": 65535}
 
 def serve_command(
     host: str = typer.Option(DEFAULT_HOST, help="Address to listen on (127.0.0.1: this machine only)."),
-    port: int = typer.Option(DEFAULT_PORT, help="Port of the JSON API and the home page.", **PORT_RANGE),
-    ui_port: int = typer.Option(DEFAULT_UI_PORT, help="Port of the viser UI.", **PORT_RANGE),
-    rerun_port: int = typer.Option(DEFAULT_RERUN_PORT, help="Port of rerun's web viewer.", **PORT_RANGE),
+    port: int = typer.Option(DEFAULT_PORT, help="Port of the app: the home page, the UI's page, the JSON API, "
+                             "its docs and rerun's web viewer.", **PORT_RANGE),
+    ui_port: int = typer.Option(DEFAULT_UI_PORT, help="Port of the UI's websocket (viser).", **PORT_RANGE),
     data_dir: Optional[Path] = typer.Option(
         None, help="Folder of the database and the runs' files. (default: $SOCCER_LAB_DATA, else "
         "$XDG_DATA_HOME/soccer-lab, else ~/.local/share/soccer-lab)", show_default=False
@@ -39,7 +39,7 @@ def serve_command(
             rcssserver = find_rcssserver(rcssserver)
         except RcssLaunchError as exc:
             fail(f"--rcssserver: {exc}")
-    options = ServeOptions(host, port, ui_port, rerun_port, data_dir or default_data_dir(), rcssserver)
+    options = ServeOptions(host, port, ui_port, data_dir or default_data_dir(), rcssserver)
     try:
         serve(options, echo=typer.echo)
     except (ServeError, StoreError) as exc:

@@ -6,14 +6,16 @@ from __future__ import annotations
 import numpy as np
 
 from app.ui import style
+from app.ui.command_mark import command_mark
 from app.ui.context import UiContext
 from app.ui.panels.svg import escape
-from app.ui.pitch import PitchFrame
+from app.ui.pitch import PitchFrame, PitchGeometry
 from fuzzy.engine import Engine, Inference
 from fuzzy.printer import format_rule
 from fuzzy.rule import Rulebase
 from soccer.config import GameConfig
 from soccer.env import SoccerEnv
+from soccer.outcome import end_reason_sentence
 from soccer.perception import BALL  # the ball's visibility colours the view cone
 
 
@@ -25,6 +27,7 @@ class Game:
         self.vocabulary = context.vocabulary
         self.config = config if config is not None else context.game
         self.env = SoccerEnv(rulebase, self.config, context.vocabulary)
+        self.geometry = PitchGeometry.from_world(self.config.world)
         self.view_half_angle = self.config.world.view_width / 2
         self.set_rulebase(rulebase, name)
         self.restart(seed)
@@ -76,21 +79,60 @@ class Game:
             ball=s.ball,
             trail=np.array(s.ball_trail, dtype=np.float64).reshape(-1, 2),
             ball_visible=self.visible()[BALL],
+            command=command_mark(s, self.geometry.goal, self.geometry.grass),
         )
 
+    def outcome_text(self) -> str | None:
+        """What the player did on its last decision and why, in a sentence (None before the first)."""
+        outcome = self.state.outcome
+        return outcome.describe(self.config.skills, self.vocabulary) if outcome is not None else None
+
+    def outcome_refused(self) -> bool:
+        """Whether the last decision's skill could not do what its action asks."""
+        return self.state.outcome is not None and self.state.outcome.refused
+
     def status_html(self) -> str:
-        s = self.state
-        over = f" — game over ({escape(s.end_reason)})" if self.done else ""
+        s, config = self.state, self.config
         return (
-            f'<div class="game-status" data-tick="{s.tick}" data-goals="{s.goals}" style="{style.FONT}; '
-            f'font-size:{style.FONT_SIZE + 2}px; color:{style.INK}">'
+            f'<div class="game-status" data-tick="{s.tick}" data-goals="{s.goals}" data-idle="{s.idle}" '
+            f'data-done="{str(self.done).lower()}" style="{style.FONT}; font-size:{style.FONT_SIZE + 2}px; '
+            f'color:{style.INK}">'
             f'<div style="font-size:{style.FONT_SIZE + 10}px; font-weight:700">Goals {s.goals}'
             f'<span style="font-weight:400; font-size:{style.FONT_SIZE + 2}px; color:{style.MUTED}"> '
             f"kicks {s.kicks}</span></div>"
-            f"<div>tick {s.tick} / {self.config.max_ticks}{over}</div>"
+            f"<div>tick {s.tick} / {config.max_ticks}</div>"
             f'<div style="color:{style.MUTED}">seed {self.seed} · playing <b style="color:{style.INK}">'
             f"{escape(self.name)}</b></div>"
-            f'<div class="game-rules" style="color:{style.MUTED}">{escape(rules_summary(self.config))}</div></div>'
+            f"{self._idle_html()}{self._end_html()}"
+            f'<div class="game-rules" style="color:{style.MUTED}">{escape(rules_summary(config))}</div></div>'
+        )
+
+    def _idle_html(self) -> str:
+        """The idle countdown, once the player has stood still a tick: the game ends when it runs out."""
+        s, limit = self.state, self.config.idle_ticks
+        if s.idle == 0 or self.done:
+            return ""
+        share = min(s.idle / limit, 1.0)
+        return (
+            f'<div class="idle" data-idle="{s.idle}" style="margin-top:4px; font-size:{style.FONT_SIZE}px; '
+            f'color:{style.ERROR if share > 0.5 else style.INK}">idle {s.idle} / {limit} ticks '
+            f'<span style="color:{style.MUTED}">(the game ends when the player neither moves nor kicks for '
+            f"{limit} ticks)</span>"
+            f'<div style="height:6px; background:{style.GRID}; border-radius:3px"><div style="width:{100 * share:.0f}%; '
+            f'height:6px; background:{style.ERROR}; border-radius:3px"></div></div></div>'
+        )
+
+    def _end_html(self) -> str:
+        if not self.done:
+            return ""
+        s, config = self.state, self.config
+        why = end_reason_sentence(s.end_reason, config.max_ticks, config.goal_cap, config.idle_ticks)
+        last = self.outcome_text()
+        tried = f" Last it did: {escape(last)}." if last and s.end_reason == "idle" else ""
+        return (
+            f'<div class="game-over" data-reason="{escape(s.end_reason)}" style="margin-top:4px; '
+            f'font-size:{style.FONT_SIZE}px; color:{style.ERROR}; font-weight:600">Game over: {escape(why)}.'
+            f'<span style="font-weight:400; color:{style.INK}">{tried}</span></div>'
         )
 
 

@@ -1,6 +1,11 @@
 """The top-down pitch in viser's 3D scene: the field (lines, goal), player with facing and view cone,
-ball and trail, each a flat picture (see pitch_pictures.py) but the trail. The pictures are the
-server's, sent once to every tab (draw_pitch); each tab moves the frames they hang from (PitchView).
+ball and trail, each a flat picture (see pitch_pictures.py) but the trail, and what the player did this
+tick (an arrow or arc, and a label: command_mark.py). The pictures are the server's, sent once to every
+tab (draw_pitch); each tab moves the frames they hang from (PitchView).
+
+Nothing is drawn off the grass: the canvas around it is the STADIUM colour, and a frame of that colour
+lies above every drawing but the bodies, hiding what would reach past the grass (the view cone, the
+trail, an arrow). The labels, drawn over everything, are placed on the grass.
 
 World coordinates are the simulator's (x toward the attacked goal, y to the player's right when it
 faces +x, as in rcssserver). Seen from above with x to the right, +y points down the screen, so the
@@ -16,7 +21,8 @@ import numpy as np
 import viser
 
 from app.ui import style
-from app.ui.pitch_pictures import Picture, ball_picture, cone_picture, field_picture, player_picture
+from app.ui.command_mark import CommandMark
+from app.ui.pitch_pictures import Picture, ball_picture, cone_picture, field_picture, player_picture, solid_picture
 from soccer.config import WorldConfig
 
 CAMERA_FOV = math.radians(20.0)  # a narrow lens from far above looks orthographic
@@ -25,7 +31,11 @@ PLAYER_NODE = "/pitch/player"
 CONE_NODES = {False: f"{PLAYER_NODE}/view_cone_no_ball", True: f"{PLAYER_NODE}/view_cone_ball"}  # ball seen?
 BALL_NODE = "/pitch/ball"
 TRAIL_NODE = "/pitch/trail"
-Z_GRASS, Z_CONE, Z_TRAIL, Z_BODY = -0.05, 0.02, 0.03, 0.2
+COMMAND_NODE = "/pitch/command"
+COMMAND_LABEL_NODE = "/pitch/command_label"
+FRAME_NODE = "/stadium"  # the frame around the grass
+Z_GRASS, Z_CONE, Z_TRAIL, Z_COMMAND, Z_FRAME, Z_BODY = -0.05, 0.02, 0.03, 0.04, 0.1, 0.2
+FRAME_WIDTH = 1000.0  # metres: far past any canvas's edge
 
 
 @dataclass(frozen=True)
@@ -42,6 +52,17 @@ class PitchGeometry:
         c = world.constants()
         return cls(c.half_length, c.half_width, c.goal_half_width, c.goal_depth, c.view_half_angle, c.ball_speed_max)
 
+    @property
+    def grass(self) -> tuple[float, float, float, float]:
+        """(x0, x1, y0, y1): the grass, the lines and the goal with a margin, in world metres."""
+        margin = style.PITCH_MARGIN
+        return (-self.half_length - margin, self.half_length + self.goal_depth + margin,
+                -self.half_width - margin, self.half_width + margin)
+
+    @property
+    def goal(self) -> tuple[float, float]:
+        return (self.half_length, 0.0)
+
 
 @dataclass(frozen=True)
 class PitchFrame:
@@ -50,6 +71,7 @@ class PitchFrame:
     ball: tuple[float, float]
     trail: np.ndarray  # float[N, 2], oldest first
     ball_visible: bool
+    command: CommandMark | None = None  # what the player did this tick (None: nothing yet)
 
 
 def to_scene(x: float, y: float, z: float = 0.0) -> tuple[float, float, float]:
@@ -81,13 +103,28 @@ def draw_pitch(scene: viser.SceneApi, geometry: PitchGeometry, start: PitchFrame
     # (the pictures carry their own colours).
     scene.configure_environment_map(None)
     scene.configure_default_lights(enabled=False, cast_shadow=False)
+    scene.set_background_image(solid_picture(style.STADIUM))
     show_picture(scene, FIELD_NODE, field_picture(geometry), Z_GRASS)
+    draw_frame(scene, geometry)
     PitchView(scene, geometry).show(start)
     show_picture(scene, f"{PLAYER_NODE}/body", player_picture(), 0.0)
     for seen, name in CONE_NODES.items():
         colour = style.BALL if seen else style.VIEW_CONE
         show_picture(scene, f"{name}/picture", cone_picture(geometry.view_half_angle, colour), 0.0)
     show_picture(scene, f"{BALL_NODE}/picture", ball_picture(), 0.0)
+
+
+def draw_frame(scene: viser.SceneApi, geometry: PitchGeometry) -> None:
+    """Four wide bands of the stadium's colour around the grass, above every drawing but the bodies."""
+    x0, x1, y0, y1 = geometry.grass
+    w = FRAME_WIDTH
+    bands = {"left": (x0 - w / 2, (y0 + y1) / 2, w, y1 - y0 + 2 * w),
+             "right": (x1 + w / 2, (y0 + y1) / 2, w, y1 - y0 + 2 * w),
+             "top": ((x0 + x1) / 2, y0 - w / 2, x1 - x0, w),
+             "bottom": ((x0 + x1) / 2, y1 + w / 2, x1 - x0, w)}
+    pixels = solid_picture(style.STADIUM)
+    for name, (cx, cy, width, height) in bands.items():
+        show_picture(scene, f"{FRAME_NODE}/{name}", Picture(pixels, (cx, cy), (width, height)), Z_FRAME)
 
 
 class PitchView:
@@ -106,6 +143,13 @@ class PitchView:
             visible=False,
         )
         self._trail_shown: np.ndarray | None = None
+        self.command = scene.add_line_segments(
+            COMMAND_NODE, np.zeros((1, 2, 3), np.float32), colors=np.zeros((1, 2, 3), np.uint8),
+            thickness=style.COMMAND_MARK_THICKNESS, visible=False)
+        self.command_label = scene.add_label(
+            COMMAND_LABEL_NODE, "", position=to_scene(0, 0, Z_BODY), visible=False, font_size_mode="scene",
+            font_scene_height=style.COMMAND_LABEL_HEIGHT, anchor="bottom-center")
+        self._command_shown: CommandMark | None = None
 
     def show(self, frame: PitchFrame) -> None:
         self.player.position = to_scene(*frame.player, Z_BODY)
@@ -114,6 +158,29 @@ class PitchView:
         for seen, cone in self.cones.items():
             cone.visible = seen == frame.ball_visible
         self._show_trail(frame.trail)
+        self._show_command(frame.command)
+
+    def _show_command(self, mark: CommandMark | None) -> None:
+        shown = self._command_shown
+        if shown is mark or (shown is not None and mark is not None and shown.label == mark.label
+                             and shown.label_at == mark.label_at and np.array_equal(shown.segments, mark.segments)):
+            return
+        self._command_shown = mark
+        if mark is None:
+            self.command.visible = False
+            self.command_label.visible = False
+            return
+        if len(mark.segments):
+            points = np.zeros((len(mark.segments), 2, 3), np.float32)
+            points[..., 0] = mark.segments[..., 0]
+            points[..., 1] = -mark.segments[..., 1]
+            points[..., 2] = Z_COMMAND
+            self.command.colors = np.tile(np.array(mark.colour, np.uint8), (len(mark.segments), 2, 1))
+            self.command.points = points
+        self.command.visible = len(mark.segments) > 0
+        self.command_label.text = mark.label
+        self.command_label.position = to_scene(*mark.label_at, Z_BODY)
+        self.command_label.visible = True
 
     def _show_trail(self, trail: np.ndarray) -> None:
         if self._trail_shown is not None and np.array_equal(trail, self._trail_shown):

@@ -97,6 +97,11 @@ class _Canvas:
         return Picture(pixels, centre, (self.x1 - self.x0, self.y1 - self.y0))
 
 
+def solid_picture(rgb: tuple[int, int, int]) -> np.ndarray:
+    """Pixels of one opaque colour (viser stretches them over a quad, or the canvas's background)."""
+    return np.tile(np.array([*rgb, 255], np.uint8), (2, 2, 1))
+
+
 def _hex(rgb: tuple[int, int, int], alpha: float = 1.0) -> tuple[float, float, float, float]:
     return (rgb[0] / 255, rgb[1] / 255, rgb[2] / 255, alpha)
 

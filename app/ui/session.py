@@ -38,10 +38,11 @@ GAME_OVER_PAUSE = 2.0  # seconds the final position stays on screen before the n
 MAX_CATCH_UP = 0.25  # seconds of play made up at most after a stall (a busy machine): no bursts
 DUE_EARLY = 0.02  # of a tick: a wake-up this early still plays it, not a frame later
 IDLE_WAKE = 0.1  # seconds: paused or slow, the loop still looks for a finished generation this often
-# The panels wait for the browser to take in the pitch (at most PITCH_SEEN_WAIT seconds), then
-# PANELS_AFTER more while it decodes the pictures and draws them.
+# A new tab: the pitch first; once the browser has taken it in (at most PITCH_SEEN_WAIT seconds) the Play tab
+# (the score and tick counter, the controls) and the game plays; the other panels come PANELS_AFTER seconds
+# of play later (docs/design.md, "First paint": a browser without a GPU spends seconds laying panels out).
 PITCH_SEEN_WAIT = 2.0
-PANELS_AFTER = 0.5
+PANELS_AFTER = 0.75
 
 
 class Session:
@@ -57,7 +58,8 @@ class Session:
         self._game_over_since: float | None = None
         self._closed = threading.Event()
         self._pitch_seen = threading.Event()
-        self.ready = threading.Event()  # the panels are built and the game plays
+        self.ready = threading.Event()  # every panel is built (the game plays from the Play tab's)
+        self.skills: str | None = None  # the skill set chosen on this tab (None: the app's)
         self._ticks_per_second = 1.0 / context.game.world.tick_seconds  # at 1x speed
         self.game = self.first_game(context)
         self._show_pitch()
@@ -89,27 +91,35 @@ class Session:
         self.pitch.fit_camera(self.client.camera)
         self.client.flush()
 
-    def _build_panels(self) -> None:
-        gui, context = self.client.gui, self.context
+    def _build_play_tab(self) -> None:
+        """The score, the tick counter and the play controls: all a tab needs to play."""
+        gui = self.client.gui
         # Tabs and buttons without icons: viser reads each icon from a 2 MB zip file the first time it
         # is used, seconds that the first visitor after a start would wait for.
-        tabs = gui.add_tab_group()
-        with tabs.add_tab("Play"):
+        self._tabs = gui.add_tab_group()
+        with self._tabs.add_tab("Play"):
             self.controls = PlayControls(
                 gui, on_play=self.set_playing, on_step=self.step_once, on_new_start=self.new_start,
-                on_reset_view=lambda: self.pitch.fit_camera(self.client.camera),
+                on_reset_view=lambda: self.pitch.fit_camera(self.client.camera), on_skills=self.set_skills,
+                skills=self.game.config.skills,
             )
+        self._render()
+
+    def _build_panels(self) -> None:
+        """Every other panel, once the game plays."""
+        gui, context, tabs = self.client.gui, self.context, self._tabs
         with tabs.add_tab("Rules"):
             self.editor = EditorPanel(
                 gui, context.vocabulary, context.store, (self.game.rulebase, self.game.name),
-                on_apply=self.load_rulebase, on_saved=lambda: self.library.refresh(), simplify=self.simplify,
+                on_apply=self.load_rulebase, on_example=self.play_player, on_saved=lambda: self.library.refresh(),
+                simplify=self.simplify,
             )
         with tabs.add_tab("Evolve"):
             self.evolve = EvolvePanel(
                 gui, context.runs, context.store, on_load=self.play_player,
                 on_generation=lambda *finished: self.population.generation_finished(*finished),
                 on_run_ended=lambda run_id, status: self.population.run_ended(run_id, status),
-                on_runs_changed=self._runs_changed,
+                on_runs_changed=self._runs_changed, api_url=context.api_url,
             )
         with tabs.add_tab("Library"):
             self.library = LibraryPanel(gui, context.store, context.runs, context.vocabulary, context.api_url,
@@ -133,6 +143,7 @@ class Session:
                                           start_seed=lambda: self.game.seed, game_of_run=self.run_game,
                                           app_game=context.game, demo=(context.demo_rulebase(), context.demo_name),
                                           current_run=lambda: self.evolve.run_id)
+        self.ready.set()
         self._render()
 
     # ---- controls -------------------------------------------------------------------------
@@ -154,6 +165,17 @@ class Session:
             self._game_over_since = None
             self._render()
 
+    def set_skills(self, skills: str) -> None:
+        """The same player from a new start of the same seed, with another skill set; it stays this tab's choice
+        for the rulebases it puts on the pitch next."""
+        with self.lock:
+            self.skills = skills
+            config = self.game.config.model_copy(update={"skills": skills})
+            self.game = Game(self.context, self.game.rulebase, self.game.name, self.game.seed, config)
+            self._game_over_since = None
+            self.controls.show_skills(skills)
+            self._render()
+
     def load_rulebase(self, rulebase: Rulebase, name: str, *, restart: bool = False) -> None:
         """Put `rulebase` on the pitch in the same game's rules (the game goes on from where it is unless
         `restart`): the editor's rules."""
@@ -165,8 +187,11 @@ class Session:
 
     def play_player(self, rulebase: Rulebase, name: str, run_id: int | None = None) -> None:
         """A new player on the pitch, from a new start of the same seed: a run's player in its run's game
-        (run_game), a saved rulebase (`run_id` None) in the app's."""
-        config = self.context.game if run_id is None else self.run_game(run_id)
+        (run_game), a saved rulebase or example (`run_id` None) in the app's, with the tab's skill set."""
+        if run_id is None:
+            config = self.context.game.model_copy(update={"skills": self.skills or self.context.game.skills})
+        else:
+            config = self.run_game(run_id)
         with self.lock:
             if config == self.game.config:
                 self.game.set_rulebase(rulebase, name)
@@ -174,9 +199,12 @@ class Session:
             else:
                 self.game = Game(self.context, rulebase, name, self.game.seed, config)
             self._show_rulebase(rulebase, name)
+            self.controls.show_skills(self.game.config.skills)
 
     def _runs_changed(self) -> None:
-        """A run started or ended: the panels that list runs list it."""
+        """A run started or ended: the panels that list runs list it (a panel built later lists them then)."""
+        if not self.ready.is_set():
+            return
         self.library.refresh()
         self.lineage.refresh()
         self.breeding.refresh()
@@ -240,22 +268,14 @@ class Session:
     # ---- the loop -------------------------------------------------------------------------
     def _loop(self) -> None:
         self._pitch_seen.wait(PITCH_SEEN_WAIT)
-        if self._closed.wait(PANELS_AFTER):
-            return
-        with self.lock:
-            try:
-                self._build_panels()
-            except Exception:
-                if self._connected():
-                    raise
-                return  # the tab closed while its panels were built
-        self.ready.set()
-        if self._closed.is_set():
-            self.evolve.close()
+        if not self._built(self._build_play_tab):
             return
         last = time.perf_counter()
+        panels_due = last + PANELS_AFTER
         while not self._closed.is_set():
             now = time.perf_counter()
+            if not self.ready.is_set() and now >= panels_due and not self._built(self._build_panels):
+                return
             try:
                 with self.lock:
                     if self._closed.is_set():
@@ -268,10 +288,26 @@ class Session:
             last = now
             self._closed.wait(self._until_next_tick())
 
+    def _built(self, build: Callable[[], None]) -> bool:
+        """Build panels under the lock; False when the tab closed meanwhile (and its loop should end)."""
+        with self.lock:
+            try:
+                build()
+            except Exception:
+                if self._connected():
+                    raise
+                return False  # the tab closed while its panels were built
+        if self._closed.is_set():
+            if self.ready.is_set():
+                self.evolve.close()
+            return False
+        return True
+
     def _advance(self, elapsed: float) -> None:
         ticks = self._due_ticks(elapsed) if self.playing else 0
-        self.population.advance(ticks)
-        self.breeding.advance(ticks)
+        if self.ready.is_set():
+            self.population.advance(ticks)
+            self.breeding.advance(ticks)
         if ticks == 0:
             return
         if self.game.done:
@@ -326,8 +362,10 @@ class Session:
         # Two batches: the browser applies panel-only updates at once, scene updates at its next frame.
         with self.client.atomic():
             self.controls.show_status(game.status_html())
-            self.inference.show(game.inputs(), game.rule_texts, game.inference())
-            self.policy.show_current(game.inputs())
+            if self.ready.is_set():
+                self.inference.show(game.inputs(), game.rule_texts, game.inference(), game.outcome_text(),
+                                    game.outcome_refused())
+                self.policy.show_current(game.inputs())
         if self._closed.is_set():
             return
         with self.client.atomic():

@@ -36,6 +36,17 @@ BALL_TRAIL = (255, 224, 130)
 VIEW_CONE = (255, 255, 255)
 VIEW_CONE_OPACITY = 0.18
 GOAL_NET = (230, 230, 230)
+# Around the grass: the canvas's background, and the frame that hides any drawing beyond the grass (the view
+# cone, the trail, an arrow) so nothing is drawn off the pitch. Dark, so the pitch stands out on a projector.
+STADIUM = (38, 50, 56)
+# What the player did this tick (app/ui/command_mark.py): arrows, arcs, a red dashed line for what was missing.
+KICK_MARK = (255, 111, 0)
+DASH_MARK = (255, 255, 255)
+TURN_MARK = (129, 212, 250)
+REFUSED_MARK = (211, 47, 47)
+COMMAND_MARK_THICKNESS = 0.6  # metres, as the trail's
+COMMAND_LABEL_HEIGHT = 2.6  # metres: the label's letters scale with the pitch
+COMMAND_LABEL_ROOM = 9.0  # metres kept between the label's centre and the grass's ends
 
 # Panel palette (HTML/SVG): hex strings.
 INK = "#1f2933"
@@ -74,3 +85,4 @@ MINI_PITCH_GRASS = "#2e7d32"
 MINI_PITCH_DONE = "#607d8b"  # grey grass: the game is over
 MINI_PITCH_PLAYER = "#64b5f6"  # lighter than PLAYER, to read on the small dark pitch
 BALL_HEX = "#ffc107"  # BALL as a hex string for SVG
+PLOT_PADDING = (14, 14, 0, 0)  # px above and right of a plot: the top tick's label (1) is not cut off

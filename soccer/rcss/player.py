@@ -24,12 +24,14 @@ from fuzzy.batched import NO_ACTION, CompiledRulebases, Scratch, VocabularyTable
 from fuzzy.rule import Rulebase
 from fuzzy.vocabulary import Vocabulary
 from soccer.config import SOCCER_VOCABULARY, GameConfig, WorldConstants
-from soccer.engine import VocabularyLayout, plain
+from soccer.engine import NO_OUTCOME, VocabularyLayout, plain
 from soccer.rcss.client import PlayerCycle
 from soccer.rcss.localisation import Pose, goal_relative, localise, normalise_angle
 from soccer.rcss.messages import SenseBody, parse_message
+from soccer.outcome import Outcome
 from soccer.rcss.params import VIEW_HALF_ANGLE, ServerParams
-from soccer.skills import DASH, HUNT, KICK, LEFT, RIGHT, TURN, goal_direction_for_skills, skill_command, skill_set_flags
+from soccer.skills import (DASH, HUNT, KICK, LEFT, NONE, RIGHT, TURN, goal_direction_for_skills, skill_command,
+                           skill_set_flags)
 
 
 def world_constants(params: ServerParams, view_width: str = "normal") -> WorldConstants:
@@ -122,6 +124,9 @@ class RcssPlayer:
         self.skill_set = skill_set_flags(skills)  # (assisted, goal_in_view_only)
         self.vocabulary = vocabulary
         self.last_action = NO_ACTION  # the vocabulary's action index of the last decision (NO_ACTION: the hunt)
+        # What the last decision's skill did (soccer/outcome.py words it) and the command text sent, if any.
+        self.last_command: tuple[int, float, float, int] = (NONE, 0.0, 0.0, NO_OUTCOME)  # kind, value, direction, why
+        self.last_sent: str | None = None
         self.params = params
         self.world = WorldModel(params)
         self.constants = world_constants(params)
@@ -140,16 +145,24 @@ class RcssPlayer:
         self.view_half_angle = VIEW_HALF_ANGLE.get(cycle.sense_body.view_width, self.view_half_angle)
         perception = self.world.perceive(cycle.sense_body.speed, self.view_half_angle)
         ball_seen, goal_seen = perception.ball_distance is not None, perception.goal_distance is not None
-        kind, value, kick_direction, self.last_action = _command(
+        kind, value, kick_direction, self.last_action, outcome = _command(
             *self._kernel_arguments, ball_seen,
             perception.ball_distance if ball_seen else 0.0, perception.ball_direction if ball_seen else 0.0,
             goal_seen, perception.goal_distance if goal_seen else 0.0, perception.goal_direction if goal_seen else 0.0,
             perception.goal_direction_known, perception.kickable, self.world.last_ball_side, perception.speed,
             *self.skill_set)
         self.world.note_command(kind, value, perception.speed)
-        if kind not in (TURN, DASH, KICK):
-            return []
-        return [command_text(kind, value, kick_direction, self.params)]
+        self.last_command = (kind, value, kick_direction, outcome)
+        self.last_sent = command_text(kind, value, kick_direction, self.params) if kind in (TURN, DASH, KICK) else None
+        return [self.last_sent] if self.last_sent else []
+
+    def last_outcome(self) -> Outcome | None:
+        """What the player did on its last decision, as soccer/outcome.py words it (None before the first)."""
+        kind, value, direction, why = self.last_command
+        if why == NO_OUTCOME:
+            return None
+        action = self.vocabulary.action_names[self.last_action] if self.last_action != NO_ACTION else None
+        return Outcome(action, kind, value, direction, why)
 
 
 @numba.njit(cache=True)
@@ -157,7 +170,8 @@ def _command(inputs, visible, rulebases, scratch, strengths, outputs, layout, co
              ball_direction, goal_seen, goal_distance, goal_direction, goal_direction_known, kickable, last_ball_side,
              speed, assisted, goal_in_view_only):
     """The body command (kind, value, direction) of the skill the fuzzy controller selects on what is
-    perceived (HUNT when no rule fires), and the selected action (NO_ACTION: none fired, the hunt);
+    perceived (HUNT when no rule fires), the selected action (NO_ACTION: none fired, the hunt) and why the
+    skill gave that command (soccer/skills.py's outcome code);
     `inputs` and `visible` are its work arrays. The named tuples
     arrive plain (soccer.engine.plain) and are named here."""
     rulebases = CompiledRulebases(*(rulebases[:-1] + (VocabularyTables(*rulebases[-1]),)))
@@ -168,10 +182,10 @@ def _command(inputs, visible, rulebases, scratch, strengths, outputs, layout, co
     action, _ = decide(0, inputs, visible, rulebases, scratch, strengths, outputs)
     skill = HUNT if action == NO_ACTION else layout.skills[action]
     steer_by = goal_direction_for_skills(goal_direction_known, goal_seen, goal_in_view_only)
-    kind, value, direction = skill_command(skill, outputs[layout.direction], outputs[layout.power], ball_seen,
-                                           ball_distance, ball_direction, steer_by, kickable, last_ball_side, speed,
-                                           assisted, constants)
-    return kind, value, direction, action
+    kind, value, direction, outcome = skill_command(skill, outputs[layout.direction], outputs[layout.power],
+                                                    ball_seen, ball_distance, ball_direction, steer_by, kickable,
+                                                    last_ball_side, speed, assisted, constants)
+    return kind, value, direction, action, outcome
 
 
 def load_compiled_skills() -> None:

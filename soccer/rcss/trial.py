@@ -64,6 +64,10 @@ class TrialTrace:
     action: np.ndarray  # int: the vocabulary's action index of the latest decision, NO_ACTION (-1) the hunt
     goals: np.ndarray  # goals scored before this cycle
     vocabulary: Vocabulary
+    command: np.ndarray  # int: the body command the latest decision's skill sent (soccer/skills.py NONE...KICK)
+    command_value: np.ndarray  # float: its moment or power (before the server's clamping)
+    command_direction: np.ndarray  # float: a kick's direction
+    outcome: np.ndarray  # int: why the skill gave that command (soccer/outcome.py); -1 before the first decision
 
     def __len__(self) -> int:
         return len(self.action)
@@ -104,8 +108,9 @@ class Trial:
         self.end: str | None = None
         self.kick_count = session.last_player_cycle.sense_body.kick_count if session.last_player_cycle else 0
         self.position: tuple[float, float] | None = None
-        # with `trace`: per cycle player x, y, body angle, ball x, y (see_global), action, goals before
-        self.rows: list[tuple[float, float, float, float, float, int, int]] | None = [] if trace else None
+        # with `trace`: per cycle player x, y, body angle, ball x, y (see_global), action, goals before, and the
+        # latest decision's command (kind, value, direction, outcome)
+        self.rows: list[tuple] | None = [] if trace else None
 
     def run(self) -> TrialResult:
         """Place ball and player (answering the cycle we are in), then play until the trial ends."""
@@ -135,15 +140,18 @@ class Trial:
             places = self.rows[-1][:5]  # nothing seen this cycle: where they were
         else:
             return
-        self.rows.append(places + (self.player.last_action, goals_before))
+        self.rows.append(places + (self.player.last_action, goals_before) + self.player.last_command)
 
     def _trace(self) -> TrialTrace | None:
         if self.rows is None:
             return None
-        columns = list(zip(*self.rows)) if self.rows else [()] * 7
+        columns = list(zip(*self.rows)) if self.rows else [()] * 11
         floats = [np.array(column, dtype=np.float64) for column in columns[:5]]
-        action, goals = (np.array(column, dtype=np.int64) for column in columns[5:])
-        return TrialTrace(*floats, action, goals, self.player.vocabulary)
+        action, goals = (np.array(column, dtype=np.int64) for column in columns[5:7])
+        kind, value, direction, outcome = columns[7:]
+        return TrialTrace(*floats, action, goals, self.player.vocabulary, np.array(kind, dtype=np.int64),
+                          np.array(value, dtype=np.float64), np.array(direction, dtype=np.float64),
+                          np.array(outcome, dtype=np.int64))
 
     def observe(self, player_cycle: PlayerCycle, trainer_cycle: TrainerCycle) -> None:
         config = self.config

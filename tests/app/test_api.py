@@ -72,6 +72,16 @@ def test_invalid_rule_text_is_refused_with_line_and_column_and_nothing_changes(c
     assert client.get("/api/rulebases").json() == [saved]
 
 
+def test_a_rulebase_without_rules_is_refused_as_the_ui_refuses_it(client):
+    saved = client.post("/api/rulebases", json={"name": "kept", "text": NEAR_DASH}).json()
+    for empty in ("", "# only a comment\n", "\n\n"):
+        for response in (client.post("/api/rulebases", json={"name": "empty", "text": empty}),
+                         client.put(f"/api/rulebases/{saved['id']}", json={"text": empty})):
+            assert response.status_code == 422
+            assert "holds no rule" in response.json()["detail"]
+    assert client.get("/api/rulebases").json() == [saved]
+
+
 def test_rulebase_bodies_are_checked(client):
     assert client.post("/api/rulebases", json={"name": "", "text": NEAR_DASH}).status_code == 422
     assert client.post("/api/rulebases", json={"name": "   ", "text": NEAR_DASH}).status_code == 422

@@ -25,9 +25,9 @@ def free_port() -> int:
         return probe.getsockname()[1]
 
 
-@pytest.mark.parametrize("option, what", [("--port", "API server"), ("--ui-port", "UI"), ("--rerun-port", "rerun viewer")])
+@pytest.mark.parametrize("option, what", [("--port", "API server"), ("--ui-port", "UI")])
 def test_busy_port_is_an_error_naming_it(tmp_path, busy_port, option, what):
-    ports = {"--port": free_port(), "--ui-port": free_port(), "--rerun-port": free_port(), option: busy_port}
+    ports = {"--port": free_port(), "--ui-port": free_port(), option: busy_port}
     arguments = ["serve", "--data-dir", str(tmp_path / "data")]
     for name, port in ports.items():
         arguments += [name, str(port)]
@@ -43,7 +43,7 @@ def test_ports_must_differ(tmp_path):
     port = str(free_port())
     result = CliRunner().invoke(app, ["serve", "--port", port, "--ui-port", port, "--data-dir", str(tmp_path)])
     assert result.exit_code == 2
-    assert "must be three different ports" in result.output
+    assert "must be two different ports" in result.output
 
 
 def test_out_of_range_port_is_a_usage_error(tmp_path):

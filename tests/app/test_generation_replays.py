@@ -32,7 +32,8 @@ class TracingEvaluator:
         for individual, seed, fitness in zip(population, seeds, fitnesses):
             rulebase = CODEC.decode(individual.chromosome)
             trace = TrialTrace(*(np.full(3, float(seed)) for _ in range(5)), np.zeros(3, np.int64),
-                               np.zeros(3, np.int64), SOCCER_VOCABULARY)
+                               np.zeros(3, np.int64), SOCCER_VOCABULARY, np.zeros(3, np.int64), np.zeros(3),
+                               np.zeros(3), np.zeros(3, np.int64))
             self.traced[(rulebase, seed)] = TrialResult(fitness, 0, 0, 3, "time", seed, trace)
             evaluated.append(individual.evaluated(fitness, 0, seed))
         return evaluated

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from tests.app.test_ui_browser import CHROMIUM, CHROMIUM_ARGS, TIMEOUT_MS, free_port
+from tests.app.test_ui_browser import CHROMIUM, CHROMIUM_ARGS, TIMEOUT_MS, free_port, offline
 
 pytestmark = [
     pytest.mark.browser,
@@ -69,5 +69,24 @@ def test_landing_page_lists_experiments_with_report_and_figure_links(api_url):
             assert figure.get_attribute("title") == "Initial: best fitness"
             report.click()
             page.get_by_text("the report").wait_for()
+        finally:
+            browser.close()
+
+
+@pytest.mark.parametrize("path, shown", [("/docs", ".swagger-ui .info .title"), ("/redoc", ".api-info h1")])
+def test_api_docs_work_without_internet(api_url, path, shown):
+    """/docs was a blank page offline: Swagger UI came from a CDN. Its scripts are the app's own now."""
+    from playwright.sync_api import sync_playwright
+
+    with sync_playwright() as playwright:
+        browser = playwright.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS)
+        try:
+            page = browser.new_page()
+            page.set_default_timeout(TIMEOUT_MS)
+            asked = offline(page)
+            page.goto(api_url + path)
+            page.locator(shown, has_text="soccer-lab").first.wait_for()
+            page.wait_for_load_state("networkidle")
+            assert asked == []
         finally:
             browser.close()

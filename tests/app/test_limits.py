@@ -9,10 +9,11 @@ from typer.testing import CliRunner
 
 from app.cli import app
 from app.rule_inspection import MAX_RULE_TICKS, MAX_RULES
-from app.ui.panels.evolve import field_bounds, ga_fields
+from app.ui.panels.evolve import ga_fields
 from ga.config import MAX_POPULATION, MAX_WORKERS
 from soccer.config import MAX_GAMES_PER_EVALUATION, MAX_TICKS
 from tests.app.api_client import api_client
+from tests.app.test_ui_wiring import gui  # noqa: F401  (fixture)
 
 RULE = "if Ball is not At then GoToBall VeryHigh"
 
@@ -78,7 +79,14 @@ def test_the_cli_refuses_each_limit_in_one_line(tmp_path, option, value, limit):
     assert not (tmp_path / "run").exists()
 
 
-def test_the_ui_fields_cannot_go_past_the_limits():
-    fields = ga_fields()
-    assert field_bounds(fields["population_size"]) == {"min": 2, "max": MAX_POPULATION}
-    assert field_bounds(fields["workers"]) == {"min": 1, "max": MAX_WORKERS}
+@pytest.mark.parametrize("name, limit", [("population_size", MAX_POPULATION), ("workers", MAX_WORKERS)])
+def test_the_ui_fields_refuse_past_the_limits_naming_them(gui, name, limit):  # noqa: F811
+    from app.ui.number_field import NumberField
+
+    number = NumberField.for_field(gui, name, ga_fields()[name])
+    number.text.value = str(limit + 1)
+    assert number.problem is not None and f"≤ {limit}" in number.problem
+    with pytest.raises(ValueError, match=str(limit)):
+        number.value
+    number.text.value = str(limit)
+    assert number.problem is None and number.value == limit

@@ -76,6 +76,21 @@ def test_diversity_is_logged_and_unmeasured_behaviours_are_not(tmp_path):
     assert behaviours["generation"] == [1] and [v[0] for v in behaviours["Scalars:scalars"]] == [7]  # 0: not measured
 
 
+def test_best_so_far_never_rises_where_the_generation_s_best_does(tmp_path):
+    """The live "best" jumped 0.25 -> 0.5 -> 0.167: the generation's best is noisy (one game each), so the
+    recording names it and adds the run's best so far beside it, also over a resumed run's history."""
+    path = tmp_path / "run.rrd"
+    recorder = RunRecorder(path, history=[stats(0, 0.25).to_dict(), stats(1, 0.5).to_dict()])
+    recorder.on_generation(stats(2, 0.167))
+    recorder.on_generation(stats(3, 0.3))
+    recorder.close()
+    assert [v[0] for v in columns(path, "/statistics/fitness/best")["Scalars:scalars"]] == [0.25, 0.5, 0.167, 0.3]
+    so_far = columns(path, "/statistics/fitness/best_so_far")
+    assert so_far["generation"] == [0, 1, 2, 3]
+    assert [v[0] for v in so_far["Scalars:scalars"]] == [0.25, 0.25, 0.167, 0.167]
+    assert FITNESS_SERIES["best"][0] == "best of the generation" and FITNESS_SERIES["best_so_far"][0] == "best so far"
+
+
 def test_two_recordings_at_once_stay_apart(tmp_path):
     first, second = RunRecorder(tmp_path / "a.rrd"), RunRecorder(tmp_path / "b.rrd")
     first.on_generation(stats(0, 0.8))
@@ -166,7 +181,7 @@ def test_the_blueprint_lays_a_run_out_like_the_chapters_figures_with_a_tab_per_r
     latest = max(blueprints, key=lambda blueprint: len(views(blueprint)))  # the one with every replay's tab
     shown = views(latest)
     series = lambda names: [f"+ /{statistic_entity(n)}" for n in names]
-    fitness = shown["Fitness: best, mean, worst (Figs. 11, 12; lower is better)"]
+    fitness = shown["Fitness: best of the generation, best so far, mean, worst (Figs. 11, 12; lower is better)"]
     assert fitness == ("TimeSeries", series(FITNESS_SERIES))
     assert shown["Share of the population scoring 0 .. more than 4 goals (Fig. 13)"] == ("TimeSeries", series(GOAL_SERIES))
     assert shown["Goal shares at this generation"][0] == "BarChart"

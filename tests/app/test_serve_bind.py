@@ -1,5 +1,6 @@
-"""Every server `soccer-lab serve` starts listens on 127.0.0.1 unless told otherwise, rerun's
-web viewer included (rerun-sdk's own serve_web_viewer would listen on 0.0.0.0)."""
+"""Every server `soccer-lab serve` starts listens on 127.0.0.1 unless told otherwise. rerun's web viewer is no
+server of its own: the app serves its files (rerun-sdk's own serve_web_viewer would listen on 0.0.0.0), and the
+rerun CLI that gives them once listens only on 127.0.0.1 meanwhile."""
 
 from __future__ import annotations
 
@@ -12,8 +13,6 @@ from pathlib import Path
 
 import httpx
 import pytest
-
-from app.rerun_viewer import RerunViewer
 
 PROC_TCP = (Path("/proc/net/tcp"), Path("/proc/net/tcp6"))
 LISTEN = "0A"
@@ -52,24 +51,8 @@ def wait_for(condition, timeout: float = 60.0):
     raise AssertionError("timed out")
 
 
-def test_the_rerun_viewer_listens_only_on_the_host_it_is_given(tmp_path):
-    port = free_port()
-    viewer = RerunViewer("127.0.0.1", port, tmp_path / "viewer.log")
-    viewer.start()
-    try:
-        assert listening_addresses(port) == {"127.0.0.1"}
-        page = httpx.get(f"http://127.0.0.1:{port}/", timeout=10)
-        assert page.status_code == 200 and "rerun" in page.text.lower()
-        log = wait_for(lambda: "gRPC connections on" in (text := (tmp_path / "viewer.log").read_text()) and text)
-        assert "Listening for gRPC connections on 127.0.0.1:" in log  # its proxy, too, stays on this machine
-    finally:
-        process = viewer.process
-        viewer.stop()
-    assert process.poll() is not None and listening_addresses(port) == set()
-
-
 def test_serve_binds_every_server_to_127_0_0_1_by_default(tmp_path):
-    ports = {"--port": free_port(), "--ui-port": free_port(), "--rerun-port": free_port()}
+    ports = {"--port": free_port(), "--ui-port": free_port()}
     arguments = [sys.executable, "-c", "from app.cli import main; main()", "serve", "--data-dir", str(tmp_path)]
     for option, port in ports.items():
         arguments += [option, str(port)]
@@ -79,10 +62,12 @@ def test_serve_binds_every_server_to_127_0_0_1_by_default(tmp_path):
         assert serve.poll() is None, serve.stdout.read()
         for port in ports.values():
             assert listening_addresses(port) == {"127.0.0.1"}, port
-        home = httpx.get(f"http://127.0.0.1:{ports['--port']}/api/server", timeout=10).json()
-        assert home["viewer"] == f"http://127.0.0.1:{ports['--rerun-port']}"
-        assert home["viewer_home"] == f"http://127.0.0.1:{ports['--rerun-port']}/?hide_welcome_screen"
+        api = f"http://127.0.0.1:{ports['--port']}"
+        home = httpx.get(f"{api}/api/server", timeout=10).json()
+        assert home["viewer"] == f"{api}/viewer/" and home["viewer_home"] == f"{api}/viewer/?hide_welcome_screen"
+        page = httpx.get(home["viewer_home"], timeout=10)  # the viewer's page, from the app's own address
+        assert page.status_code == 200 and "re_viewer.js" in page.text and "fonts.googleapis" not in page.text
     finally:
         serve.send_signal(signal.SIGINT)
         serve.wait(30)
-    assert all(listening_addresses(p) == set() for p in ports.values())  # the viewer ended with serve
+    assert all(listening_addresses(p) == set() for p in ports.values())

@@ -20,7 +20,7 @@ from app.paths import DATABASE_FILE
 
 pytestmark = pytest.mark.skipif(sys.platform != "linux", reason="children die with serve through prctl (Linux)")
 # Generations of a few seconds each: a signal lands inside one however fast the machine is.
-BIG_GA = {"population_size": 3000, "max_generations": 50, "seed": 3}
+BIG_GA = {"population_size": 3000, "max_generations": 50, "seed": 3, "workers": 2}  # serve's children: the workers
 EXIT_WITHIN = 10.0  # seconds; the target is 3 (benchmarks/stop_latency.py measures it): this is a sanity bound
 
 
@@ -86,7 +86,7 @@ def run_status(data_dir: Path, run_id: int) -> str:
 
 @pytest.fixture
 def ports():
-    return {"--port": free_port(), "--ui-port": free_port(), "--rerun-port": free_port()}
+    return {"--port": free_port(), "--ui-port": free_port()}
 
 
 def test_sigterm_mid_generation_marks_the_run_interrupted_and_exits_quickly(tmp_path, ports):
@@ -109,7 +109,7 @@ def test_after_sigkill_nothing_is_left_and_serve_restarts_on_the_same_ports(tmp_
     try:
         run_id = serve.start_run_mid_generation()
         children = psutil.Process(serve.process.pid).children(recursive=True)
-        assert children, "serve started no child (the rerun viewer)"
+        assert children, "serve started no child (the run's worker processes)"
         serve.process.send_signal(signal.SIGKILL)
         serve.process.wait(30)
         gone, alive = psutil.wait_procs(children, timeout=15)
@@ -120,7 +120,7 @@ def test_after_sigkill_nothing_is_left_and_serve_restarts_on_the_same_ports(tmp_
     try:
         record = again.get(f"/api/runs/{run_id}").json()
         assert record["status"] == "interrupted" and record["resumable"]
-        assert again.get("/api/server").json()["viewer"] == f"http://127.0.0.1:{ports['--rerun-port']}"
+        assert again.get("/api/server").json()["viewer"] == f"http://127.0.0.1:{ports['--port']}/viewer/"
     finally:
         again.process.send_signal(signal.SIGTERM)
         again.process.wait(30)

@@ -82,6 +82,23 @@ def dismiss_notifications(page) -> None:
         pass
 
 
+def offline(page) -> list[str]:
+    """Refuse every request that leaves this machine, as a school network without internet would; the list
+    of what was asked for fills as the page loads."""
+    asked = []
+
+    def route(request_route):
+        url = request_route.request.url
+        if url.startswith(("http://127.0.0.1", "ws://127.0.0.1", "data:", "blob:")):
+            request_route.continue_()
+        else:
+            asked.append(url)
+            request_route.abort()
+
+    page.route("**/*", route)
+    return asked
+
+
 def shot(page, name: str) -> None:
     SCREENSHOTS.mkdir(parents=True, exist_ok=True)
     page.screenshot(path=str(SCREENSHOTS / f"{name}.png"))

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import re
 import shutil
+from html import escape
 from pathlib import Path
 
 import pytest
@@ -61,12 +62,19 @@ def test_the_editor_simplifies_through_its_callbacks_and_undo_goes_back(tmp_path
 
     try:
         editor = EditorPanel(server.gui, VOCABULARY, Store(tmp_path / "db.sqlite3"), (PLAYER, "player"),
-                             on_apply=lambda r, n: applied.append((r, n)), on_saved=lambda: None, simplify=simplify)
+                             on_apply=lambda r, n: applied.append((r, n)), on_example=lambda r, n: None,
+                             on_saved=lambda: None, simplify=simplify)
         editor.check_games.value = 3
         editor.simplify()
         (rulebase, name), = applied
         assert asked == [3] and name == SIMPLIFIED_NAME and len(rulebase) < len(PLAYER)
         assert "checked on 3 games" in editor.message.content
+        result = simplify(PLAYER, 3)
+        for step in result.simplification.steps:  # which rules went or changed, and why, not counts
+            for change in step.changes:
+                what = "dropped" if change.after is None else "now"
+                assert f"Rule {change.rule} {what}" in editor.message.content
+                assert escape(change.reason) in editor.message.content
         editor.show_rulebase(rulebase, name)
         editor.simplify()  # already as short as the steps make it: nothing applied
         assert len(applied) == 1 and "Nothing to simplify" in editor.message.content

@@ -47,7 +47,8 @@ def test_editor_applies_undoes_and_saves_through_its_callbacks(gui, store):
 
     applied, saved = [], []
     editor = EditorPanel(gui, VOCABULARY, store, (DEMO, "demo"), on_apply=lambda r, n: applied.append((r, n)),
-                         on_saved=lambda: saved.append(True), simplify=lambda rulebase, games: None)
+                         on_example=lambda r, n: None, on_saved=lambda: saved.append(True),
+                         simplify=lambda rulebase, games: None)
     editor.text.value = "if Ball is Near then Turn Left"
     editor.apply()
     (rulebase, name), = applied
@@ -67,10 +68,39 @@ def test_editor_with_an_error_calls_nothing(gui, store):
 
     applied = []
     editor = EditorPanel(gui, VOCABULARY, store, (DEMO, "demo"), on_apply=lambda r, n: applied.append(n),
-                         on_saved=lambda: None, simplify=lambda rulebase, games: None)
+                         on_example=lambda r, n: None, on_saved=lambda: None, simplify=lambda rulebase, games: None)
     editor.text.value = "if Ball is Nearish then Turn Left"
     editor.apply()
     assert applied == [] and 'data-error="true"' in editor.message.content
+
+
+def test_editor_plays_a_picked_example_with_its_sentence(gui, store):
+    from app.ui.panels.editor import PICK_EXAMPLE, EditorPanel
+    from soccer.examples import example
+
+    played = []
+    editor = EditorPanel(gui, VOCABULARY, store, (DEMO, "demo"), on_apply=lambda r, n: None,
+                         on_example=lambda r, n: played.append((r, n)), on_saved=lambda: None,
+                         simplify=lambda rulebase, games: None)
+    striker = example("striker")
+    assert editor.example.value == PICK_EXAMPLE and set(editor.example.options) > {striker.title}
+    editor.example.value = striker.title  # as a pick from the browser
+    assert played == [(striker.rulebase(VOCABULARY), striker.title)]
+    editor.show_rulebase(*played[0])  # the session shows it on the pitch: the note stays
+    assert "sighted" in editor.example_note.content and editor.example.value == striker.title
+
+
+def test_editor_forgets_its_message_when_other_rules_go_on_the_pitch(gui, store):
+    """"Applied 2 rules" must not stay on screen after "Load best" put another player on the pitch."""
+    from app.ui.panels.editor import EditorPanel
+
+    editor = EditorPanel(gui, VOCABULARY, store, (DEMO, "demo"), on_apply=lambda r, n: None,
+                         on_example=lambda r, n: None, on_saved=lambda: None, simplify=lambda rulebase, games: None)
+    editor.text.value = "if Ball is Near then Turn Left"
+    editor.apply()
+    assert "Applied 1 rule;" in editor.message.content
+    editor.show_rulebase(DEMO, "run #1 best (gen 3, fitness 0.250)")
+    assert editor.message.content == "" and editor.example_note.content == ""
 
 
 def test_library_opens_a_saved_rulebase_through_on_load(gui, store, tmp_path):
@@ -136,6 +166,52 @@ def test_library_lists_newest_first_and_selects_what_was_just_made(gui, store, t
     assert library.rulebases.value == f"#{first.id} renamed"
 
 
+def test_policy_map_controls_show_the_goal_inputs_the_map_is_drawn_for(gui):
+    """Following the player, the "Goal in view" box and the sliders show the player's goal inputs (and cannot be
+    changed): the caption never says "Goal out of view" beside a ticked "Goal in view"."""
+    from app.ui.panels.policy_view import PolicyPanel
+
+    policy = PolicyPanel(gui, VOCABULARY, DEMO, 45.0, on_change=lambda: None)
+    assert policy.follow.value and policy.goal_visible.disabled and policy.goal_distance.disabled
+    unseen = {"ball_distance": 5.0, "ball_direction": 0.0, "goal_distance": None, "goal_direction": None}
+    policy.show_current(unseen)
+    assert policy.goal_visible.value is False and "Goal out of view" in policy.map.content
+    policy._last_render = 0.0  # the map redraws at most every POLICY_REFRESH_SECONDS
+    policy.show_current({**unseen, "goal_distance": 29.6, "goal_direction": -10.2})
+    assert policy.goal_visible.value is True and (policy.goal_distance.value, policy.goal_direction.value) == (30, -10)
+    assert "Goal in view at 30 m, -10°" in policy.map.content
+
+
+def test_evolve_panel_shows_best_so_far_beside_each_generation_s_best(gui, store, tmp_path):
+    """The live "best" jumped 0.25 -> 0.5 -> 0.167 (each generation's best) and the end message's "best
+    0.167" contradicted the last point: both are shown and named, in the plot, the status and the end."""
+    from app.environments import default_workers
+    from app.runs import RunEvent, RunManager
+    from app.store import RunStatus
+    from app.ui.panels.evolve import RCSSSERVER, SIMPLESOCCER, EvolvePanel
+
+    panel = EvolvePanel(gui, RunManager(store, tmp_path), store, on_load=lambda *_: None,
+                        on_generation=lambda *_: None, on_run_ended=lambda *_: None, on_runs_changed=lambda: None)
+    assert panel.inputs["workers"].value == default_workers()  # as the CLI: every core
+    assert not panel.servers.visible  # the rcssservers field is for runs on rcssserver only
+    panel.where.value = RCSSSERVER
+    assert panel.servers.visible
+    panel.where.value = SIMPLESOCCER
+    assert not panel.servers.visible
+    panel.run_id, panel.total_generations = 7, 4
+    for generation, best in enumerate((0.25, 0.5, 0.167, 0.3)):
+        panel._on_event(RunEvent(7, RunStatus.RUNNING, {"generation": generation, "best": best, "mean": 0.8,
+                                                          "evaluations": 10 * (generation + 1)}, best))
+    generations, best, best_so_far, mean = (list(series) for series in panel.plot.data)
+    assert best == [0.25, 0.5, 0.167, 0.3] and best_so_far == [0.25, 0.25, 0.167, 0.167]
+    labels = [series["label"] for series in panel.plot.series]
+    assert labels[1:] == ["best of the generation 0.300", "best so far 0.167", "mean 0.800"]
+    assert "best so far 0.167; this generation: best 0.300" in panel.status.content
+    panel._on_event(RunEvent(7, RunStatus.FINISHED))
+    assert ("finished after generation 3 — best so far 0.167 (generation 2); the last generation&#x27;s best 0.300"
+            in panel.status.content)
+
+
 def test_evolve_shows_the_progress_within_a_generation_and_stops_it(gui, store, tmp_path):
     """Beside the generation bar: players evaluated of the population, from the run's own progress; Stop
     is obeyed within the generation (issue 22)."""
@@ -149,10 +225,14 @@ def test_evolve_shows_the_progress_within_a_generation_and_stops_it(gui, store, 
     runs = RunManager(store, tmp_path)
     ended = threading.Event()
     panel = EvolvePanel(gui, runs, store, on_load=lambda *a: None, on_generation=lambda *a: None,
-                        on_run_ended=lambda run_id, status: ended.set(), on_runs_changed=lambda: None)
+                        on_run_ended=lambda run_id, status: ended.set(), on_runs_changed=lambda: None,
+                        api_url="http://127.0.0.1:8000")
     panel.inputs["population_size"].value = 3000  # generation 0 lasts seconds: the stop lands inside it
     panel.start()
     try:
+        # The run on show links to rerun's viewer, served by the app, opening this run's recording.
+        assert (f'href="http://127.0.0.1:8000/viewer/?hide_welcome_screen&amp;url=http://127.0.0.1:8000/api/runs/'
+                f'{panel.run_id}/recording.rrd"') in panel.viewer.content
         deadline = time.monotonic() + 120
         while "players evaluated" not in panel.within.content and time.monotonic() < deadline:
             time.sleep(0.05)

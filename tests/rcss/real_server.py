@@ -96,7 +96,10 @@ def rcssserver_children() -> set[int]:
 
 def kill(server: RcssServerProcess) -> None:
     """Kill a server the way a crash would: SIGKILL, no goodbye."""
-    os.kill(server.pid, signal.SIGKILL)
+    try:
+        os.kill(server.pid, signal.SIGKILL)
+    except ProcessLookupError:  # already gone (a test's teardown may have stopped it first)
+        pass
     server.process.wait(10)
 
 

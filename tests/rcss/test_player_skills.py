@@ -32,3 +32,17 @@ def test_strict_shoots_at_a_goal_behind_it_and_sighted_does_not():
 @pytest.mark.parametrize("skills", ["strict", "assisted", "sighted"])
 def test_every_skill_set_shoots_at_a_goal_in_view(skills):
     assert decide(skills, FACING_GOAL) == ["(kick 85.00 0.00)"]
+
+
+def test_the_player_reports_what_it_sent_and_why_as_the_engine_does():
+    """A refused shot is explained on the server as in SimpleSoccer (soccer/outcome.py's words)."""
+    player = RcssPlayer(STRIKER, ServerParams(), skills="sighted")
+    assert player.last_outcome() is None  # no decision yet
+    player.decide(PlayerCycle(BODY, parse_message(FACING_OWN_GOAL)))
+    assert player.last_sent is None
+    assert player.last_outcome().describe("sighted", SOCCER_VOCABULARY).startswith(
+        "KickTowardGoal: no kick, the goal is not in view")
+    player.decide(PlayerCycle(BODY, parse_message(FACING_GOAL)))
+    assert player.last_sent == "(kick 85.00 0.00)"
+    assert player.last_outcome().describe("sighted", SOCCER_VOCABULARY) == (
+        "KickTowardGoal: kick 85 toward +0° (the goal's direction)")

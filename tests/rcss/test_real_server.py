@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from fuzzy.parser import parse_rulebase
-from soccer.config import WorldConfig
+from soccer.config import MAX_TICKS, WorldConfig
 from soccer.rcss.client import Session
 from soccer.rcss.errors import RcssConfigError, RcssError
 from soccer.rcss.evaluate import RcssEvaluator
@@ -95,7 +95,7 @@ def test_a_server_killed_mid_trial_is_one_clear_error_within_seconds(start_serve
         run_trial(session, turner, 3, TrialConfig(max_ticks=5))  # the player's skills loaded
         threading.Timer(0.5, crash).start()
         with pytest.raises(RcssError) as raised:
-            run_trial(session, turner, 3, TrialConfig(max_ticks=1_000_000, idle_ticks=1_000_000))
+            run_trial(session, turner, 3, TrialConfig(max_ticks=MAX_TICKS, idle_ticks=MAX_TICKS))
     assert time.monotonic() - killed_at[0] < 5.0  # the client's cycle deadline (3 s), not a hang
     message = str(raised.value)
     assert "\n" not in message and server.address in message and "rcssserver" in message

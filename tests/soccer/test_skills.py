@@ -5,17 +5,28 @@ import math
 import pytest
 
 from soccer.config import WorldConfig
-from soccer.skills import (DASH, HUNT, KICK, LEFT, NONE, RIGHT, SKILL_DASH, SKILL_DONOTHING, SKILL_DRIBBLE,
+from soccer.skills import (ACTED, AT_BALL, BALL_OUT_OF_VIEW, DASH, FETCHING, GOAL_OUT_OF_VIEW, HUNT, HUNT_BALL,
+                           HUNT_LAST_SEEN, KICK, LEFT, NO_DASH_NEEDED, NONE, NOT_KICKABLE, NOTHING, RIGHT, TURN_FIRST, SKILL_DASH, SKILL_DONOTHING, SKILL_DRIBBLE,
                            SKILL_DRIBBLETOWARDGOAL, SKILL_GOTOBALL, SKILL_KICK, SKILL_KICKTOWARDGOAL,
                            SKILL_RUNTOWARDBALL, SKILL_RUNTOWARDGOAL, SKILL_TURN, TURN, skill_command)
 
 C = WorldConfig().constants()
 
 
-def command(skill, direction=0.0, power=55.0, ball_visible=True, ball_distance=10.0, ball_direction=0.0,
-            goal_direction=0.0, kickable=False, last_side=LEFT, speed=0.0, assisted=True):
-    return skill_command(skill, direction, power, ball_visible, ball_distance, ball_direction, goal_direction,
-                         kickable, last_side, speed, assisted, C)
+def command(skill, **situation):
+    """The body command (kind, value, direction); `outcome` gives why."""
+    return skill_command(*_arguments(skill, **situation))[:3]
+
+
+def outcome(skill, **situation):
+    """Why the skill gave its command (soccer/skills.py's outcome code)."""
+    return skill_command(*_arguments(skill, **situation))[3]
+
+
+def _arguments(skill, direction=0.0, power=55.0, ball_visible=True, ball_distance=10.0, ball_direction=0.0,
+               goal_direction=0.0, kickable=False, last_side=LEFT, speed=0.0, assisted=True):
+    return (skill, direction, power, ball_visible, ball_distance, ball_direction, goal_direction, kickable,
+            last_side, speed, assisted, C)
 
 
 def test_turn_and_dash_pass_their_value():
@@ -94,3 +105,22 @@ def test_hunt_faces_visible_ball_else_turns_toward_last_side():
     assert command(HUNT, ball_visible=False)[:2] == (TURN, -45.0)  # never seen: left
     assert command(HUNT, ball_visible=False, last_side=RIGHT)[:2] == (TURN, 45.0)
     assert command(HUNT, ball_visible=False, kickable=True)[0] == TURN  # never dashes nor kicks
+
+
+def test_every_command_says_why():
+    """The outcome code: what the UI words (soccer/outcome.py) to explain a tick."""
+    assert outcome(SKILL_DASH) == ACTED
+    assert outcome(HUNT, ball_direction=30.0) == HUNT_BALL
+    assert outcome(HUNT, ball_visible=False) == HUNT_LAST_SEEN
+    assert outcome(SKILL_RUNTOWARDBALL, ball_direction=-25.0) == TURN_FIRST
+    assert outcome(SKILL_RUNTOWARDBALL, ball_visible=False) == BALL_OUT_OF_VIEW
+    assert outcome(SKILL_GOTOBALL, ball_distance=0.9, kickable=True) == AT_BALL
+    assert outcome(SKILL_GOTOBALL, ball_distance=0.74, speed=0.2) == NO_DASH_NEEDED
+    assert outcome(SKILL_KICK, ball_distance=20.0) == NOT_KICKABLE
+    assert outcome(SKILL_KICKTOWARDGOAL, ball_distance=20.0, assisted=False) == NOT_KICKABLE
+    assert outcome(SKILL_KICKTOWARDGOAL, kickable=True, goal_direction=math.nan, assisted=False) == GOAL_OUT_OF_VIEW
+    assert outcome(SKILL_RUNTOWARDGOAL, goal_direction=math.nan) == GOAL_OUT_OF_VIEW
+    assert outcome(SKILL_DONOTHING, kickable=True) == NOTHING
+    # assisted kicking skills out of reach: GOTOBALL's own reasons, marked as fetching the ball
+    assert outcome(SKILL_KICKTOWARDGOAL, power=60.0, ball_distance=20.0) == ACTED + FETCHING
+    assert outcome(SKILL_DRIBBLE, ball_direction=40.0) == TURN_FIRST + FETCHING

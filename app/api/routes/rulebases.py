@@ -8,7 +8,7 @@ from fastapi import APIRouter, Query, Response
 
 from app.api.models import ErrorBody, RulebaseCreate, RulebaseOut, RulebaseUpdate
 from app.api.routes.dependencies import RecordId, StoreDependency
-from app.api.rule_text import VOCABULARY, parse
+from app.api.rule_text import VOCABULARY, parse, playable
 from fuzzy.export import EXPORT_FORMATS, FORMATS
 
 router = APIRouter(prefix="/rulebases", tags=["rulebases"], responses={404: {"model": ErrorBody}})
@@ -17,7 +17,7 @@ ExportFormatName = Enum("ExportFormatName", {name: name for name in FORMATS}, ty
 
 @router.post("", status_code=201, summary="Save a rulebase", responses={422: {"model": ErrorBody}})
 def create(body: RulebaseCreate, store: StoreDependency) -> RulebaseOut:
-    parse(body.text)
+    playable(parse(body.text))
     return RulebaseOut.of(store.create_rulebase(body.name, body.text))
 
 
@@ -34,7 +34,7 @@ def read(rulebase_id: RecordId, store: StoreDependency) -> RulebaseOut:
 @router.put("/{rulebase_id}", summary="Rename a rulebase and/or replace its text", responses={422: {"model": ErrorBody}})
 def update(rulebase_id: RecordId, body: RulebaseUpdate, store: StoreDependency) -> RulebaseOut:
     if body.text is not None:
-        parse(body.text)
+        playable(parse(body.text))
     return RulebaseOut.of(store.update_rulebase(rulebase_id, name=body.name, text=body.text))
 
 

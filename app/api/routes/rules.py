@@ -20,7 +20,7 @@ from app.api.models import (
     UsageResponse,
 )
 from app.api.routes.dependencies import StoreDependency
-from app.api.rule_text import VOCABULARY, parse, rule_out
+from app.api.rule_text import VOCABULARY, parse, playable, rule_out
 from app.rule_inspection import (checked_cost, rule_usage, simplification, simplification_document,
                                  usage_document)
 from fuzzy.engine import ActionOutput, Engine
@@ -67,7 +67,7 @@ def _fired(output: ActionOutput) -> FiredAction:
     responses={404: {"model": ErrorBody}},
 )
 def usage(body: UsageRequest, store: StoreDependency) -> UsageResponse:
-    rulebase = _affordable(_playable(_rulebase(body, store)), body.games, body.game.max_ticks)
+    rulebase = _affordable(playable(_rulebase(body, store)), body.games, body.game.max_ticks)
     return UsageResponse(**usage_document(rule_usage(rulebase, VOCABULARY, body.games, body.seed, body.game),
                                           VOCABULARY))
 
@@ -81,7 +81,7 @@ def usage(body: UsageRequest, store: StoreDependency) -> UsageResponse:
 def simplify(body: SimplifyRequest, store: StoreDependency) -> SimplifyResponse:
     rulebase = _affordable(_rulebase(body, store), max(body.games, 1), body.game.max_ticks)
     if body.games:
-        _playable(rulebase)
+        playable(rulebase)
     result = simplification(rulebase, VOCABULARY, body.games, body.seed, body.game, body.drop_unused_fields)
     return SimplifyResponse(**simplification_document(result, VOCABULARY))
 
@@ -90,17 +90,11 @@ def _rulebase(body: RulebaseSource, store) -> Rulebase:
     return parse(body.text if body.text is not None else store.get_rulebase(body.rulebase_id).text)
 
 
+
 def _affordable(rulebase: Rulebase, games: int, max_ticks: int) -> Rulebase:
     try:
         checked_cost(len(rulebase), games, max_ticks)
     except ValueError as exc:
         raise RequestValidationError([{"type": "value_error", "loc": ("body", "games"), "input": games,
                                        "msg": str(exc)}]) from None
-    return rulebase
-
-
-def _playable(rulebase: Rulebase) -> Rulebase:
-    if not len(rulebase):
-        raise RequestValidationError([{"type": "value_error", "loc": ("body", "text"), "input": "",
-                                       "msg": "the rulebase holds no rule: nothing to play"}])
     return rulebase

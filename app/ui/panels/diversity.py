@@ -19,9 +19,6 @@ SERIES = (("distinct_chromosomes", "distinct chromosomes", style.ACCENT, ()),
           ("rule_set_distance", "rule-set distance", style.SELECTED, ()))
 
 
-TOP = 1.08  # a little above 1, so that the label of the tick at 1 is not cut off at the plot's edge
-
-
 class DiversityPlot:
     def __init__(self, gui: viser.GuiApi):
         self.population_size = 1
@@ -29,7 +26,8 @@ class DiversityPlot:
         self.last_generation = 1
         self.rows: list[Mapping[str, Any]] = []
         self.plot = gui.add_uplot(data=self._data(), series=self._series(), scales=self._scales(),
-                                  legend=viser.uplot.Legend(live=False), title=self._title(), aspect=1.6)
+                                  legend=viser.uplot.Legend(live=False), title=self._title(), aspect=1.6,
+                                  padding=style.PLOT_PADDING)
 
     def reset(self, population_size: int, max_generations: int, behaviour_seeds: int) -> None:
         """A new run: shares of `population_size`, generations 0 .. max_generations - 1."""
@@ -82,7 +80,7 @@ class DiversityPlot:
 
     def _scales(self) -> dict[str, viser.uplot.Scale]:
         return {"x": viser.uplot.Scale(time=False, auto=False, range=(0.0, float(self.last_generation))),
-                "y": viser.uplot.Scale(auto=False, range=(0.0, TOP))}
+                "y": viser.uplot.Scale(auto=False, range=(0.0, 1.0))}
 
     def _title(self) -> str:
         rules = f": {int(self.rows[-1]['distinct_rules'])} distinct rules" if self.rows else ""

@@ -10,6 +10,7 @@ import viser
 from app.rule_inspection import MAX_GAMES, size
 from app.store import Store, StoreError
 from app.ui import style
+from app.ui.number_field import NumberField
 from app.ui.panels.svg import escape
 from fuzzy.parser import RuleSyntaxError, parse_rulebase
 from fuzzy.printer import format_rulebase
@@ -17,11 +18,13 @@ from fuzzy.rule import Rulebase
 from fuzzy.vocabulary import Vocabulary
 from ga.codec import ChromosomeCodec
 from ga.notation import NotationError, format_compact, parse_compact
+from soccer.examples import examples
 
 if TYPE_CHECKING:
     from soccer.simplify import CheckedSimplification
 
 EDITED_NAME = "edited"
+PICK_EXAMPLE = "— pick an example —"
 SIMPLIFIED_NAME = "simplified"
 UNDO_DEPTH = 50
 # viser's text area grows to six lines at most; the rule text (the element after the heading) gets
@@ -36,9 +39,10 @@ EDITOR_STYLE = (
 
 class EditorPanel:
     """Shows `on_pitch` (rulebase, name) first. `on_apply(rulebase, name)` puts rules on the pitch;
-    `on_saved()` follows a save to the library; `simplify(rulebase, games)` simplifies rules (exact
-    steps, then checked on that many games; 0: exact only). The session calls `show_rulebase` whenever
-    a rulebase goes on the pitch, from here or elsewhere."""
+    `on_example(rulebase, name)` puts a built-in example on the pitch from a new start; `on_saved()`
+    follows a save to the library; `simplify(rulebase, games)` simplifies rules (exact steps, then
+    checked on that many games; 0: exact only). The session calls `show_rulebase` whenever a rulebase
+    goes on the pitch, from here or elsewhere."""
 
     def __init__(
         self,
@@ -48,6 +52,7 @@ class EditorPanel:
         on_pitch: tuple[Rulebase, str],
         *,
         on_apply: Callable[[Rulebase, str], None],
+        on_example: Callable[[Rulebase, str], None],
         on_saved: Callable[[], None],
         simplify: Callable[[Rulebase, int], "CheckedSimplification"],
     ):
@@ -58,12 +63,17 @@ class EditorPanel:
         self.simplify_with = simplify
         self.history: list[tuple[Rulebase, str]] = []
         self.codec = ChromosomeCodec(self.vocabulary)
+        self.examples = {example.title: example for example in examples()}
+        self.example = gui.add_dropdown("Example", (PICK_EXAMPLE, *self.examples), initial_value=PICK_EXAMPLE,
+                                        hint="Built-in players, each showing one idea; picking one plays it")
+        self.example_note = gui.add_html("")
         self.name = gui.add_html("")
         self.text = gui.add_text("Rules", "", multiline=True)
         actions = gui.add_button_group("Rules", ("Apply", "Undo"))
         self.message = gui.add_html("")
         with gui.add_folder("Simplify"):
-            self.check_games = gui.add_number("Check on games", style.USAGE_GAMES, min=0, max=MAX_GAMES, step=1)
+            self.check_games = NumberField(gui, "Check on games", style.USAGE_GAMES, minimum=0, maximum=MAX_GAMES,
+                                           integer=True)
             simplify = gui.add_button("Simplify",
                                       hint="The same player in fewer words: exact steps, then rules that never won "
                                            "in these games (from the pitch's seed), if every game replays the same")
@@ -77,6 +87,17 @@ class EditorPanel:
         @actions.on_click
         def _(event: viser.GuiEvent) -> None:
             self.apply() if event.target.value == "Apply" else self.undo()
+
+        @self.example.on_update
+        def _(_: viser.GuiEvent) -> None:
+            chosen = self.examples.get(self.example.value)
+            if chosen is None:
+                return
+            self.history = (self.history + [self.on_pitch])[-UNDO_DEPTH:]
+            on_example(chosen.rulebase(self.vocabulary), chosen.title)
+            self.example_note.content = (
+                f'<div class="example-note" style="{style.FONT}; font-size:{style.FONT_SIZE}px; color:{style.INK}">'
+                f"{escape(chosen.shows)}</div>")
 
         @save.on_click
         def _(_: viser.GuiEvent) -> None:
@@ -94,8 +115,13 @@ class EditorPanel:
 
     # ---- showing ----------------------------------------------------------------------------
     def show_rulebase(self, rulebase: Rulebase, name: str) -> None:
-        """Called when a rulebase is put on the pitch (from here, the library or an evolution)."""
+        """Called when a rulebase is put on the pitch (from here, the library or an evolution): what was said
+        about the previous rules is cleared."""
         self.on_pitch = (rulebase, name)
+        self.message.content = ""
+        if name not in self.examples:
+            self.example.value = PICK_EXAMPLE
+            self.example_note.content = ""
         self.text.value = format_rulebase(rulebase, self.vocabulary)
         self.compact.value = format_compact(self.codec.encode(rulebase), self.vocabulary)
         self.name.content = (
@@ -127,7 +153,7 @@ class EditorPanel:
             return
         self.history = (self.history + [self.on_pitch])[-UNDO_DEPTH:]
         self.on_apply(rulebase, EDITED_NAME)
-        self._say(f"Applied {len(rulebase)} rules; the player now plays them.")
+        self._say(f"Applied {len(rulebase)} rule{'' if len(rulebase) == 1 else 's'}; the player now plays them.")
 
     def undo(self) -> None:
         if not self.history:
@@ -141,11 +167,11 @@ class EditorPanel:
         rulebase, name = self.on_pitch
         try:
             result = self.simplify_with(rulebase, int(self.check_games.value))
-        except ValueError as exc:  # over a limit (app/rule_inspection.py checked_cost)
+        except ValueError as exc:  # no usable number in the field (FieldError), or over a limit (checked_cost)
             self._say(f"Not simplified: {exc}", error=True)
             return
         simplified = result.simplification.rulebase
-        lines = [_step_line(step) for step in result.simplification.steps if step.changes]
+        lines = _change_lines(result.simplification.steps)
         if simplified == rulebase:
             self._say("Nothing to simplify: every step left the rules as they are.", lines=lines)
             return
@@ -191,8 +217,18 @@ class EditorPanel:
         self._say(f"Decoded {len(rulebase)} valid rules; press Apply to play them.")
 
 
-def _step_line(step) -> str:
-    what = f"{step.name}: {len(step.changes)} change{'s' if len(step.changes) > 1 else ''}"
-    if step.kind == "checked":
-        return f"checked on {step.games} games, {what} ({step.summary})"
-    return f"exact, {what}" + ("" if step.applied else " (listed, not applied)")
+MAX_CHANGE_LINES = 40  # a long list says how many more it left out
+
+
+def _change_lines(steps) -> list[str]:
+    """Which rules went or changed, and why, step by step (a step listed but not applied says so)."""
+    lines = []
+    for step in steps:
+        how = f"checked on {step.games} games" if step.kind == "checked" else "exact"
+        note = "" if step.applied else " (listed, not applied)"
+        for change in step.changes:
+            what = "dropped" if change.after is None else f"now “{change.after}”"
+            lines.append(f"Rule {change.rule} {what}: {change.reason} [{step.name}, {how}{note}]")
+    if len(lines) > MAX_CHANGE_LINES:
+        lines = lines[:MAX_CHANGE_LINES] + [f"… and {len(lines) - MAX_CHANGE_LINES} more changes"]
+    return lines

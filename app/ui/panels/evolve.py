@@ -10,12 +10,14 @@ import numpy as np
 import viser
 import viser.uplot
 
-from app.environments import RCSS, RCSS_WORKERS
+from app.environments import RCSS, RCSS_WORKERS, default_workers
 from app.runs import RunEvent, RunManager, RunStateError, SampledPlayer
 from app.store import NotFound, RunStatus, Store
 from app.ui import style
+from app.ui.number_field import FieldError, NumberField
 from app.ui.panels.diversity import DiversityPlot
 from app.ui.panels.svg import escape
+from app.ui.panels.viewer_link import run_viewer_link
 from app.validation import describe_problem, dotted
 from fuzzy.rule import Rulebase
 from ga.config import GAConfig
@@ -40,7 +42,7 @@ LABELS = {  # what a teacher reads next to each field; fields missing here show 
     "tournament_selector": "Tournament: P(better wins)",
     "elite_fraction": "Elite fraction",
     "target_fitness": "Target fitness (stop at or below)",
-    "seed": "Seed",
+    "seed": "Run seed",  # not the pitch's Seed (Play tab)
     "workers": "Worker processes",
     "behaviour_seeds": "Behaviour seeds (count distinct behaviours; 0: off)",
     "skills": "Skills (strict: kicks only within reach; sighted: and sees the goal)",
@@ -49,19 +51,6 @@ LABELS = {  # what a teacher reads next to each field; fields missing here show 
 }
 # The GameConfig choices the chapter leaves open; the rest are its rules.
 GAME_FIELDS = ("skills", "noise", "count_touches")
-
-
-JS_SAFE_INTEGER = 2**53  # the browser's numbers hold integers exactly below this (a seed's bound does not fit)
-
-
-def field_bounds(field: Any) -> dict[str, int]:
-    """min and max of an integer pydantic field, from its ge/gt/le/lt constraints."""
-    bounds = {}
-    for constraint in field.metadata:
-        for attribute, key, shift in (("ge", "min", 0), ("gt", "min", 1), ("le", "max", 0), ("lt", "max", -1)):
-            if (value := getattr(constraint, attribute, None)) is not None and abs(value) < JS_SAFE_INTEGER:
-                bounds[key] = int(value) + shift
-    return bounds
 
 
 def ga_fields() -> dict[str, Any]:
@@ -91,24 +80,30 @@ class EvolvePanel:
         on_generation: Callable[[int, int, Sequence[SampledPlayer]], None],
         on_run_ended: Callable[[int, RunStatus], None],
         on_runs_changed: Callable[[], None],
+        api_url: str | None = None,
     ):
         self.runs = runs
+        self.api_url = api_url
         self.store = store
         self.on_load = on_load
         self.on_generation = on_generation
         self.on_run_ended = on_run_ended
         self.on_runs_changed = on_runs_changed
         self.run_id: int | None = None
+        self.total_generations = int(GAConfig.model_fields["max_generations"].default)  # of the run on show
         self.generations: list[int] = []
-        self.best: list[float] = []
+        self.best: list[float] = []  # each generation's best (noisy: one game each), as the chapter's Figs. 9, 12
+        self.best_so_far: list[float] = []  # the run's running minimum: what a class watches fall
         self.mean: list[float] = []
-        self.inputs: dict[str, viser.GuiInputHandle] = {}
+        self.inputs: dict[str, viser.GuiInputHandle | NumberField] = {}
         self.algorithm = gui.add_dropdown("Algorithm", tuple(ALGORITHMS), initial_value="GA")
         self.where = gui.add_dropdown("Play on", (SIMPLESOCCER, RCSSSERVER), initial_value=SIMPLESOCCER,
                                       hint="rcssserver: the run starts its own servers (serve --rcssserver PATH)")
-        self.servers = gui.add_number("rcssservers", initial_value=1, min=1, max=MAX_SERVERS, step=1)
+        self.servers = NumberField(gui, "rcssservers", 1, minimum=1, maximum=MAX_SERVERS, integer=True,
+                                   hint="Servers the run starts, trials spread over them")
+        self.servers.visible = False  # only for runs on rcssserver
         self.name = gui.add_text("Run name (empty: from the settings)", initial_value="")
-        self.game_inputs: dict[str, viser.GuiInputHandle] = {}
+        self.game_inputs: dict[str, viser.GuiInputHandle | NumberField] = {}
         with gui.add_folder("GA parameters (chapter's Table 2)", expand_by_default=False):
             for name, field in ga_fields().items():
                 self.inputs[name] = self._input(gui, name, field)
@@ -119,6 +114,7 @@ class EvolvePanel:
         self.progress = gui.add_progress_bar(0.0)
         self.within = gui.add_html("")  # the generation in progress: players evaluated of the population
         self.status = gui.add_html(self._status_html("Not started. Press Start: the chapter's defaults are set."))
+        self.viewer = gui.add_html("")  # the run on show, in rerun's viewer
         self.plot = gui.add_uplot(
             data=self._plot_data(),
             series=self._plot_series(),
@@ -127,6 +123,7 @@ class EvolvePanel:
             legend=viser.uplot.Legend(live=False),
             title=self._plot_title(),
             aspect=1.4,
+            padding=style.PLOT_PADDING,
         )
         self.diversity = DiversityPlot(gui)
         self.load_best = gui.add_button("Load best so far onto the pitch", disabled=True)
@@ -136,12 +133,16 @@ class EvolvePanel:
         def _(event: viser.GuiEvent) -> None:
             self.start() if event.target.value == "Start" else self.stop()
 
+        @self.where.on_update
+        def _(_: viser.GuiEvent) -> None:
+            self.servers.visible = self.where.value == RCSSSERVER
+
         @self.load_best.on_click
         def _(_: viser.GuiEvent) -> None:
             self.load_best_so_far()
 
     @staticmethod
-    def _input(gui: viser.GuiApi, name: str, field: Any) -> viser.GuiInputHandle:
+    def _input(gui: viser.GuiApi, name: str, field: Any) -> viser.GuiInputHandle | NumberField:
         label = LABELS.get(name, name)
         default = field.default
         choices = typing.get_args(field.annotation) if typing.get_origin(field.annotation) is typing.Literal else ()
@@ -149,20 +150,22 @@ class EvolvePanel:
             return gui.add_dropdown(label, tuple(choices), initial_value=default)
         if isinstance(default, bool):
             return gui.add_checkbox(label, default)
-        if isinstance(default, int):  # the field's own bounds (a population over the limit cannot be typed)
-            return gui.add_number(label, initial_value=default, step=1, **field_bounds(field))
-        return gui.add_number(label, initial_value=float(default), step=0.01)
+        number = NumberField.for_field(gui, label, field, hint=field.description)  # with the field's bounds
+        if name == "workers":
+            number.value = default_workers()  # as the CLI: every core
+        return number
 
     def config(self) -> dict[str, Any]:
+        """The GA parameters shown; FieldError naming a field that holds no usable number."""
         return {name: handle.value for name, handle in self.inputs.items()}
 
     def game_config(self) -> dict[str, Any]:
         return {name: handle.value for name, handle in self.game_inputs.items()}
 
-    def _status_html(self, text: str, *, error: bool = False) -> str:
+    def _status_html(self, text: str, *, error: bool = False, kind: str = "evolve-status") -> str:
         colour = style.ERROR if error else style.INK
         return (
-            f'<div class="evolve-status" data-error="{str(error).lower()}" style="{style.FONT}; '
+            f'<div class="{kind}" data-error="{str(error).lower()}" style="{style.FONT}; '
             f'font-size:{style.FONT_SIZE}px; color:{colour}">{escape(text)}</div>'
         )
 
@@ -175,17 +178,19 @@ class EvolvePanel:
                 ga, game = {**ga, "workers": RCSS_WORKERS}, None  # the server has its own noise and kick count
             record = self.runs.start(self.name.value.strip() or None, ga=ga, game=game,
                                      algorithm=ALGORITHMS[self.algorithm.value], **where)
-        except (ValueError, RunStateError) as exc:  # pydantic's ValidationError is a ValueError
+        except (ValueError, RunStateError) as exc:  # pydantic's ValidationError and FieldError are ValueErrors
             self.status.content = self._status_html(f"Not started: {_first_line(exc)}", error=True)
             return
         self.run_id = record.id
-        self.generations, self.best, self.mean = [], [], []
+        self.total_generations = int(ga["max_generations"])
+        self.generations, self.best, self.best_so_far, self.mean = [], [], [], []
         self.diversity.reset(int(ga["population_size"]), int(ga["max_generations"]), int(ga["behaviour_seeds"]))
         self.progress.value = 0.0
         self.progress.animated = True
         self.plot.scales = self._plot_scales()
         self._redraw_plot()
         self.status.content = self._status_html(f"Run #{record.id} started: evaluating generation 0 …")
+        self.viewer.content = run_viewer_link(self.api_url, record.id)
         self.on_runs_changed()
 
     def stop(self) -> None:
@@ -217,50 +222,60 @@ class EvolvePanel:
     def _on_event(self, event: RunEvent) -> None:
         if event.run_id != self.run_id:
             return
-        total = int(self.inputs["max_generations"].value)  # generations 0 .. total - 1
+        total = self.total_generations  # generations 0 .. total - 1
         if event.progress is not None:
             self.within.content = self._status_html(
                 f"Generation {event.progress.generation}: {event.progress.evaluated:,} of "
-                f"{event.progress.population:,} players evaluated")
+                f"{event.progress.population:,} players evaluated", kind="evolve-within")
         elif event.stats is not None:
             stats = event.stats
             generation = int(stats["generation"])
             self.generations.append(generation)
             self.best.append(float(stats["best"]))
+            self.best_so_far.append(min(self.best_so_far[-1:] + [float(stats["best"])]))
             self.mean.append(float(stats["mean"]))
             self._redraw_plot()
             self.diversity.add(stats)
             self.on_generation(event.run_id, generation, event.players)
             self.progress.value = min(100.0, 100.0 * (generation + 1) / total)
             self.load_best.disabled = False
+            self.within.content = ""  # until the next generation's first chunk
             self.status.content = self._status_html(
-                f"Run #{event.run_id}: generation {generation} of 0–{total - 1} done — best {stats['best']:.3f}, "
-                f"mean {stats['mean']:.3f}, {stats.get('evaluations', 0)} games played"
+                f"Run #{event.run_id}: generation {generation} of 0–{total - 1} done — best so far "
+                f"{self.best_so_far[-1]:.3f}; this generation: best {stats['best']:.3f}, mean {stats['mean']:.3f}; "
+                f"{stats.get('evaluations', 0)} games played"
             )
         elif event.status is not RunStatus.RUNNING:
             self.progress.animated = False
             self.within.content = ""
             if event.status is RunStatus.FINISHED:
                 self.progress.value = 100.0
-            best = f" — best {min(self.best):.3f}" if self.best else ""
-            last = f" after generation {self.generations[-1]}" if self.generations else ""
             self.status.content = self._status_html(
-                f"Run #{event.run_id} {event.status}{last}{best}.", error=event.status is RunStatus.FAILED
+                f"Run #{event.run_id} {event.status}{self._summary()}.", error=event.status is RunStatus.FAILED
             )
             self.on_run_ended(event.run_id, event.status)
             self.on_runs_changed()
 
-    def _plot_data(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    def _summary(self) -> str:
+        """After which generation, the best so far (and where it was found), and the last generation's best."""
+        if not self.generations:
+            return ""
+        found = self.generations[self.best.index(self.best_so_far[-1])]
+        return (f" after generation {self.generations[-1]} — best so far {self.best_so_far[-1]:.3f} (generation "
+                f"{found}); the last generation's best {self.best[-1]:.3f}")
+
+    def _plot_data(self) -> tuple[np.ndarray, ...]:
         if not self.generations:  # uPlot needs a point to set its scales up; NaN draws nothing
-            return (np.zeros(1), np.full(1, np.nan), np.full(1, np.nan))
+            return (np.zeros(1), np.full(1, np.nan), np.full(1, np.nan), np.full(1, np.nan))
         return (
             np.array(self.generations, dtype=np.float64),
             np.array(self.best, dtype=np.float64),
+            np.array(self.best_so_far, dtype=np.float64),
             np.array(self.mean, dtype=np.float64),
         )
 
     def _plot_scales(self) -> dict[str, viser.uplot.Scale]:
-        last = max(1, int(self.inputs["max_generations"].value) - 1)
+        last = max(1, self.total_generations - 1)
         return {
             "x": viser.uplot.Scale(time=False, auto=False, range=(0.0, float(last))),
             "y": viser.uplot.Scale(auto=False, range=(0.0, 1.0)),
@@ -272,11 +287,13 @@ class EvolvePanel:
 
     def _plot_series(self) -> tuple[viser.uplot.Series, ...]:
         """The legend: each series with its latest value (the x series is not shown in it)."""
-        best, mean = (f"best {self.best[-1]:.3f}", f"mean {self.mean[-1]:.3f}") if self.generations else ("best", "mean")
+        latest = lambda values: f" {values[-1]:.3f}" if values else ""
         return (
             viser.uplot.Series(label="generation"),
-            viser.uplot.Series(label=best, stroke=style.SELECTED, width=3),
-            viser.uplot.Series(label=mean, stroke=style.ACCENT, width=2),
+            viser.uplot.Series(label=f"best of the generation{latest(self.best)}", stroke=style.SELECTED, width=2,
+                               dash=(6, 4)),
+            viser.uplot.Series(label=f"best so far{latest(self.best_so_far)}", stroke=style.FIRED, width=3),
+            viser.uplot.Series(label=f"mean{latest(self.mean)}", stroke=style.ACCENT, width=2),
         )
 
     def _redraw_plot(self) -> None:

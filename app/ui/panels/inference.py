@@ -9,6 +9,7 @@ import viser
 
 from app.rule_inspection import MAX_GAMES
 from app.ui import style
+from app.ui.number_field import FieldError, NumberField
 from app.ui.panels.membership import input_html, input_names, terms_html
 from app.ui.panels.outputs import outputs_html
 from app.ui.panels.rules import decision_html, rules_html
@@ -31,10 +32,11 @@ class InferencePanel:
         with gui.add_folder("Rules and their strengths"):
             self.only_fired = gui.add_checkbox("Only rules that fired", False)
             self.only_fired.on_update(lambda _: on_change())  # redraw now, also while paused
-            self.usage_games = gui.add_number("Usage games", style.USAGE_GAMES, min=1, max=MAX_GAMES, step=1)
+            self.usage_games = NumberField(gui, "Usage games", style.USAGE_GAMES, minimum=1, maximum=MAX_GAMES,
+                                           integer=True)
             measure = gui.add_button("Measure rule usage",
                                      hint="Play these games from the pitch's seed and show how often each rule won")
-            measure.on_click(lambda _: on_usage(int(self.usage_games.value)))
+            measure.on_click(lambda _: self._measure(on_usage))
             self.rules = gui.add_html("")
         with gui.add_folder("Output sets (clipped, max, mean of maximum)"):
             self.outputs = gui.add_html("")
@@ -43,12 +45,22 @@ class InferencePanel:
             self.membership = {name: gui.add_html("") for name in input_names(vocabulary)}
         self._shown: dict[str, str] = {}
 
-    def show(self, inputs: Mapping[str, float | None], rule_texts: Sequence[str], inference: Inference) -> None:
-        self._set(self.decision, "decision", decision_html(self.vocabulary, inference))
+    def show(self, inputs: Mapping[str, float | None], rule_texts: Sequence[str], inference: Inference,
+             outcome: str | None = None, refused: bool = False) -> None:
+        """`outcome`: what the player then did (a sentence, None before its first decision); `refused`: the
+        skill could not do what the action asks."""
+        self._set(self.decision, "decision", decision_html(self.vocabulary, inference, outcome, refused))
         self._set(self.rules, "rules", rules_html(rule_texts, inference, self.only_fired.value, self.usage))
         self._set(self.outputs, "outputs", outputs_html(self.vocabulary, inference))
         for name, handle in self.membership.items():
             self._set(handle, name, input_html(self.vocabulary, name, inputs.get(name)))
+
+    def _measure(self, on_usage: Callable[[int], None]) -> None:
+        try:
+            games = int(self.usage_games.value)
+        except FieldError:  # the field says what it needs
+            return
+        on_usage(games)
 
     def show_usage(self, usage: "Usage | None") -> None:
         self.usage = usage

@@ -11,6 +11,7 @@ from app.experiment.library import ExperimentFolder, FigureFile
 from app.runs import RunManager, RunStateError
 from app.store import NotFound, RulebaseRecord, Store, StoreError
 from app.ui import style
+from app.ui.panels.viewer_link import run_viewer_link
 from app.ui.panels.experiments import experiment_html, experiment_label, figure_html
 from app.ui.panels.svg import escape
 from fuzzy.export import EXPORT_FORMATS, FORMATS
@@ -210,6 +211,7 @@ class LibraryPanel:
         name = f"run #{record_id} best (gen {best.generation}, fitness {best.fitness:.3f})"
         self.on_load(rulebase, name, record_id)
         self._say(f"Watching {name}.")
+        self.message.content += run_viewer_link(self.api_url, record_id)
 
     def rename_run(self) -> None:
         record_id, name = self._selected(self.runs, "run"), self._new_name()

@@ -12,6 +12,8 @@ TOP = 40
 BOTTOM = 108
 HEIGHT = 128
 PAD = 14
+LABEL_ROW = 14  # px between rows of set labels: neighbouring sets' labels take turns rows, never overlap
+CHAR_WIDTH = 0.6  # of the font size: an upper estimate of a label character's width
 QUIRK_NOTE = "Left180 and Right180 sit at opposite ends of the line, so together they average to 0 (the chapter's quirk)."
 
 
@@ -35,7 +37,7 @@ def outputs_html(vocabulary: Vocabulary, inference: Inference) -> str:
 def _output_chart(vocabulary: Vocabulary, output: str, sets: list[tuple[str, float]], value: float) -> str:
     variable = vocabulary.output_variable(output)
     axis = Axis(variable, PAD, WIDTH - PAD)
-    parts = [svg_open(WIDTH, HEIGHT)]
+    parts = []
     parts.append(
         f'<text x="{PAD}" y="14" font-size="{style.FONT_SIZE}" font-weight="600" fill="{style.INK}">'
         f"{escape(output)}</text>"
@@ -48,6 +50,7 @@ def _output_chart(vocabulary: Vocabulary, output: str, sets: list[tuple[str, flo
             f'<polygon points="{term_points(term, axis, TOP, BOTTOM)}" fill="none" stroke="{style.GRID}" '
             f'stroke-width="1.5"/>'
         )
+    labels = []
     for term_name, level in sets:
         term = variable.term(term_name)
         parts.append(
@@ -55,11 +58,9 @@ def _output_chart(vocabulary: Vocabulary, output: str, sets: list[tuple[str, flo
             f'points="{term_points(term, axis, TOP, BOTTOM, level)}" fill="{style.CLIP_FILL}" opacity="0.6" '
             f'stroke="{style.SELECTED}" stroke-width="1.5"/>'
         )
-        centre = axis((term.b + term.c) / 2)
-        parts.append(
-            f'<text x="{centre:.1f}" y="{BOTTOM + 14}" font-size="{style.SMALL_FONT_SIZE}" text-anchor="middle" '
-            f'fill="{style.INK}">{escape(vocabulary.display(term_name))} {level:.2f}</text>'
-        )
+        labels.append((axis((term.b + term.c) / 2), f"{vocabulary.display(term_name)} {level:.2f}"))
+    placed = _placed_labels(labels)
+    rows = 1 + max((row for _, _, row, _ in placed), default=0)
     x = axis(value)
     label = "default " if not sets else "mean of max "
     anchor = "end" if x > WIDTH / 2 else "start"
@@ -70,7 +71,28 @@ def _output_chart(vocabulary: Vocabulary, output: str, sets: list[tuple[str, flo
         f'<text x="{x + offset:.1f}" y="{TOP - 10}" font-size="{style.FONT_SIZE}" font-weight="600" '
         f'text-anchor="{anchor}" fill="{style.ACCENT}">{label}{escape(format_value(value, variable.unit))}</text>'
     )
+    for x, text, row, width in placed:
+        parts.append(
+            f'<text class="set-label" x="{x:.1f}" y="{BOTTOM + 14 + row * LABEL_ROW}" data-width="{width:.1f}" '
+            f'font-size="{style.SMALL_FONT_SIZE}" text-anchor="middle" fill="{style.INK}">{escape(text)}</text>')
+    parts.insert(0, svg_open(WIDTH, HEIGHT + (rows - 1) * LABEL_ROW))
     parts.append("</svg>")
     if {t for t, _ in sets} >= {"LEFT180", "RIGHT180"}:
         parts.append(f'<div style="color:{style.MUTED}; font-size:{style.SMALL_FONT_SIZE}px">{QUIRK_NOTE}</div>')
     return "".join(parts)
+
+
+def _placed_labels(labels: list[tuple[float, str]]) -> list[tuple[float, str, int, float]]:
+    """(x, text, row, width) for each (centre x, text): kept inside the chart, each in the first row where it
+    overlaps no label already placed (left to right)."""
+    placed: list[tuple[float, str, int, float]] = []
+    row_ends: list[float] = []  # the right edge of the last label in each row
+    for centre, text in sorted(labels):
+        width = len(text) * style.SMALL_FONT_SIZE * CHAR_WIDTH
+        x = min(max(centre, width / 2), WIDTH - width / 2)
+        row = next((r for r, end in enumerate(row_ends) if x - width / 2 > end + 4), len(row_ends))
+        if row == len(row_ends):
+            row_ends.append(0.0)
+        row_ends[row] = x + width / 2
+        placed.append((x, text, row, width))
+    return placed

@@ -1,4 +1,5 @@
-"""Play controls: play, pause, step one tick, speed, new random start and its seed, and the score line."""
+"""Play controls: play, pause, step one tick, speed, new random start and its seed, the skill set (what
+each means, in a sentence), and the score line."""
 
 from __future__ import annotations
 
@@ -7,6 +8,11 @@ from typing import Callable
 import viser
 
 from app.ui import style
+from app.ui.number_field import FieldError, NumberField
+from app.ui.panels.svg import escape
+from ga.config import SEED_BOUND
+from soccer.config import SKILL_SET_NAMES
+from soccer.outcome import skill_set_sentence
 
 
 class PlayControls:
@@ -18,6 +24,8 @@ class PlayControls:
         on_step: Callable[[], None],
         on_new_start: Callable[[int], None],
         on_reset_view: Callable[[], None],
+        on_skills: Callable[[str], None],
+        skills: str,
     ):
         self.status = gui.add_html("")
         buttons = gui.add_button_group("Game", ("Play", "Pause", "Step one tick"))
@@ -25,9 +33,19 @@ class PlayControls:
             "Speed (× real time)", min=style.SPEED_RANGE[0], max=style.SPEED_RANGE[1], step=0.25,
             initial_value=style.DEFAULT_SPEED,
         )
-        self.seed = gui.add_number("Seed", initial_value=style.DEFAULT_SEED, min=0, step=1)
+        self.seed = NumberField(gui, "Seed", style.DEFAULT_SEED, minimum=0, maximum=SEED_BOUND - 1, integer=True,
+                                hint="The start of the game: the same seed, the same start")
         starts = gui.add_button_group("Start", ("New random start", "Restart this seed"))
+        self.skills = gui.add_dropdown("Skills", SKILL_SET_NAMES, initial_value=skills,
+                                       hint="What the player's actions do in the world (soccer/skills.py)")
+        self.skills_note = gui.add_html("")
+        self.show_skills(skills)
         reset_view = gui.add_button("Fit pitch to view", color="gray")
+
+        @self.skills.on_update
+        def _(event: viser.GuiEvent) -> None:
+            if event.client is not None:  # the user's choice, not show_skills
+                on_skills(self.skills.value)
 
         @buttons.on_click
         def _(event: viser.GuiEvent) -> None:
@@ -40,13 +58,26 @@ class PlayControls:
         @starts.on_click
         def _(event: viser.GuiEvent) -> None:
             # A new start takes the next seed and shows it, so any start can be replayed by typing it back.
+            try:
+                seed = int(self.seed.value)
+            except FieldError:  # the field says what it needs
+                return
             if event.target.value == "New random start":
-                self.seed.value = int(self.seed.value) + 1
-            on_new_start(int(self.seed.value))
+                seed = (seed + 1) % SEED_BOUND
+                self.seed.value = seed
+            on_new_start(seed)
 
         @reset_view.on_click
         def _(_: viser.GuiEvent) -> None:
             on_reset_view()
+
+    def show_skills(self, skills: str) -> None:
+        """The game's skill set and its meaning (a run's player plays in its run's)."""
+        self.skills.value = skills
+        self.skills_note.content = (
+            f'<div class="skills-note" data-skills="{escape(skills)}" style="{style.FONT}; '
+            f'font-size:{style.SMALL_FONT_SIZE + 1}px; color:{style.INK}; margin:-4px 0 6px">'
+            f"<b>{escape(skills)}</b>: {escape(skill_set_sentence(skills))}.</div>")
 
     def show_status(self, html: str) -> None:
         if self.status.content != html:

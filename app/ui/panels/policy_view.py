@@ -45,12 +45,31 @@ class PolicyPanel:
         self._last_render = 0.0
         self._last_html = ""
         self._controls_changed = False
+        self._mirroring = False
         for handle in (self.follow, self.goal_visible, self.goal_distance, self.goal_direction, self.output):
-            handle.on_update(lambda _: self._control_changed(on_change))
+            handle.on_update(lambda event: self._control_changed(event, on_change))
+        self._enable_goal_controls()
 
-    def _control_changed(self, on_change: Callable[[], None]) -> None:
+    def _control_changed(self, event: viser.GuiEvent, on_change: Callable[[], None]) -> None:
+        if self._mirroring:  # the panel itself showing the followed goal inputs
+            return
         self._controls_changed = True
+        self._enable_goal_controls()
         on_change()
+
+    def _enable_goal_controls(self) -> None:
+        """Following the player, the goal controls show its inputs and cannot be changed."""
+        for handle in (self.goal_visible, self.goal_distance, self.goal_direction):
+            handle.disabled = self.follow.value
+
+    def _mirror(self, goal_visible: bool, goal_distance: float, goal_direction: float) -> None:
+        """The controls show the goal inputs the map is drawn for."""
+        self._mirroring = True
+        try:
+            self.goal_visible.value = goal_visible
+            self.goal_distance.value, self.goal_direction.value = goal_distance, goal_direction
+        finally:
+            self._mirroring = False
 
     def show_rulebase(self, rulebase: Rulebase) -> None:
         self.rulebase = rulebase
@@ -70,6 +89,7 @@ class PolicyPanel:
                 goal_distance, goal_direction = round(goal_distance), round(goal_direction)
             else:
                 goal_distance, goal_direction = self.goal_distance.value, self.goal_direction.value
+            self._mirror(goal_visible, goal_distance, goal_direction)
         else:
             goal_distance, goal_direction = self.goal_distance.value, self.goal_direction.value
             goal_visible = self.goal_visible.value

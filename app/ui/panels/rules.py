@@ -16,12 +16,26 @@ if TYPE_CHECKING:
 HUNT_TEXT = "No rule fired: the player hunts (turns toward the ball, or 45° toward where it was last seen)."
 
 
-def decision_html(vocabulary: Vocabulary, inference: Inference) -> str:
-    """The chosen action with its parameters, then every fired action with its support."""
+def outcome_html(outcome: str | None, refused: bool) -> str:
+    """What the player then did in the world, under the decision (`refused`: a command that could not
+    happen, in red)."""
+    if outcome is None:
+        text, colour = "Then in the world: nothing yet (the player acts on the next tick).", style.MUTED
+    else:
+        text, colour = f"Then in the world: {outcome}", style.ERROR if refused else style.FIRED
+    return (f'<div class="outcome" data-refused="{str(refused).lower()}" style="margin:2px 0 4px; '
+            f'font-size:{style.FONT_SIZE}px; font-weight:600; color:{colour}">{escape(text)}</div>')
+
+
+def decision_html(vocabulary: Vocabulary, inference: Inference, outcome: str | None = None,
+                  refused: bool = False) -> str:
+    """The chosen action with its parameters, what the player then did (`outcome`, a sentence), then every
+    fired action with its support."""
     selected = inference.selected
+    did = outcome_html(outcome, refused)
     if selected is None:
         head = f'<div class="decision" data-action="HUNT" style="color:{style.MUTED}">{escape(HUNT_TEXT)}</div>'
-        return f'<div style="{style.FONT}; font-size:{style.FONT_SIZE}px">{head}</div>'
+        return f'<div style="{style.FONT}; font-size:{style.FONT_SIZE}px">{head}{did}</div>'
     head = (
         f'<div class="decision" data-action="{escape(selected.action)}" style="font-size:{style.FONT_SIZE + 6}px; '
         f'font-weight:700; color:{style.SELECTED}">{escape(vocabulary.display(selected.action))} '
@@ -34,7 +48,7 @@ def decision_html(vocabulary: Vocabulary, inference: Inference) -> str:
         for a in inference.fired
     )
     return (
-        f'<div style="{style.FONT}; font-size:{style.FONT_SIZE}px">{head}'
+        f'<div style="{style.FONT}; font-size:{style.FONT_SIZE}px">{head}{did}'
         f'<div style="color:{style.MUTED}; font-size:{style.SMALL_FONT_SIZE + 1}px">support of fired actions: '
         f"{others}</div></div>"
     )

@@ -1,0 +1,18 @@
+"""A link that opens a run's rerun recording in rerun's web viewer, served by the app (app/rerun_viewer.py)."""
+
+from __future__ import annotations
+
+from app.rerun_viewer import recording_link
+from app.ui import style
+from app.ui.panels.svg import escape
+
+
+def run_viewer_link(api_url: str | None, run_id: int) -> str:
+    """HTML: "Open run #N in the rerun viewer" (a new browser tab); empty when the app serves no API here."""
+    if api_url is None:
+        return ""
+    href = recording_link(api_url, f"{api_url.rstrip('/')}/api/runs/{run_id}/recording.rrd")
+    return (f'<div class="viewer-link" style="{style.FONT}; font-size:{style.FONT_SIZE}px">'
+            f'<a href="{escape(href)}" target="_blank" rel="noopener">Open run #{run_id} in the rerun viewer</a> '
+            f'<span style="color:{style.MUTED}">(its statistics and each generation&#39;s best game, as the '
+            "chapter&#39;s figures; reload it there for the newest generations)</span></div>")
