@@ -192,7 +192,7 @@ def test_one_breeding_step_by_step_from_the_runs_population(ui, page, run_id):
     for label, value in (("Parents' generation", generation), ("Parent A: individual #", 0),
                          ("Parent B: individual #", 3), ("Seed (the same seed gives the same cuts)", 7)):
         fill(page, label, value)
-    choose(page, "Crossover", "two-point", exact=True)
+    choose(page, "Crossover operator", "two-point", exact=True)  # not the Evolve tab's Crossover
     wait_until(lambda: session.breeding.crossover.value == "two-point" and int(session.breeding.seed.value) == 7
                and int(session.breeding.second.value) == 3)
     lineage = RunLineage.from_store(ui.context.store, run_id, VOCABULARY).lineage

@@ -66,7 +66,8 @@ class BreedingPanel:
             self.second = gui.add_number("Parent B: individual #", initial_value=1, min=0, step=1)
             self.first_saved = gui.add_dropdown("Parent A", (demo[1],))
             self.second_saved = gui.add_dropdown("Parent B", (demo[1],))
-            self.crossover = gui.add_dropdown("Crossover", tuple(CROSSOVERS), initial_value=tuple(CROSSOVERS)[0])
+            self.crossover = gui.add_dropdown("Crossover operator", tuple(CROSSOVERS),
+                                              initial_value=tuple(CROSSOVERS)[0])
             self.seed = gui.add_number("Seed (the same seed gives the same cuts)", initial_value=1, min=0, step=1)
             self.mutate = gui.add_checkbox("Mutate the children", initial_value=True)
             self.rate = gui.add_number("Mutation rate (per gene)", initial_value=DEFAULT_MUTATION_RATE, min=0.01,
