@@ -16,18 +16,31 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from tests.app.test_ui_browser import CHROMIUM, CHROMIUM_ARGS, dismiss_notifications, free_port  # noqa: E402
+from tests.app.test_ui_browser import CHROMIUM, CHROMIUM_ARGS, dismiss_notifications, free_port, pause  # noqa: E402
 from tests.app.test_ui_lineage import evolve_in_page, fill, session_of, show_tree  # noqa: E402
 
 IMAGES = ROOT / "docs" / "images" / "teaching"
-VIEWPORT = {"width": 1600, "height": 1000}
+VIEWPORT = {"width": 1600, "height": 1200}  # tall enough for a 10-generation tree with the player at its foot
 
 
 def panel(page, path: Path) -> None:
-    """The right-hand panel (the tab shown), scrolled to the top."""
-    box = page.locator(".lineage, .breeding-step").first.bounding_box()
+    """The right-hand panel (the tab shown) as it is scrolled."""
+    box = page.locator(".lineage:visible, .breeding-step:visible").first.bounding_box()
     page.screenshot(path=str(path), clip={"x": box["x"] - 8, "y": 0, "width": VIEWPORT["width"] - box["x"] + 8,
                                           "height": VIEWPORT["height"]})
+
+
+def element(page, selector: str, path: Path, attempts: int = 10) -> None:
+    """A picture of an element the server replaces as it changes (the small pitches, several times a second)."""
+    from playwright.sync_api import Error
+
+    for _ in range(attempts):
+        try:
+            page.locator(selector).screenshot(path=str(path), timeout=5000)
+            return
+        except Error:  # replaced while being taken: find it again
+            page.wait_for_timeout(200)
+    raise RuntimeError(f"{selector} never stayed long enough for a picture")
 
 
 def main() -> None:
@@ -60,13 +73,14 @@ def main() -> None:
                 session = session_of(handle)
                 run = evolve_in_page(page, session, args.population, args.generations, args.behaviour_seeds)
                 page.get_by_text("GA parameters (chapter's Table 2)").click()  # folded again, the plots in view
+                page.wait_for_timeout(1500)  # the folder's closing animation over
                 page.screenshot(path=str(IMAGES / "lineage-evolve-diversity.png"), clip={
                     "x": 0, "y": 0, "width": 400, "height": VIEWPORT["height"]})
                 last = args.generations - 1
                 show_tree(page, "Best of a generation", Generation=last)
                 page.locator(f".lineage[data-generation='{last}']").wait_for()
                 panel(page, IMAGES / "lineage-family-tree.png")
-                page.locator(".lineage-rule").first.scroll_into_view_if_needed()
+                page.locator(".lineage-rule").first.evaluate("rule => rule.scrollIntoView({block: 'start'})")
                 panel(page, IMAGES / "lineage-rules.png")
                 page.get_by_role("tab", name="Breeding").click()
                 fill(page, "Parents' generation", last)
@@ -75,6 +89,7 @@ def main() -> None:
                 page.get_by_role("button", name="Breed").click()
                 page.locator(".breeding-step[data-step='1']").wait_for()
                 page.get_by_text("Parents, crossover and seed").click()  # the settings fold away
+                page.wait_for_timeout(1500)
                 page.get_by_role("button", name="Next step").click()
                 page.locator(".breeding-step[data-step='2']").wait_for()
                 panel(page, IMAGES / "lineage-breeding-cuts.png")
@@ -85,8 +100,9 @@ def main() -> None:
                 page.get_by_role("button", name="Next step").click()
                 page.locator(".breeding-games .mini-pitch").first.wait_for()
                 page.wait_for_timeout(4000)  # the four games under way
-                page.locator(".breeding-games").scroll_into_view_if_needed()
-                panel(page, IMAGES / "lineage-breeding-play.png")
+                pause(page)  # the small pitches advance with the main one: paused, they hold still for the picture
+                page.wait_for_timeout(1000)
+                element(page, ".breeding-games", IMAGES / "lineage-breeding-play.png")
                 print(f"run #{run}: screenshots in {IMAGES.relative_to(ROOT)}")
                 browser.close()
         finally:

@@ -217,6 +217,7 @@ class BreedingPanel:
             grid = population_html(self.geometry, batch.observation, batch.state.goals, batch.state.done,
                                    self.labels, columns=PITCH_COLUMNS)
         content = (f'<div class="breeding-games" data-games="{len(self.labels)}" style="{style.FONT}; '
+                   f'{style.SCROLLBAR_ROOM}; '
                    f'font-size:{style.FONT_SIZE}px">Parents (top) and children (below), all from the start of seed '
                    f"{self._seed}, as the main pitch. Top right: goals.{grid}</div>")
         if content != self.pitches.content:  # finished games: nothing more to send
@@ -247,6 +248,7 @@ def _caption(described: BreedingDescription, step: int, steps: list[str]) -> str
         "what they do": "The children's rules, decoded; below, parents and children play from the same start.",
     }[steps[step - 1]]
     return (f'<div class="breeding-step" data-step="{step}" data-steps="{len(steps)}" style="{style.FONT}; '
+            f'{style.SCROLLBAR_ROOM}; '
             f'font-size:{style.FONT_SIZE}px; color:{style.INK}"><div style="font-weight:700; font-size:'
             f'{style.FONT_SIZE + 2}px">Step {step} of {len(steps)}: {escape(steps[step - 1])}</div>'
             f"<div>{escape(explain)}</div></div>")
@@ -298,5 +300,6 @@ def _diagram(described: BreedingDescription, shown: set[str]) -> str:
                                 for rule in decoded) or (f'<div style="color:{style.MUTED}">no valid rule: the GA '
                                                          f"scores it 1.0 without playing it</div>")
             parts.append(_row(f"Child {c + 1}: {stretches}", cells + changes + rules))
-    return (f'<div class="breeding" data-shown="{len(shown)}" style="{style.FONT}; font-size:{style.FONT_SIZE}px; '
+    return (f'<div class="breeding" data-shown="{len(shown)}" style="{style.FONT}; {style.SCROLLBAR_ROOM}; '
+            f'font-size:{style.FONT_SIZE}px; '
             f'color:{style.INK}">{"".join(parts)}</div>')

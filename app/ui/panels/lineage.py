@@ -174,7 +174,7 @@ def lineage_html(view: FamilyTreeView, run_id: int) -> str:
     return (
         f'<div class="lineage" data-run="{run_id}" data-generation="{chosen.generation}" data-index="{chosen.index}" '
         f'data-ancestors="{len(view.tree.ancestors)}" data-rules="{len(view.rules)}" '
-        f'style="{style.FONT}; font-size:{style.FONT_SIZE}px; color:{style.INK}">'
+        f'style="{style.FONT}; {style.SCROLLBAR_ROOM}; font-size:{style.FONT_SIZE}px; color:{style.INK}">'
         f'<div style="font-weight:700">Run #{run_id}: {escape(view.title())}</div>'
         f'<div style="color:{style.MUTED}">Born: {escape(view.birth_text(view.tree.ancestors[chosen]))}</div>'
         f'<div style="{heading}">Its ancestors (those whose genes it carries), back to generation '
