@@ -96,6 +96,14 @@ def checked_workers(env: str, workers: int) -> int:
     return workers
 
 
+def checked_behaviour_seeds(env: str, seeds: int) -> int:
+    """Behavioural diversity plays extra games through the run's evaluator: an rcss run's evaluator keeps the
+    traces of its latest trials for the recording, which those games would replace."""
+    if env == RCSS and seeds:
+        raise ValueError(f"behavioural diversity is measured in SimpleSoccer runs only, not with env {RCSS}")
+    return seeds
+
+
 @dataclass(frozen=True)
 class SimpleSoccerGames:
     """Evaluations are SimpleSoccer games, played in this process or in the GA's worker processes."""

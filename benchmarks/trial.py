@@ -7,6 +7,7 @@ best player's game), and the time spent replaying those games is reported too.
 
     python benchmarks/trial.py [--workers 2] [--seed 0] [--population-size 200] [--generations 25] [--full]
                                [--outputs] [--skills strict|assisted|sighted] [--roulette-weighting linear|inverse]
+                               [--behaviour-seeds K]
 """
 
 from __future__ import annotations
@@ -43,13 +44,16 @@ def main() -> None:
                         help="play it as a run, with its folder's outputs and a replay of each generation's best")
     parser.add_argument("--skills", choices=SKILL_SET_NAMES, default=GameConfig().skills)
     parser.add_argument("--roulette-weighting", choices=("linear", "inverse"), default=TABLE_2.roulette_weighting)
+    parser.add_argument("--behaviour-seeds", type=int, default=0,
+                        help="K: count distinct behaviours, every new chromosome playing K common seeds (ga/diversity.py)")
     add_record_option(parser)
     args = parser.parse_args()
     load_before = load_average()
     config = TABLE_2.model_copy(update={"workers": args.workers, "seed": args.seed,
                                         "population_size": args.population_size,
                                         "max_generations": args.generations,
-                                        "roulette_weighting": args.roulette_weighting}
+                                        "roulette_weighting": args.roulette_weighting,
+                                        "behaviour_seeds": args.behaviour_seeds}
                                 | ({"target_fitness": 0.0} if args.full else {}))
     game = GameConfig(skills=args.skills)
     play_games([demo_rulebase()], [args.seed], game)  # load the compiled kernels before the clock starts
@@ -61,7 +65,8 @@ def main() -> None:
         result = evolve(config, SimpleSoccerEvaluator(game), VOCABULARY)
     seconds = time.perf_counter() - started
 
-    print(f"trial ({game.skills} skills, {config.roulette_weighting} roulette weighting): population "
+    behaviours = f", behaviours on {config.behaviour_seeds} seeds" if config.behaviour_seeds else ""
+    print(f"trial ({game.skills} skills, {config.roulette_weighting} roulette weighting{behaviours}): population "
           f"{config.population_size} x {len(result.history)} generations "
           f"({result.stop_reason}), {result.evaluations} evaluations, workers {config.workers}")
     print(f"best fitness {result.best.fitness:.4f}")

@@ -9,6 +9,7 @@ from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 
 SEED_BOUND = 2**63  # seeds (the run's and its games') lie in [0, SEED_BOUND)
+MAX_BEHAVIOUR_SEEDS = 16
 # Breeding a generation is not interrupted by a stop (evaluation is, between chunks): at this size it takes
 # about a second, at 100,000 tens of seconds (docs/reference/limits.md, benchmarks/stop_latency.py)
 MAX_POPULATION = 10_000
@@ -41,6 +42,11 @@ class GAConfig(BaseModel):
     target_fitness: float = Field(0.05, ge=0, le=1, description="stop once the best fitness reaches this")
     seed: int = Field(0, ge=0, lt=SEED_BOUND)
     workers: int = Field(1, ge=1, le=MAX_WORKERS, description="evaluation processes; results do not depend on it")
+    behaviour_seeds: int = Field(0, ge=0, le=MAX_BEHAVIOUR_SEEDS,
+                                 description="K: every generation each distinct chromosome also plays K common "
+                                             "seeds, to count the distinct ways the population plays "
+                                             "(ga/diversity.py); 0 = not measured. Costs K games per new chromosome; "
+                                             "the evolution itself does not change")
 
     @model_validator(mode="after")
     def _elites_leave_room_to_breed(self) -> "GAConfig":

@@ -56,6 +56,9 @@ TournamentSelector = _ga_option("tournament_selector", "Chance that the better e
 EliteFraction = _ga_option("elite_fraction", "Share of the population copied unchanged (elitist).", float)
 TargetFitness = _ga_option("target_fitness", "Stop once the best fitness reaches this.", float)
 Seed = _ga_option("seed", "Seed of the whole run: the same seed gives the same run, bit for bit.", int)
+BehaviourSeeds = _ga_option("behaviour_seeds", "K: each generation, every new chromosome also plays K common seeds "
+                            "so statistics.csv counts the distinct ways the population plays (costs K games per new "
+                            "chromosome; 0: off). SimpleSoccer only.", int)
 Workers = Annotated[Optional[int], typer.Option(
     "--workers", help="Evaluation processes; results do not depend on it. Not with --env rcss: there the GA "
     "evaluates in this one process and trials run in parallel over the servers instead (--servers, or the "
@@ -89,7 +92,8 @@ def evolve_command(
     mutation_rate: MutationRate = None, selection: Selection = None, roulette_weighting: RouletteWeighting = None,
     tournament_size: TournamentSize = None, tournament_selector: TournamentSelector = None,
     elite_fraction: EliteFraction = None, target_fitness: TargetFitness = None, seed: Seed = None,
-    workers: Workers = None, fitness: FitnessOption = None, games_per_evaluation: GamesPerEvaluation = None,
+    workers: Workers = None, behaviour_seeds: BehaviourSeeds = None, fitness: FitnessOption = None,
+    games_per_evaluation: GamesPerEvaluation = None,
     max_ticks: MaxTicksOption = None, goal_cap: GoalCapOption = None, idle_ticks: IdleTicksOption = None,
     noise: NoiseOption = None, skills: SkillsOption = None, count_touches: CountTouchesOption = None,
     env: EnvOption = None, server: ServerOption = None,
@@ -114,7 +118,8 @@ def evolve_command(
 def random_search_command(
     population_size: PopulationSize = None, generations: Generations = None, max_length: MaxLength = None,
     consequent_probability: ConsequentProbability = None, target_fitness: TargetFitness = None, seed: Seed = None,
-    workers: Workers = None, fitness: FitnessOption = None, games_per_evaluation: GamesPerEvaluation = None,
+    workers: Workers = None, behaviour_seeds: BehaviourSeeds = None, fitness: FitnessOption = None,
+    games_per_evaluation: GamesPerEvaluation = None,
     max_ticks: MaxTicksOption = None, goal_cap: GoalCapOption = None, idle_ticks: IdleTicksOption = None,
     noise: NoiseOption = None, skills: SkillsOption = None, count_touches: CountTouchesOption = None,
     env: EnvOption = None, server: ServerOption = None,
@@ -329,5 +334,5 @@ def _replay_line(run: "Run") -> str:
 
 
 def _outputs(folder: "RunFolder") -> list[Path]:
-    return [p for p in (folder.best_rules, folder.best_json, folder.statistics, folder.checkpoint, folder.recording,
-                        folder.manifest) if p.exists()]
+    return [p for p in (folder.best_rules, folder.best_json, folder.statistics, folder.lineage, folder.checkpoint,
+                        folder.recording, folder.manifest) if p.exists()]

@@ -11,7 +11,7 @@ from typing import Any, Iterable, Mapping
 
 import numpy as np
 
-from ga.statistics import GenerationStats
+from ga.statistics import ADDED_LATER, GenerationStats
 
 PRESET, SETTING, TRIAL, SEED, ALGORITHM = "preset", "setting", "trial", "seed", "algorithm"
 KEY_COLUMNS = (PRESET, SETTING, TRIAL, SEED, ALGORITHM)
@@ -30,7 +30,7 @@ class TableError(ValueError):
 
 class StatisticsTable:
     def __init__(self, rows: Iterable[Mapping[str, Any]]):
-        self.rows = [dict(row) for row in rows]
+        self.rows = [{**ADDED_LATER, **row} for row in rows]  # an older study's table lacks the later statistics
         missing = [c for c in COLUMNS if self.rows and c not in self.rows[0]]
         if missing:
             raise TableError(f"statistics lack the columns {', '.join(missing)}")

@@ -113,8 +113,18 @@ def session_of(ui):
 def field(page, label: str, kind: str):
     """A viser input by its label (viser's labels are not linked to their inputs for get_by_label)."""
     return page.locator(
-        f"xpath=//label[normalize-space(text())='{label}']/ancestor::div[contains(@class,'mantine-Flex-root')][1]//{kind}"
+        f"xpath=//label[normalize-space(text())={xpath_literal(label)}]"
+        f"/ancestor::div[contains(@class,'mantine-Flex-root')][1]//{kind}"
     ).first
+
+
+def xpath_literal(text: str) -> str:
+    """`text` as an XPath string literal: a label may hold an apostrophe ("Parents' generation")."""
+    if "'" not in text:
+        return f"'{text}'"
+    if '"' not in text:
+        return f'"{text}"'
+    return "concat(" + ", \"'\", ".join(f"'{part}'" for part in text.split("'")) + ")"
 
 
 def choose(page, label: str, option: str, *, exact: bool = False, attempts: int = 3) -> None:
