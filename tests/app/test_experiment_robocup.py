@@ -17,7 +17,6 @@ from app.experiment.report import AGREES, DISAGREES, NOT_RUN, REPORT_MD, write_r
 from app.experiment.runner import STATISTICS_FILE
 from app.experiment.table import StatisticsTable
 from ga.checkpoint import load_checkpoint
-from soccer.rcss.evaluate import RcssEvaluator
 from tests.app.test_experiment_report import fabricated, falling, verdict
 
 # 2 trials of Table 2 shrunk to 4 x 5 (5 generations: the fewest a trend test takes), 60-cycle trials.
@@ -92,17 +91,18 @@ def test_bad_options_are_one_line(arguments, message, tmp_path):
 def test_a_shrunken_robocup_on_two_servers_resumes_inside_a_trial(rcssserver, tmp_path, monkeypatch):
     folder = tmp_path / "robocup"
     trials = folder / "trials"
-    evaluate = RcssEvaluator.__call__
+    import ga.algorithms
 
-    def interrupted_after_two_generations(self, rulebases, seeds):
-        checkpoints = list(trials.glob("*.checkpoint"))
-        if checkpoints and len(load_checkpoint(checkpoints[0]).history) == 2:
+    save = ga.algorithms.save_checkpoint
+
+    def interrupted_after_two_generations(path, state):  # Ctrl+C once a trial's second generation is kept
+        save(path, state)
+        if len(state.history) == 2:
             raise KeyboardInterrupt
-        return evaluate(self, rulebases, seeds)
 
     command = ["experiment", "robocup", *SHRUNK, "--rcssserver", rcssserver, "--servers", "2", "--out", folder,
                "--no-library"]
-    monkeypatch.setattr(RcssEvaluator, "__call__", interrupted_after_two_generations)
+    monkeypatch.setattr(ga.algorithms, "save_checkpoint", interrupted_after_two_generations)
     stopped = run(*command)
     assert stopped.exit_code == 130, stopped.output
     assert "started 2 rcssservers: 127.0.0.1:" in stopped.output
@@ -110,7 +110,7 @@ def test_a_shrunken_robocup_on_two_servers_resumes_inside_a_trial(rcssserver, tm
     assert not list(trials.glob("*.csv"))
     kept = [stats.to_dict() for stats in load_checkpoint(checkpoint).history]
 
-    monkeypatch.setattr(RcssEvaluator, "__call__", evaluate)
+    monkeypatch.setattr(ga.algorithms, "save_checkpoint", save)
     result = run(*command)
     assert result.exit_code == 0, result.output
     assert not checkpoint.exists()
