@@ -13,7 +13,7 @@ from __future__ import annotations
 import threading
 from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import Any, ContextManager, Iterable, Literal, Sequence
+from typing import TYPE_CHECKING, Any, ContextManager, Iterable, Literal, Sequence
 
 from pydantic import ValidationError
 
@@ -36,6 +36,9 @@ from ga.state import ALGORITHMS, GA, RANDOM_SEARCH, RunState
 from soccer.config import SOCCER_VOCABULARY, GameConfig
 from soccer.rcss.trial import TrialConfig
 
+if TYPE_CHECKING:
+    from app.rcss_cluster import RayCluster
+
 AlgorithmName = Literal["ga", "random-search"]  # ga.state's GA and RANDOM_SEARCH, for the API's schema
 
 
@@ -54,6 +57,7 @@ class RunSettings:
     algorithm: str = GA
     start_servers: int = 0
     rcssserver: str | None = field(default=None, compare=False)
+    cluster: "RayCluster | None" = field(default=None, compare=False)  # servers on a Ray cluster's nodes
 
     @classmethod
     def build(
@@ -105,7 +109,7 @@ class RunSettings:
     @property
     def environment(self) -> Environment:
         if self.env == RCSS:
-            return RcssTrials(self.servers, self.trial, self.start_servers, self.rcssserver)
+            return RcssTrials(self.servers, self.trial, self.start_servers, self.rcssserver, self.cluster)
         return SimpleSoccerGames(self.game)
 
     @property
@@ -127,6 +131,11 @@ class RunSettings:
         count = count or self.start_servers or 1
         return replace(self, servers=(), start_servers=checked_start_servers(self.env, (), count),
                        rcssserver=rcssserver)
+
+    def on_cluster(self, cluster: "RayCluster") -> "RunSettings":
+        """The same rcss run on servers on every node of a Ray cluster (app/rcss_cluster.py)."""
+        return replace(self, servers=(), start_servers=checked_start_servers(self.env, (), self.start_servers or 1),
+                       cluster=cluster)
 
     def default_name(self) -> str:
         """What the run is, e.g. "GA 200x25 roulette/inverse assisted seed 0" or "random search 200x25 ..."."""

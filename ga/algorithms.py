@@ -45,10 +45,16 @@ Callback = Any
 
 
 def evolve(config: GAConfig, evaluate: Evaluator, vocabulary: Vocabulary, *, callbacks: Iterable[Callback] = (),
-           checkpoint: str | Path | None = None, stop: threading.Event | None = None) -> RunResult:
+           checkpoint: str | Path | None = None, stop: threading.Event | None = None,
+           initial_population: Sequence[np.ndarray] | None = None) -> RunResult:
     """Run the messy-coded GA over rules in `vocabulary` (the one `evaluate` plays them in); `stop`
-    ends it within the generation in progress (which is abandoned)."""
-    return _run(_fresh_state(GA, config, vocabulary), evaluate, callbacks, checkpoint, stop)
+    ends it within the generation in progress (which is abandoned). `initial_population` (population_size
+    chromosomes over the same vocabulary, e.g. a population evolved in another game) is generation 0 instead
+    of random ones."""
+    if initial_population is not None and len(initial_population) != config.population_size:
+        raise ValueError(f"an initial population of {len(initial_population)} for a population size of "
+                         f"{config.population_size}")
+    return _run(_fresh_state(GA, config, vocabulary), evaluate, callbacks, checkpoint, stop, initial_population)
 
 
 def random_search(config: GAConfig, evaluate: Evaluator, vocabulary: Vocabulary, *,
@@ -74,7 +80,7 @@ def _fresh_state(algorithm: str, config: GAConfig, vocabulary: Vocabulary) -> Ru
 
 
 def _run(state: RunState, evaluate: Evaluator, callbacks: Iterable[Callback], checkpoint: str | Path | None,
-         stop: threading.Event | None) -> RunResult:
+         stop: threading.Event | None, initial_population: Sequence[np.ndarray] | None = None) -> RunResult:
     config = state.config
     rng = np.random.default_rng()
     rng.bit_generator.state = state.rng_state
@@ -91,7 +97,10 @@ def _run(state: RunState, evaluate: Evaluator, callbacks: Iterable[Callback], ch
     probe = BehaviourProbe(behaviour_seeds(config), codec) if config.behaviour_seeds else None
     with Evaluation(evaluate, config.workers, stop=stop, progress=progress) as evaluation:
         while (reason := _stop_reason(state, stop)) is None:
-            population = _next_population(state, codec.space, rng)
+            if not state.history and initial_population is not None:
+                population = [Individual(np.array(chromosome, copy=True)) for chromosome in initial_population]
+            else:
+                population = _next_population(state, codec.space, rng)
             try:
                 population = _evaluated(population, evaluation, codec, rng)
                 behaviours = probe(population, evaluation) if probe is not None else NOT_MEASURED

@@ -1,5 +1,5 @@
 """GAConfig: every GA parameter in one validated object; defaults = the chapter's Table 2, and
-for what it leaves open (the roulette weighting) the calibrated choice (README, "Calibration")."""
+for what it leaves open (the roulette weighting) the calibrated choice (docs/research/calibration.md)."""
 
 from __future__ import annotations
 
@@ -27,7 +27,8 @@ class GAConfig(BaseModel):
     max_length: int = Field(64, ge=2, le=10_000, description="maximum genes per chromosome")
     consequent_probability: float = Field(0.25, gt=0, lt=1,
                                           description="chance that an initial gene is a consequent")
-    crossover: Literal["one-point", "two-point"] = "one-point"
+    crossover: Literal["one-point", "two-point", "uniform"] = Field(
+        "one-point", description="cut-and-splice at one or two points, or rule-wise uniform (ga/crossover.py)")
     crossover_probability: float = Field(0.8, ge=0, le=1)
     mutation_probability: float = Field(0.35, ge=0, le=1, description="chance that a child is mutated")
     mutation_rate: float = Field(0.10, ge=0, le=1, description="chance that each gene of a mutated child is hit")

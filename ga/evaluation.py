@@ -24,7 +24,7 @@ from typing import Any, Callable, NamedTuple, Sequence
 
 from fuzzy.rule import Rulebase
 
-INVALID_FITNESS = 1.0  # a ruleset with no valid rule is never played (README, The genetic algorithm)
+INVALID_FITNESS = 1.0  # a ruleset with no valid rule is never played (docs/research/index.md, "The model")
 # Rulebases per chunk for an evaluator that does not say (`chunk_size`): a SimpleSoccer chunk of this many
 # 1000-tick games plays in well under a second and holds a few MB (benchmarks/stop_latency.py)
 CHUNK_SIZE = 100

@@ -16,10 +16,11 @@ from ga.provenance import Birth
 class Individual:
     """Fitness is noisy (every game starts from a fresh random position), so an individual that
     survives unchanged into the next generation is evaluated again and averages its evaluations
-    (README, The genetic algorithm: noisy fitness). `goals` is the goal count of its latest evaluation; `first_seed` the game seed of its
-    first one (a game depends only on rulebase and seed, so that game can be replayed exactly). `birth`: how it
-    entered its generation (ga/provenance.py; None where it was not recorded: made outside a run, or read from a
-    checkpoint older than provenance); an individual passed on unchanged enters the next one `born` anew."""
+    (docs/research/index.md, "The model": noisy fitness). `goals` is the goal count of its latest evaluation;
+    `first_seed` the game seed of its first one (a game depends only on rulebase and seed, so that game can be
+    replayed exactly). `birth`: how it entered its generation (ga/provenance.py; None where it was not recorded:
+    made outside a run, or read from a checkpoint older than provenance); an individual passed on unchanged
+    enters the next one `born` anew."""
 
     chromosome: np.ndarray
     evaluations: int = 0

@@ -188,7 +188,9 @@ class PitchView:
         self._trail_shown = trail.copy()
         points = np.stack([trail[:-1], trail[1:]], axis=1) if len(trail) >= 2 else np.zeros((0, 2, 2))
         # The ball jumps to the centre line after a goal: no trail segment across that jump.
-        points = points[np.linalg.norm(points[:, 1] - points[:, 0], axis=1) <= self.geometry.ball_speed_max * 1.01]
+        # A resting ball's ticks add no segment.
+        step = np.linalg.norm(points[:, 1] - points[:, 0], axis=1)
+        points = points[(step > 0) & (step <= self.geometry.ball_speed_max * 1.01)]
         if len(points):
             scene_points = np.zeros((len(points), 2, 3), np.float32)
             scene_points[..., 0] = points[..., 0]

@@ -84,6 +84,17 @@ def test_same_seed_same_run(evolved, tmp_path):
     assert (tmp_path / "again" / "best.rules").read_text() == (folder / "best.rules").read_text()
 
 
+def test_evolve_with_rule_wise_uniform_crossover(evolved, tmp_path):
+    folder, _ = evolved
+    result = run("evolve", *TINY, "--crossover", "uniform", "--out", tmp_path / "uniform")
+    assert result.exit_code == 0, result.output
+    assert json.loads((tmp_path / "uniform" / "run.json").read_text())["ga"]["crossover"] == "uniform"
+    rows = statistics(tmp_path / "uniform")
+    assert [int(r["evaluations"]) for r in rows] == [8, 16, 24]
+    assert rows[0] == statistics(folder)[0]  # the same initial population, then other children
+    assert rows[1:] != statistics(folder)[1:]
+
+
 def read_recording(path: Path) -> dict[str, dict]:
     """entity path -> {timelines (of its temporal data), static (has static data), columns as python lists},
     read with rerun's own RRD reader."""

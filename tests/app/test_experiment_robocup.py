@@ -21,7 +21,8 @@ from soccer.rcss.evaluate import RcssEvaluator
 from tests.app.test_experiment_report import fabricated, falling, verdict
 
 # 2 trials of Table 2 shrunk to 4 x 5 (5 generations: the fewest a trend test takes), 60-cycle trials.
-SHRUNK = ["--trials", "2", "--population", "4", "--generations", "5", "--max-ticks", "60", "--seed", "1"]
+SHRUNK = ["--trials", "2", "--population", "4", "--generations", "5", "--max-ticks", "60", "--seed", "1",
+          "--replays", "2"]
 
 
 def run(*args: object):
@@ -35,7 +36,7 @@ def test_the_preset_is_table_2_on_rcssserver_at_the_chapters_size():
     assert setting.ga == preset("initial", ExperimentOptions()).settings[0].ga  # Table 2
     assert (setting.trial.max_ticks, setting.trial.idle_ticks, setting.trial.fitness) == (1200, 100, "robocup-composite")
     assert setting.key != preset("initial", ExperimentOptions()).settings[0].key  # never shared with SimpleSoccer
-    assert robocup.figures == ("mean_fitness", "best_fitness", "goal_histogram")
+    assert robocup.figures == ("mean_fitness", "best_fitness", "goal_histogram", "true_quality")
     assert "robocup" not in [p.name for p in presets("all", ExperimentOptions())]
     assert preset("robocup", ExperimentOptions(max_ticks=300)).settings[0].trial.max_ticks == 300
 
@@ -58,7 +59,7 @@ def robocup_rows(rng, *, final_mean: float, most_goals_column: str) -> list[dict
 
 def test_the_robocup_findings_follow_the_data(tmp_path):
     rng = np.random.default_rng(3)
-    robocup = preset("robocup", ExperimentOptions(trials=10, population=20, generations=10))
+    robocup = preset("robocup", ExperimentOptions(trials=10))
     like_the_chapter = robocup_rows(rng, final_mean=0.55, most_goals_column="goals_3")
     report = write_report(StatisticsTable(like_the_chapter), [robocup], tmp_path)
     for claim in ("On rcssserver the population average", "On rcssserver the average fitness plateaus",
@@ -73,9 +74,11 @@ def test_the_robocup_findings_follow_the_data(tmp_path):
 
 @pytest.mark.parametrize("arguments, message", [
     (["robocup", "--workers", "2"], "--workers: robocup plays its trials on rcssservers"),
-    (["robocup", "--executor", "ray"], "--executor: robocup plays its trials on rcssservers"),
+    (["robocup", "--executor", "ray", "--server", "127.0.0.1:6000"], "--server names servers you run"),
+    (["robocup", "--address", "127.0.0.1:6379"], "--address needs --executor ray"),
+    (["robocup", "--executor", "slurm"], "--executor: unknown executor 'slurm'"),
     (["robocup", "--count-touches"], "--count-touches: robocup plays its trials on rcssservers"),
-    (["initial", "--servers", "2"], "--servers: for the robocup preset only"),
+    (["initial", "--servers", "2"], "--servers: for the robocup and transfer presets only"),
     (["robocup", "--server", "127.0.0.1:6000", "--servers", "2"], "--server names servers you run"),
     (["robocup", "--rcssserver", "/no/such/rcssserver"], "no rcssserver: '/no/such/rcssserver' does not exist"),
 ])

@@ -375,7 +375,8 @@ def test_after_a_run_every_view_numbers_its_generations_alike_and_says_it_ended(
     assert f"Run #{run_id} finished after generation 1" in status
     legend = page.locator(".u-legend").first
     assert "after generation 1" in page.locator(".u-title").first.inner_text()
-    assert f"best {last['best']:.3f}" in legend.inner_text() and f"mean {last['mean']:.3f}" in legend.inner_text()
+    assert (f"best of the generation {last['best']:.3f}" in legend.inner_text()
+            and f"mean {last['mean']:.3f}" in legend.inner_text())
     assert "--" not in legend.inner_text()
     page.get_by_role("tab", name="Population").click()
     caption = page.locator(".population-caption")

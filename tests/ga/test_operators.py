@@ -8,8 +8,8 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from fuzzy.vocabulary import Vocabulary
-from ga.crossover import one_point, two_point
-from ga.genes import GENE_WIDTH, KIND, MIN_LENGTH, GeneSpace
+from ga.crossover import one_point, rule_segments, two_point, uniform
+from ga.genes import CONSEQUENT, GENE_WIDTH, KIND, MIN_LENGTH, GeneSpace
 from ga.initialisation import random_chromosome, random_population
 from ga.mutation import mutate
 
@@ -116,11 +116,62 @@ def test_two_point_swaps_one_middle_segment_of_each_parent(a, b, seed):
     assert sorted([*origins(c1[c1[:, KIND] == 0], a), *given_away]) == list(range(len(a)))
 
 
-@given(chromosomes(), chromosomes(), seeds, max_lengths, st.sampled_from([one_point, two_point]))
+@given(chromosomes(), chromosomes(), seeds, max_lengths, st.sampled_from([one_point, two_point, uniform]))
 def test_crossover_children_are_in_range_and_truncated(a, b, seed, max_length, crossover):
+    a, b = a[:max_length], b[:max_length]  # parents are never longer than the maximum (initialisation, crossover)
     for child in cross(crossover, a, b, max_length, np.random.default_rng(seed)):
         SPACE.check(child)
-        assert MIN_LENGTH <= len(child) <= max_length
+        assert MIN_LENGTH <= min(len(a), len(b), len(child)) and len(child) <= max_length
+
+
+def rules(*chromosomes):
+    """The rules (runs of premises closed by a consequent) of the chromosomes, as a sorted multiset."""
+    return sorted(s.tobytes() for c in chromosomes for s in rule_segments(c) if s[-1, KIND] == CONSEQUENT)
+
+
+def trailing(chromosome):
+    """The premises after the last consequent: they form no rule."""
+    return chromosome[len(chromosome) - np.argmax(chromosome[::-1, KIND] == CONSEQUENT):] \
+        if np.any(chromosome[:, KIND] == CONSEQUENT) else chromosome
+
+
+@given(chromosomes(), chromosomes(), seeds, max_lengths)
+def test_uniform_children_hold_only_whole_rules_of_their_parents_within_the_maximum(a, b, seed, max_length):
+    a, b = a[:max_length], b[:max_length]
+    for child in cross(uniform, a, b, max_length, np.random.default_rng(seed)):
+        assert len(child) <= max_length
+        # every rule of a child is a rule of a parent, whole: none is cut, none joined to another's premises
+        assert all(rule in rules(a, b) for rule in rules(child))
+        assert gene_multiset(child) == [g for g in gene_multiset(child) if g in gene_multiset(a, b)]
+        assert all(gene in gene_multiset(trailing(a), trailing(b)) for gene in gene_multiset(trailing(child)))
+
+
+@given(chromosomes(), chromosomes(), seeds)
+def test_uniform_shares_out_every_rule_without_truncation(a, b, seed):
+    s1, s2 = uniform(a, b, 10_000, np.random.default_rng(seed))
+    if s1.segments == ((0, 0, len(a)),) or s2.segments == ((1, 0, len(b)),):  # a lone-consequent child: its parent
+        return
+    c1, c2 = s1.apply(a, (a, b)), s2.apply(b, (a, b))
+    assert rules(c1, c2) == rules(a, b)
+    assert gene_multiset(c1, c2) == gene_multiset(a, b)
+
+
+def test_uniform_takes_each_rule_from_either_parent_by_a_fair_coin():
+    rule = lambda premise, action: np.array([[0, premise, 0, 0, 0], [CONSEQUENT, action, 0, 0, 0]], dtype=np.int8)
+    a = np.concatenate([rule(0, i % 2) for i in range(20)])  # 20 rules of a: premise object 0
+    b = np.concatenate([rule(1, i % 2) for i in range(20)])  # 20 rules of b: premise object 1
+    rng = np.random.default_rng(5)
+    from_a = [np.mean([s[0, 1] == 0 for s in rule_segments(cross(uniform, a, b, 10_000, rng)[0])]) for _ in range(300)]
+    assert abs(np.mean(from_a) - 0.5) < 0.02
+    assert 0 < min(from_a) and max(from_a) < 1  # mixed, rule by rule, not whole parents
+
+
+def test_uniform_is_reproducible_from_the_generator():
+    rng = np.random.default_rng(0)
+    a, b = random_chromosome(SPACE, 64, 0.25, rng), random_chromosome(SPACE, 64, 0.25, rng)
+    first = cross(uniform, a, b, 64, np.random.default_rng(9))
+    again = cross(uniform, a, b, 64, np.random.default_rng(9))
+    assert all(np.array_equal(x, y) for x, y in zip(first, again))
 
 
 @given(chromosomes(), seeds, st.floats(0, 1))
