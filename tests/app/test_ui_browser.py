@@ -469,7 +469,7 @@ def test_each_tab_has_its_own_game(ui, browser, page):
         wait_until(lambda: len(ui.sessions) == 2)
         first_session, second_session = list(ui.sessions.values())
         assert first_session.game.env is not second_session.game.env
-        wait_until(lambda: first_session._built and second_session._built)  # the panels come after the Play tab
+        wait_until(lambda: first_session.ready.is_set() and second_session.ready.is_set())  # panels come after Play
         assert first_session.editor is not second_session.editor
         pause(page)  # the first tab pauses; the second, just opened, plays the demo on its own pitch
         wait_until(lambda: not first_session.playing)
