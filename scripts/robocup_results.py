@@ -87,8 +87,8 @@ def study_record(folder: Path, images: Path = IMAGES, command: str | None = None
             shutil.copyfile(Path(scratch) / figure.path, images / figure.path.name)
     return {
         "study": ROBOCUP,
-        "folder": str(folder),
-        "command": command or f"soccer-lab experiment robocup --out {folder}",
+        "folder": folder.name,  # the study's name, not this machine's path
+        "command": command or f"soccer-lab experiment robocup --out {folder.name}",
         "recorded": datetime.date.today().isoformat(),
         "load_average": [round(x, 2) for x in os.getloadavg()],
         "trials_finished": len(trials),
@@ -125,8 +125,8 @@ def transfer_record(folder: Path, images: Path = IMAGES, command: str | None = N
         shutil.copyfile(figure, images / figure.name)
     return {
         "study": transfer.TRANSFER,
-        "folder": str(folder),
-        "command": command or f"soccer-lab experiment transfer --out {folder}",
+        "folder": folder.name,  # the study's name, not this machine's path
+        "command": command or f"soccer-lab experiment transfer --out {folder.name}",
         "recorded": datetime.date.today().isoformat(),
         "load_average": [round(x, 2) for x in os.getloadavg()],
         "sources": experiment.trials,
