@@ -7,7 +7,7 @@ from __future__ import annotations
 import csv
 import io
 from pathlib import Path
-from typing import Any, Iterable, Mapping
+from typing import Any, Iterable, Mapping, Self
 
 import numpy as np
 
@@ -28,24 +28,41 @@ class TableError(ValueError):
     pass
 
 
-class StatisticsTable:
+class CsvTable:
+    """Rows of a CSV the runner writes, with `columns` checked on reading (`what`: the rows, in errors)."""
+
+    columns: tuple[str, ...] = ()
+    what = "rows"
+
     def __init__(self, rows: Iterable[Mapping[str, Any]]):
-        self.rows = [{**ADDED_LATER, **row} for row in rows]  # an older study's table lacks the later statistics
-        missing = [c for c in COLUMNS if self.rows and c not in self.rows[0]]
+        self.rows = [self._completed(row) for row in rows]
+        missing = [c for c in self.columns if self.rows and c not in self.rows[0]]
         if missing:
-            raise TableError(f"statistics lack the columns {', '.join(missing)}")
+            raise TableError(f"{self.what} lack the columns {', '.join(missing)}")
+
+    @staticmethod
+    def _completed(row: Mapping[str, Any]) -> dict[str, Any]:
+        return dict(row)
 
     @classmethod
-    def read(cls, path: str | Path) -> "StatisticsTable":
+    def read(cls, path: str | Path) -> Self:
         with Path(path).open(newline="") as handle:
             return cls(_typed(row) for row in csv.DictReader(handle))
 
     def to_csv(self) -> str:
         buffer = io.StringIO()
-        writer = csv.DictWriter(buffer, fieldnames=COLUMNS, extrasaction="ignore", lineterminator="\n")
+        writer = csv.DictWriter(buffer, fieldnames=self.columns, extrasaction="ignore", lineterminator="\n")
         writer.writeheader()
         writer.writerows(self.rows)
         return buffer.getvalue()
+
+
+class StatisticsTable(CsvTable):
+    columns, what = COLUMNS, "statistics"
+
+    @staticmethod
+    def _completed(row: Mapping[str, Any]) -> dict[str, Any]:
+        return {**ADDED_LATER, **row}  # an older study's table lacks the later statistics
 
     # ---- selections -----------------------------------------------------------------------------
     def presets(self) -> list[str]:
@@ -87,24 +104,8 @@ class StatisticsTable:
         return [row for row in self.rows if row[PRESET] == preset and row[SETTING] == setting]
 
 
-class BestsTable:
-    def __init__(self, rows: Iterable[Mapping[str, Any]]):
-        self.rows = [dict(row) for row in rows]
-        missing = [c for c in BEST_COLUMNS if self.rows and c not in self.rows[0]]
-        if missing:
-            raise TableError(f"bests lack the columns {', '.join(missing)}")
-
-    @classmethod
-    def read(cls, path: str | Path) -> "BestsTable":
-        with Path(path).open(newline="") as handle:
-            return cls(_typed(row) for row in csv.DictReader(handle))
-
-    def to_csv(self) -> str:
-        buffer = io.StringIO()
-        writer = csv.DictWriter(buffer, fieldnames=BEST_COLUMNS, extrasaction="ignore", lineterminator="\n")
-        writer.writeheader()
-        writer.writerows(self.rows)
-        return buffer.getvalue()
+class BestsTable(CsvTable):
+    columns, what = BEST_COLUMNS, "bests"
 
     def settings(self, preset: str) -> list[str]:
         return _unique(row[SETTING] for row in self.rows if row[PRESET] == preset)
