@@ -83,3 +83,13 @@ def test_the_ball_trail_is_the_last_six_seconds_of_its_path_not_its_last_moves()
     for _ in range(TRAIL_LENGTH + 5):
         state = env.step()
     assert len(state.ball_trail) == TRAIL_LENGTH and len(set(state.ball_trail)) == 1
+
+
+def test_new_rules_forget_what_the_old_ones_did_in_the_world():
+    """The outcome shown under a decision is that decision's: after new rules, none until the next tick."""
+    env = SoccerEnv(demo_rulebase())
+    env.reset(seed=3)
+    assert env.step().outcome is not None
+    state = env.set_rulebase(parse_rulebase("if Goal is not At then Turn Right", VOCABULARY))
+    assert state.outcome is None
+    assert env.step().outcome is not None
