@@ -102,6 +102,10 @@ class ScopedStore:
         self.get_run(run_id)
         return self.store.best_individual(run_id)
 
+    def lineage_record(self, run_id: int, generation: int) -> dict[str, Any]:
+        self.get_run(run_id)
+        return self.store.lineage_record(run_id, generation)
+
     def best_individuals(self, run_id: int) -> list[BestIndividual]:
         self.get_run(run_id)
         return self.store.best_individuals(run_id)

@@ -19,6 +19,7 @@ from soccer.rcss.client import parse_server
 from soccer.rcss.servers import MAX_SERVERS
 
 if TYPE_CHECKING:
+    from app.rcss_cluster import RayCluster
     from fuzzy.rule import Rulebase
     from fuzzy.vocabulary import Vocabulary
     from ga.evaluation import Evaluator
@@ -95,6 +96,14 @@ def checked_workers(env: str, workers: int) -> int:
     return workers
 
 
+def checked_behaviour_seeds(env: str, seeds: int) -> int:
+    """Behavioural diversity plays extra games through the run's evaluator: an rcss run's evaluator keeps the
+    traces of its latest trials for the recording, which those games would replace."""
+    if env == RCSS and seeds:
+        raise ValueError(f"behavioural diversity is measured in SimpleSoccer runs only, not with env {RCSS}")
+    return seeds
+
+
 @dataclass(frozen=True)
 class SimpleSoccerGames:
     """Evaluations are SimpleSoccer games, played in this process or in the GA's worker processes."""
@@ -132,19 +141,22 @@ class RcssTrials:
     """Evaluations are trials on real rcssservers, one at a time per server, in parallel over the servers
     (threads in this process: the GA itself runs with one worker): the `servers` the user runs, or
     `start_servers` servers the run starts itself from the `rcssserver` executable (default
-    $RCSSSERVER, else PATH; not stored with the settings: it is wherever the run is played)."""
+    $RCSSSERVER, else PATH; not stored with the settings: it is wherever the run is played), or servers
+    on every node of a Ray `cluster` (app/rcss_cluster.py; not stored either)."""
 
     servers: tuple[str, ...]
     trial: "TrialConfig"
     start_servers: int = 0
     rcssserver: str | None = field(default=None, compare=False)
+    cluster: "RayCluster | None" = field(default=None, compare=False)
     env: ClassVar[str] = RCSS
 
     @property
     def failures(self) -> tuple[type[Exception], ...]:
+        from app.experiment.executors import ExecutorError
         from soccer.rcss.errors import RcssError
 
-        return (RcssError,)
+        return (RcssError, ExecutorError)
 
     def settings(self) -> dict[str, Any]:
         return {"servers": list(self.servers), "start_servers": self.start_servers, "trial": self.trial.model_dump()}
@@ -161,18 +173,30 @@ class RcssTrials:
         """Connected to every server up front: a missing server fails here, within seconds, before the run.
         Servers the run starts live as long as the evaluator (they are stopped when it closes)."""
         from soccer.rcss.evaluate import RcssEvaluator
-        from soccer.rcss.servers import ServerPool, describe
+        from soccer.rcss.servers import ServerPool, describe, noise_options
 
         with ExitStack() as stack:
+            if self.cluster is not None:
+                yield self._cluster_evaluator(stack, announce)
+                return
             servers = list(self.servers)
             if self.start_servers:
-                pool = stack.enter_context(ServerPool(self.rcssserver, self.start_servers))
+                pool = stack.enter_context(ServerPool(self.rcssserver, self.start_servers, noise_options(self.trial.noise)))
                 servers = pool.addresses
                 if announce is not None:
                     announce(describe(pool.servers))
             evaluate = stack.enter_context(RcssEvaluator(servers, self.trial, trace=True))
             evaluate.connect()
             yield evaluate
+
+    def _cluster_evaluator(self, stack: ExitStack, announce: Announce | None) -> "Evaluator":
+        from app.experiment.executors import RayExecutor
+        from app.rcss_cluster import ClusterServers
+
+        stack.enter_context(RayExecutor(self.cluster.address))
+        evaluate = stack.enter_context(ClusterServers(self.cluster, self.trial, trace=True, announce=announce))
+        evaluate.connect()
+        return evaluate
 
     def replay(self, rulebase: "Rulebase", seed: int, vocabulary: "Vocabulary") -> Replay | None:
         """None: a trial cannot be played again the same (the server has noise of its own, and another

@@ -10,7 +10,8 @@ server can record several runs at once.
   generation's best player's game (`replay/generation_<g>/...`) on the `tick` timeline.
 - The recording carries a blueprint laid out like the chapter's figures (`run_blueprint`): one tab per
   replayed generation (the latest open) beside best/mean/worst fitness (Figs. 11, 12), goal shares
-  (Fig. 13), chromosome composition with its standard deviation (Fig. 28) and the gene pool (Fig. 29).
+  (Fig. 13), chromosome composition with its standard deviation (Fig. 28), the gene pool (Fig. 29) and
+  the population's diversity (distinct chromosomes, rules and behaviours; mean rule-set distance).
 - `log_replay(stream, trace, world)`: one game on the `tick` timeline: pitch lines and goal (static),
   player with its facing and view cone, ball, the action chosen and the score.
 
@@ -36,6 +37,7 @@ import rerun.blueprint as rrb
 import rerun_bindings
 
 from app.pitch_markings import CENTRE_CIRCLE_RADIUS
+from ga.statistics import NOT_MEASURED
 from soccer.config import WorldConfig
 
 APPLICATION_ID = "soccer-lab"
@@ -53,6 +55,7 @@ STATISTIC_GROUPS = (
     (GOAL_BINS, "goals"),
     (("genes_", "premises_", "rules_", "valid_rules_"), "chromosome"),
     (("unique_",), "gene_pool"),
+    (("distinct_", "rule_set_distance"), "diversity"),
 )
 NOT_A_SERIES = ("generation",)
 
@@ -68,6 +71,10 @@ COMPOSITION_SERIES = {"genes": ("genes", (30, 120, 255)), "premises": ("premises
 GENE_POOL_SERIES = {"unique_premise_genes": ("premise genes", (0, 150, 60)),
                     "unique_consequent_genes": ("consequent genes", (230, 140, 20)),
                     "unique_genes": ("all genes", (30, 120, 255))}
+DIVERSITY_SERIES = {"distinct_chromosomes": ("distinct chromosomes", (30, 120, 255)),
+                    "distinct_rules": ("distinct rules", (230, 140, 20)),
+                    "distinct_behaviours": ("distinct behaviours", (150, 60, 200))}
+DISTANCE_SERIES = {"rule_set_distance": ("mean rule-set distance", (0, 150, 60))}
 SERIES_WIDTH = 2.0
 SPREAD_WIDTH = 0.75
 BAR_CHART_SHARE = 0.5  # of the goal-shares plot's width
@@ -143,7 +150,7 @@ def replay_entity(generation: int) -> str:
 
 def log_series_styles(stream: rr.RecordingStream) -> None:
     """Legend names, colours and widths of the plotted series (static: they hold on every timeline)."""
-    for group in (FITNESS_SERIES, GOAL_SERIES, GENE_POOL_SERIES):
+    for group in (FITNESS_SERIES, GOAL_SERIES, GENE_POOL_SERIES, DIVERSITY_SERIES, DISTANCE_SERIES):
         for statistic, (name, colour) in group.items():
             stream.log(statistic_entity(statistic), rr.SeriesLines(colors=colour, widths=SERIES_WIDTH, names=name),
                        static=True)
@@ -158,7 +165,7 @@ def log_statistics(stream: rr.RecordingStream, row: Mapping[str, Any]) -> None:
     """One generation's statistics (GenerationStats.to_dict()) at its place on the generation timeline."""
     stream.set_time(GENERATION_TIMELINE, sequence=int(row["generation"]))
     for name, value in row.items():
-        if name not in NOT_A_SERIES:
+        if name not in NOT_A_SERIES and not (name == "distinct_behaviours" and value == NOT_MEASURED):
             stream.log(statistic_entity(name), rr.Scalars(float(value)))
     for count in COMPOSITION_SERIES:
         mean, std = float(row[f"{count}_mean"]), float(row[f"{count}_std"])
@@ -188,6 +195,11 @@ def run_blueprint(replays: Sequence[tuple[int, str]] = (), world: WorldConfig | 
                      + [spread_entity(count) for count in COMPOSITION_SERIES]),
         _series_view("Gene pool: unique premise, consequent and all genes (Fig. 29)",
                      [statistic_entity(s) for s in GENE_POOL_SERIES]),
+        rrb.Horizontal(
+            _series_view("Diversity: distinct chromosomes, rules, behaviours",
+                         [statistic_entity(s) for s in DIVERSITY_SERIES]),
+            _series_view("Mean distance between two players' rule sets (1: no rule shared)",
+                         [statistic_entity(s) for s in DISTANCE_SERIES], unit_range=True)),
     )
     layout: rrb.Container = figures
     if replays:

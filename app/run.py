@@ -13,14 +13,16 @@ from __future__ import annotations
 import threading
 from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import Any, ContextManager, Iterable, Literal, Sequence
+from typing import TYPE_CHECKING, Any, ContextManager, Iterable, Literal, Sequence
 
 from pydantic import ValidationError
 
 from app.environments import (RCSS, SIMPLE, Announce, Environment, RcssTrials, Replay, SimpleSoccerGames,
-                              checked_env, checked_servers, checked_start_servers, checked_workers)
+                              checked_behaviour_seeds, checked_env, checked_servers, checked_start_servers,
+                              checked_workers)
 from app.recording import RunRecorder
-from app.run_outputs import GenerationBestsFile, RunFolder, RunFolderError, RunOutputs, generation_best
+from app.run_outputs import (GenerationBestsFile, LineageFile, RunFolder, RunFolderError, RunOutputs,
+                             generation_best, lineage_line)
 from app.validation import describe_problems
 from fuzzy.vocabulary import Vocabulary
 from ga.algorithms import Callback, evolve, random_search, resume
@@ -33,6 +35,9 @@ from ga.result import RunResult
 from ga.state import ALGORITHMS, GA, RANDOM_SEARCH, RunState
 from soccer.config import SOCCER_VOCABULARY, GameConfig
 from soccer.rcss.trial import TrialConfig
+
+if TYPE_CHECKING:
+    from app.rcss_cluster import RayCluster
 
 AlgorithmName = Literal["ga", "random-search"]  # ga.state's GA and RANDOM_SEARCH, for the API's schema
 
@@ -52,6 +57,7 @@ class RunSettings:
     algorithm: str = GA
     start_servers: int = 0
     rcssserver: str | None = field(default=None, compare=False)
+    cluster: "RayCluster | None" = field(default=None, compare=False)  # servers on a Ray cluster's nodes
 
     @classmethod
     def build(
@@ -80,7 +86,8 @@ class RunSettings:
             raise ValueError(f"invalid trial parameters: {describe_problems(exc.errors())}") from None
         for where, check in (("env", lambda: checked_env(env)), ("servers", lambda: checked_servers(env, servers)),
                              ("start_servers", lambda: checked_start_servers(env, servers, start_servers)),
-                             ("ga.workers", lambda: checked_workers(env, ga.workers))):
+                             ("ga.workers", lambda: checked_workers(env, ga.workers)),
+                             ("ga.behaviour_seeds", lambda: checked_behaviour_seeds(env, ga.behaviour_seeds))):
             try:
                 check()
             except ValueError as exc:
@@ -102,7 +109,7 @@ class RunSettings:
     @property
     def environment(self) -> Environment:
         if self.env == RCSS:
-            return RcssTrials(self.servers, self.trial, self.start_servers, self.rcssserver)
+            return RcssTrials(self.servers, self.trial, self.start_servers, self.rcssserver, self.cluster)
         return SimpleSoccerGames(self.game)
 
     @property
@@ -124,6 +131,11 @@ class RunSettings:
         count = count or self.start_servers or 1
         return replace(self, servers=(), start_servers=checked_start_servers(self.env, (), count),
                        rcssserver=rcssserver)
+
+    def on_cluster(self, cluster: "RayCluster") -> "RunSettings":
+        """The same rcss run on servers on every node of a Ray cluster (app/rcss_cluster.py)."""
+        return replace(self, servers=(), start_servers=checked_start_servers(self.env, (), self.start_servers or 1),
+                       cluster=cluster)
 
     def default_name(self) -> str:
         """What the run is, e.g. "GA 200x25 roulette/inverse assisted seed 0" or "random search 200x25 ..."."""
@@ -192,7 +204,7 @@ class Run:
         vocabulary = state.vocabulary if state else self.vocabulary
         bests = self._generation_bests(state)
         outputs = RunOutputs(self.folder, vocabulary, history=history, best=state.best if state else None,
-                             generation_bests=bests)
+                             generation_bests=bests, lineage=self.lineage_lines(state).values())
         environment = self.settings.environment
         recorder = RunRecorder(self.folder.recording, history=history, world=environment.world)
         try:
@@ -212,6 +224,17 @@ class Run:
         finally:
             recorder.close()
         return result
+
+    def lineage_lines(self, state: RunState | None) -> dict[int, str]:
+        """lineage.jsonl's line of each finished generation: those the file holds for the generations the
+        checkpoint holds, and the last one from the checkpoint when the run was killed before writing it.
+        A generation missing from the file (a run from before lineage was recorded) stays missing."""
+        if state is None:
+            return {}
+        finished = len(state.history)
+        lines = {g: line for g, line in LineageFile.read(self.folder.lineage).items() if g < finished}
+        lines.setdefault(finished - 1, lineage_line(finished - 1, state.population))
+        return dict(sorted(lines.items()))
 
     def _generation_bests(self, state: RunState | None) -> list[tuple[int, Individual]]:
         """Each finished generation's best, from generation_bests.jsonl: the lines of the generations the

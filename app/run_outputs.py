@@ -5,6 +5,8 @@ RUN_DIR/
   run.json               what is run (algorithm, GA parameters, environment): enough to resume it
   statistics.csv         every statistic of each generation, one row per generation
   generation_bests.jsonl each generation's best individual, one JSON object a line
+  lineage.jsonl          every individual of each generation with its birth (parents, operations), a line
+                         a generation (ga/lineage.py): what `soccer-lab lineage` follows back
   checkpoint             the GA's full state after the last finished generation
   best.rules             the best rulebase so far, as rule text
   best.json              the same, as versioned JSON
@@ -29,6 +31,7 @@ from fuzzy.rule import Rulebase
 from fuzzy.vocabulary import Vocabulary
 from ga.codec import ChromosomeCodec
 from ga.individual import Individual
+from ga.lineage import generation_record
 
 RUNS_ROOT = Path("runs")
 RUN_MANIFEST = "run.json"
@@ -38,6 +41,7 @@ BEST_RULES = "best.rules"
 BEST_JSON = "best.json"
 RECORDING = "run.rrd"
 GENERATION_BESTS = "generation_bests.jsonl"
+LINEAGE = "lineage.jsonl"
 TIMESTAMP_FORMAT = "%Y%m%d-%H%M%S"
 
 
@@ -86,6 +90,10 @@ class RunFolder:
     @property
     def generation_bests(self) -> Path:
         return self.path / GENERATION_BESTS
+
+    @property
+    def lineage(self) -> Path:
+        return self.path / LINEAGE
 
     @classmethod
     def create(cls, path: str | Path, manifest: Mapping[str, Any]) -> "RunFolder":
@@ -165,6 +173,40 @@ class GenerationBestsFile:
         return bests
 
 
+class LineageFile:
+    """lineage.jsonl: every generation's population with each individual's birth (ga/lineage.py's
+    generation_record), one JSON object a line, appended as each generation finishes."""
+
+    def __init__(self, path: Path, lines: Iterable[str] = ()):
+        """Starts the file afresh with `lines` (when resuming: those of the generations the checkpoint holds)."""
+        self.path = path
+        self.path.write_text("".join(line + "\n" for line in lines))
+
+    def append(self, generation: int, population: Sequence[Individual]) -> None:
+        with self.path.open("a") as handle:
+            handle.write(lineage_line(generation, population) + "\n")
+
+    @staticmethod
+    def read(path: Path) -> dict[int, str]:
+        """generation -> its line, for the lines written whole ({} when there is no file: runs from before
+        lineage was recorded). A line cut short by a kill ends the file, as in GenerationBestsFile."""
+        try:
+            lines = path.read_text().splitlines()
+        except OSError:
+            return {}
+        records = {}
+        for line in lines:
+            try:
+                records[int(json.loads(line)["generation"])] = line
+            except (ValueError, KeyError, TypeError):
+                break
+        return records
+
+
+def lineage_line(generation: int, population: Sequence[Individual]) -> str:
+    return json.dumps(generation_record(generation, population), separators=(",", ":"))
+
+
 class StatisticsFile:
     """statistics.csv, one row per generation, appended as each generation finishes."""
 
@@ -193,24 +235,27 @@ class StatisticsFile:
 
 class RunOutputs:
     """Callback for `ga.algorithms.evolve`: after each generation, appends its statistics to
-    statistics.csv and rewrites best.rules and best.json when the best individual so far changed
-    (the GA's own rule: a lower running mean; the first of equals stays)."""
+    statistics.csv and its population to lineage.jsonl, and rewrites best.rules and best.json when the best
+    individual so far changed (the GA's own rule: a lower running mean; the first of equals stays)."""
 
     def __init__(self, folder: RunFolder, vocabulary: Vocabulary, *, history: Iterable[Mapping[str, Any]] = (),
-                 best: Individual | None = None, generation_bests: Iterable[tuple[int, Individual]] = ()):
-        """history, best, generation_bests: the finished generations' statistics, the run's best individual
-        and each generation's best, when resuming."""
+                 best: Individual | None = None, generation_bests: Iterable[tuple[int, Individual]] = (),
+                 lineage: Iterable[str] = ()):
+        """history, best, generation_bests, lineage: the finished generations' statistics, the run's best
+        individual, each generation's best and the lines of lineage.jsonl, when resuming."""
         self.folder = folder
         self.vocabulary = vocabulary
         self.codec = ChromosomeCodec(vocabulary)
         self.statistics = StatisticsFile(folder.statistics, history)
         self.generation_bests = GenerationBestsFile(folder.generation_bests, generation_bests)
+        self.lineage = LineageFile(folder.lineage, lineage)
         self.best: Individual | None = None
         if best is not None:
             self._keep_best(best)
 
     def on_generation(self, stats: Any, population: list[Individual]) -> None:
         self.statistics.append(stats.to_dict())
+        self.lineage.append(stats.generation, population)
         contender = generation_best(population)
         self.generation_bests.append(stats.generation, contender)
         if self.best is None or contender.fitness < self.best.fitness:

@@ -23,7 +23,7 @@ from typing import Any, Callable, Sequence
 from app.environments import SIMPLE
 from app.paths import RUNS_FOLDER
 from app.run import Run, RunSettings
-from app.run_outputs import generation_best
+from app.run_outputs import generation_best, lineage_line
 from app.store import NotFound, RunRecord, RunStatus, Store
 from fuzzy.parser import parse_rulebase
 from fuzzy.printer import format_rulebase
@@ -59,6 +59,7 @@ class SampledPlayer:
 
     rulebase: Rulebase
     fitness: float
+    index: int = 0  # its place in its generation (ga/lineage.py): where its family tree starts
 
 
 @dataclass(frozen=True)
@@ -88,10 +89,10 @@ def sample_players(population: Sequence[Individual], codec: ChromosomeCodec,
     """The `count` best individuals with at least one valid rule (an invalid ruleset is never played),
     best first; among equals, population order. Only these are decoded: the run is not slowed."""
     sampled = []
-    for individual in sorted(population, key=lambda individual: individual.fitness):
-        rulebase = codec.decode(individual.chromosome)
+    for index in sorted(range(len(population)), key=lambda i: population[i].fitness):
+        rulebase = codec.decode(population[index].chromosome)
         if len(rulebase):
-            sampled.append(SampledPlayer(rulebase, individual.fitness))
+            sampled.append(SampledPlayer(rulebase, population[index].fitness, index))
             if len(sampled) == count:
                 break
     return tuple(sampled)
@@ -101,7 +102,7 @@ Listener = Callable[[RunEvent], None]
 
 
 class StoreWriter:
-    """GA callback writing each generation's statistics and best individual to the store."""
+    """GA callback writing each generation's statistics, best individual and lineage record to the store."""
 
     def __init__(self, store: Store, run_id: int, codec: ChromosomeCodec, notify: Callable[[RunEvent], None]):
         self.store = store
@@ -110,20 +111,23 @@ class StoreWriter:
         self.notify = notify
 
     def on_generation(self, stats: Any, population: list[Individual]) -> None:
-        self._record(stats.to_dict(), generation_best(population), sample_players(population, self.codec))
+        self._record(stats.to_dict(), generation_best(population), sample_players(population, self.codec),
+                     lineage_line(stats.generation, population))
 
-    def restore(self, history: list[dict[str, Any]], best: Individual | None) -> None:
+    def restore(self, history: list[dict[str, Any]], best: Individual | None, lineage: dict[int, str]) -> None:
         """On resume: the generations the checkpoint holds but the store missed (the app ended
-        between the GA's checkpoint and this callback), with the run's best so far."""
+        between the GA's checkpoint and this callback), with the run's best so far and their lineage
+        records (lineage.jsonl's lines, by generation)."""
         stored = {row["generation"] for row in self.store.statistics(self.run_id)}
         for row in history:
             if row["generation"] not in stored and best is not None:
-                self._record(row, best)
+                self._record(row, best, lineage=lineage.get(row["generation"]))
 
-    def _record(self, stats: dict[str, Any], best: Individual, players: tuple[SampledPlayer, ...] = ()) -> None:
+    def _record(self, stats: dict[str, Any], best: Individual, players: tuple[SampledPlayer, ...] = (),
+                lineage: str | None = None) -> None:
         rules = format_rulebase(self.codec.decode(best.chromosome), self.codec.vocabulary)
         compact = format_compact(best.chromosome, self.codec.vocabulary)
-        self.store.record_generation(self.run_id, stats, rules, compact, best.fitness)
+        self.store.record_generation(self.run_id, stats, rules, compact, best.fitness, lineage)
         self.notify(RunEvent(self.run_id, RunStatus.RUNNING, stats, best.fitness, players))
 
 
@@ -393,7 +397,7 @@ class RunManager:
         writer = StoreWriter(self.store, record.id, ChromosomeCodec(run.vocabulary), self._notify)
         state = run.saved_state() if resume_run else None
         if state is not None:
-            writer.restore([stats.to_dict() for stats in state.history], state.best)
+            writer.restore([stats.to_dict() for stats in state.history], state.best, run.lineage_lines(state))
         watcher = ProgressWatcher(record.id, len(state.history) if state else 0, self._notify)
         self._active[record.id].watcher = watcher
         with run.evaluator(announce=lambda line: log.info("run %s: %s", record.id, line)) as evaluate:

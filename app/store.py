@@ -59,6 +59,14 @@ MIGRATIONS: tuple[tuple[str, ...], ...] = (
             created TEXT NOT NULL,
             summary TEXT NOT NULL)""",
     ),
+    (
+        # Every individual of each generation with its birth (ga/lineage.py's generation_record, as JSON).
+        """CREATE TABLE lineage (
+            run_id INTEGER NOT NULL REFERENCES runs(id) ON DELETE CASCADE,
+            generation INTEGER NOT NULL,
+            record TEXT NOT NULL,
+            PRIMARY KEY (run_id, generation))""",
+    ),
     (  # classroom mode (docs/teaching/classroom.md): who owns a rulebase or run, the class's students,
         # its tournament's entries and rounds
         "ALTER TABLE rulebases ADD COLUMN owner INTEGER",  # a student's id; NULL: the teacher's, shared
@@ -96,8 +104,8 @@ class StoreError(ValueError):
 class NotFound(KeyError):
     """No record with that id."""
 
-    def __init__(self, kind: str, record_id: object):
-        super().__init__(f"no {kind} with id {record_id}")
+    def __init__(self, kind: str, record_id: object, message: str | None = None):
+        super().__init__(message or f"no {kind} with id {record_id}")
         self.kind = kind
         self.record_id = record_id
 
@@ -377,10 +385,12 @@ class Store:
 
     # ---- generations --------------------------------------------------------------------
     def record_generation(
-        self, run_id: int, stats: dict[str, Any], rules: str, chromosome: str, fitness: float
+        self, run_id: int, stats: dict[str, Any], rules: str, chromosome: str, fitness: float,
+        lineage: str | None = None,
     ) -> None:
-        """One finished generation: its statistics (with a `generation` key) and its best individual,
-        together. A generation played again after a resume replaces the earlier one."""
+        """One finished generation: its statistics (with a `generation` key), its best individual and, when
+        given, its lineage record (JSON text), together. A generation played again after a resume replaces
+        the earlier one."""
         generation = stats.get("generation")
         if not isinstance(generation, int) or isinstance(generation, bool) or generation < 0:
             raise StoreError("statistics need a non-negative integer 'generation'")
@@ -398,6 +408,9 @@ class Store:
                 " VALUES (?, ?, ?, ?, ?)",
                 (run_id, generation, _valid_text(rules), str(chromosome), float(fitness)),
             )
+            if lineage is not None:
+                cursor.execute("INSERT OR REPLACE INTO lineage (run_id, generation, record) VALUES (?, ?, ?)",
+                               (run_id, generation, _valid_text(lineage)))
 
     def statistics(self, run_id: int) -> list[dict[str, Any]]:
         self.get_run(run_id)
@@ -405,6 +418,15 @@ class Store:
             "SELECT stats FROM generation_statistics WHERE run_id = ? ORDER BY generation", (_valid_id(run_id),)
         )
         return [json.loads(row["stats"]) for row in rows]
+
+    def lineage_record(self, run_id: int, generation: int) -> dict[str, Any]:
+        """Generation `generation`'s lineage record (NotFound when there is none)."""
+        self.get_run(run_id)
+        rows = self._query("SELECT record FROM lineage WHERE run_id = ? AND generation = ?",
+                           (run_id, _valid_id(generation)))
+        if not rows:
+            raise NotFound("lineage record", generation, f"run {run_id} has no lineage record of generation {generation}")
+        return json.loads(rows[0]["record"])
 
     def best_individuals(self, run_id: int) -> list[BestIndividual]:
         self.get_run(run_id)

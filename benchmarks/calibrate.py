@@ -114,7 +114,7 @@ def calibrate(options: ExperimentOptions, names: list[str], folder: Path, worker
     print("|---|---|---|")
     for finding, assessment in assess_findings(table, experiment.presets):
         if finding.preset in names:
-            print(f"| {finding.where}: {finding.claim} | {assessment.verdict} | {assessment.measured} |")
+            print(f"| {finding.where}: {finding.claim} | {assessment.shown} | {assessment.measured} |")
 
 
 def outcome_rows(table: StatisticsTable, experiment: Plan) -> list[list[str]]:

@@ -21,7 +21,7 @@ from pathlib import Path
 
 import typer.main
 
-from results import Figure, add_record_option, load_average, record
+from results import Figure, add_record_option, load_average, record, this_command
 
 TARGET_SECONDS = 0.5
 
@@ -104,7 +104,7 @@ def main() -> None:
             Figure("soccer-lab --help", round(root, 3), "s", target=f"< {TARGET_SECONDS} s"),
             Figure("slowest subcommand --help", round(slowest, 3), "s", target=f"< {TARGET_SECONDS} s",
                    note=f"soccer-lab {' '.join(slowest_path)} --help; {slowest_cpu:.3f} s of CPU"),
-        ], command="python benchmarks/cli_help.py --record", load_before=load_before)
+        ], command=this_command(), load_before=load_before)
 
 
 if __name__ == "__main__":

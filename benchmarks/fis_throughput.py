@@ -26,6 +26,7 @@ from fuzzy.export.layout import (RESOLUTION, VISIBLE_TERM, FisLayout, parameter_
                                  visibility_input)
 from fuzzy.random_rulebase import random_rulebase
 from fuzzy.vocabulary import Vocabulary
+from results import Figure, add_record_option, load_average, record, this_command  # benchmarks/results.py
 
 SEED = 20240601
 RULES = 10
@@ -168,7 +169,9 @@ def main() -> None:
     parser.add_argument("--rows", type=int, default=500, help="evaluations per player for our kernel")
     parser.add_argument("--fuzzylite-rows", type=int, default=5000)
     parser.add_argument("--skfuzzy-rows", type=int, default=40)
+    add_record_option(parser)
     args = parser.parse_args()
+    load_before = load_average()
 
     vocabulary = Vocabulary.default()
     rng = np.random.default_rng(SEED)
@@ -191,12 +194,23 @@ def main() -> None:
           f" infer_batch {full / fl_rate:,.0f}x (target >= 100x); agreement: {compared - bad}/{compared} outputs within sampling error"
           + (f", worst excess {worst:.3g}" if bad else ""))
 
+    fl_agreement = f"{compared - bad}/{compared} pyfuzzylite outputs within its sampling error"
     sx, svisible = draw_inputs(rng, vocabulary, args.skfuzzy_rows)
     sk_rate, sk_out = run_skfuzzy(skfuzzy_simulation(reference, vocabulary), vocabulary, sx, svisible)
     compared, bad, worst = agreement(reference, vocabulary, sx, svisible, lambda i, name: sk_out[i].get(name))
     print(f"scikit-fuzzy (ControlSystemSimulation): {sk_rate:,.1f} evaluations/s -> decide_batch is {ours / sk_rate:,.0f}x,"
           f" infer_batch {full / sk_rate:,.0f}x (target >= 10,000x); agreement: {compared - bad}/{compared} outputs within sampling error"
           + (f", worst excess {worst:.3g}" if bad else ""))
+    if args.record:
+        record("fis_throughput", [
+            Figure(f"batched FIS, {args.players} rulebases × {RULES} rules, the decision a player acts on",
+                   round(ours / 1e6, 2), "M evaluations/s", note=f"{1e6 / ours:.2f} µs each"),
+            Figure("the same against pyfuzzylite 8's batched engine", round(ours / fl_rate), "×", target="≥ 100×",
+                   note=fl_agreement),
+            Figure("the same against scikit-fuzzy's ControlSystemSimulation", round(ours / sk_rate), "×",
+                   target="≥ 10,000×", note=f"{compared - bad}/{compared} outputs within its sampling error"),
+            Figure("batched FIS, every fired action's parameters", round(full / 1e6, 2), "M evaluations/s"),
+        ], command=this_command(), load_before=load_before)
 
 
 if __name__ == "__main__":

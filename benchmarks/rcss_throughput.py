@@ -29,6 +29,7 @@ from soccer.config import SOCCER_VOCABULARY
 from soccer.rcss.evaluate import RcssEvaluator
 from soccer.rcss.servers import ServerPool
 from soccer.rcss.trial import TrialConfig, TrialResult
+from results import Figure, add_record_option, record, this_command  # benchmarks/results.py
 
 # A player that goes to the ball and kicks it towards the goal: it plays whole trials (it scores, so
 # neither the idle limit nor out-of-play ends them early), every cycle with a decision.
@@ -130,6 +131,7 @@ def main() -> None:
     parser.add_argument("--population", type=int, default=20)
     parser.add_argument("--generations", type=int, default=2)
     parser.add_argument("--rounds", type=int, default=2, help="alternating 1-server and 2-server measurements")
+    add_record_option(parser)
     args = parser.parse_args()
 
     load_before = os.getloadavg()
@@ -164,6 +166,14 @@ def main() -> None:
           f"2 servers {statistics.median(evolution_cycles[2]):.0f}")
     print(f"target: >= {TARGET_PER_SERVER:.0f} cycles/s per server: {'met' if one >= TARGET_PER_SERVER else 'MISSED'}; "
           f"2 servers >= {NEARLY_TWICE}x one: {'met' if two >= NEARLY_TWICE * one else 'MISSED'}")
+    if args.record:
+        record("rcss_throughput", [
+            Figure("rcssserver in synch mode, one server, a striker's 1200-cycle trials", round(one), "cycles/s",
+                   target=f"≥ {TARGET_PER_SERVER:.0f} cycles/s per server"),
+            Figure("two servers, each with its own client, against one", round(two / one, 2), "×",
+                   target=f"≈ 2× ({NEARLY_TWICE}×)", note=f"{two:.0f} cycles/s in all"),
+            Figure("evolution on one server", round(statistics.median(evaluations[1]), 1), "evaluations/s"),
+        ], command=this_command(), load_before=[round(x, 2) for x in load_before])
 
 
 if __name__ == "__main__":

@@ -42,6 +42,11 @@ def add_record_option(parser: argparse.ArgumentParser) -> None:
                              "for the docs' Performance page (measure on a quiet machine)")
 
 
+def this_command() -> str:
+    """The command that ran this benchmark, as the docs show it (without --record)."""
+    return " ".join(["python", f"benchmarks/{Path(sys.argv[0]).name}", *(a for a in sys.argv[1:] if a != "--record")])
+
+
 def load_average() -> list[float]:
     return [round(x, 2) for x in os.getloadavg()]
 

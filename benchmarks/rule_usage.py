@@ -1,4 +1,4 @@
-"""Seconds for rule usage and simplification of one 30-rule rulebase over 100 games (README, Performance),
+"""Seconds for rule usage and simplification of one 30-rule rulebase over 100 games (docs/performance.md),
 beside the floor: the same 100 games played with nothing counted.
 
     python benchmarks/rule_usage.py [--games 100] [--rules 30] [--seed 1] [--repeats 3]
@@ -26,6 +26,7 @@ from soccer.demo import demo_rulebase
 from soccer.engine import play_games
 from soccer.simplify import simplify_rulebase
 from soccer.usage import measure_usage
+from results import Figure, add_record_option, load_average, record, this_command  # benchmarks/results.py
 
 VOCABULARY = Vocabulary.default()
 
@@ -42,7 +43,9 @@ def main() -> None:
     parser.add_argument("--rules", type=int, default=30)
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument("--repeats", type=int, default=3)
+    add_record_option(parser)
     args = parser.parse_args()
+    load_before = load_average()
     striker = demo_rulebase(VOCABULARY)
     extra = random_rulebase(np.random.default_rng(args.seed), VOCABULARY, rules=args.rules - len(striker))
     rulebase = Rulebase(striker.rules + extra.rules)
@@ -73,6 +76,14 @@ def main() -> None:
         print(f"{name:<40} {seconds:7.3f} s")
     step = checked.simplification.steps[-1]
     print(f"simplified: {len(simplified)} rules, {premise_count(simplified)} premises; checked step: {step.summary}")
+    if args.record:
+        games = f"{len(rulebase)}-rule rulebase, {args.games} full-length games"
+        record("rule_usage", [
+            Figure(f"rule usage, {games}", round(best["rule usage"], 2), "s", target="a few seconds"),
+            Figure("exact simplification (no games)", round(best["exact simplification (no games)"], 3), "s"),
+            Figure(f"simplification checked on the games, {games}",
+                   round(best["simplification, checked on the games"], 2), "s", target="a few seconds"),
+        ], command=this_command(), load_before=load_before)
 
 
 if __name__ == "__main__":

@@ -1,4 +1,4 @@
-"""Microseconds per game-tick of SimpleSoccer with the full controller (README, Performance): 200 random rulebases
+"""Microseconds per game-tick of SimpleSoccer with the full controller (docs/performance.md): 200 random rulebases
 played (a) together by the batched engine in one pymunk Space and (b) one Space per game in a Python
 loop (each game its own batch of one, the same kernel), and the ratio, in one run.
 
@@ -25,6 +25,7 @@ from fuzzy.random_rulebase import random_rulebase
 from fuzzy.vocabulary import Vocabulary
 from soccer.config import SKILL_SET_NAMES, GameConfig
 from soccer.engine import GameBatch
+from results import Figure, add_record_option, load_average, record, this_command  # benchmarks/results.py
 
 VOCABULARY = Vocabulary.default()
 
@@ -51,7 +52,9 @@ def main() -> None:
     parser.add_argument("--loop-games", type=int, default=40)
     parser.add_argument("--full-length", action="store_true", help="no idle ending: every game plays max_ticks")
     parser.add_argument("--skills", choices=SKILL_SET_NAMES, default=GameConfig().skills)
+    add_record_option(parser)
     args = parser.parse_args()
+    load_before = load_average()
     rng = np.random.default_rng(args.seed)
     rulebases = [random_rulebase(rng, VOCABULARY, rules=args.rules) for _ in range(args.games)]
     seeds = [args.seed * 1_000_003 + g for g in range(args.games)]
@@ -71,6 +74,13 @@ def main() -> None:
     print(f"batched engine (one Space):     {batched_us:7.3f} us per game-tick ({batched_s:.2f} s)")
     print(f"one Space per game, Python loop: {loop_us:7.3f} us per game-tick ({loop_n} games, {loop_ticks} game-ticks)")
     print(f"speed-up: {loop_us / batched_us:.1f}x")
+    if args.record:
+        record("sim_throughput", [
+            Figure(f"SimpleSoccer, {args.games} games at once, full controller, one core ({length})",
+                   round(batched_us, 2), "µs per game-tick", target="≤ 2 µs" if args.full_length else ""),
+            Figure("the same games, one Space per game in a Python loop, against the batch",
+                   round(loop_us / batched_us, 1), "× slower", target="≥ 10×"),
+        ], command=this_command(), load_before=load_before)
 
 
 if __name__ == "__main__":

@@ -1,4 +1,4 @@
-"""Times one Table 2 trial (README, Performance): population 200 x 25 generations with the chapter's defaults,
+"""Times one Table 2 trial (docs/performance.md): population 200 x 25 generations with the chapter's defaults,
 SimpleSoccer games, 2 worker processes. Target: under 10 s on a 2-core machine.
 
 With --outputs the trial is played as `soccer-lab evolve` and the app play a run (app.run.Run, in a
@@ -7,6 +7,7 @@ best player's game), and the time spent replaying those games is reported too.
 
     python benchmarks/trial.py [--workers 2] [--seed 0] [--population-size 200] [--generations 25] [--full]
                                [--outputs] [--skills strict|assisted|sighted] [--roulette-weighting linear|inverse]
+                               [--behaviour-seeds K]
 """
 
 from __future__ import annotations
@@ -23,6 +24,7 @@ from soccer.config import SKILL_SET_NAMES, GameConfig
 from soccer.demo import demo_rulebase
 from soccer.engine import play_games
 from soccer.evaluate import SimpleSoccerEvaluator
+from results import Figure, add_record_option, load_average, record, this_command  # benchmarks/results.py
 
 VOCABULARY = Vocabulary.default()
 
@@ -42,11 +44,16 @@ def main() -> None:
                         help="play it as a run, with its folder's outputs and a replay of each generation's best")
     parser.add_argument("--skills", choices=SKILL_SET_NAMES, default=GameConfig().skills)
     parser.add_argument("--roulette-weighting", choices=("linear", "inverse"), default=TABLE_2.roulette_weighting)
+    parser.add_argument("--behaviour-seeds", type=int, default=0,
+                        help="K: count distinct behaviours, every new chromosome playing K common seeds (ga/diversity.py)")
+    add_record_option(parser)
     args = parser.parse_args()
+    load_before = load_average()
     config = TABLE_2.model_copy(update={"workers": args.workers, "seed": args.seed,
                                         "population_size": args.population_size,
                                         "max_generations": args.generations,
-                                        "roulette_weighting": args.roulette_weighting}
+                                        "roulette_weighting": args.roulette_weighting,
+                                        "behaviour_seeds": args.behaviour_seeds}
                                 | ({"target_fitness": 0.0} if args.full else {}))
     game = GameConfig(skills=args.skills)
     play_games([demo_rulebase()], [args.seed], game)  # load the compiled kernels before the clock starts
@@ -58,13 +65,19 @@ def main() -> None:
         result = evolve(config, SimpleSoccerEvaluator(game), VOCABULARY)
     seconds = time.perf_counter() - started
 
-    print(f"trial ({game.skills} skills, {config.roulette_weighting} roulette weighting): population "
+    behaviours = f", behaviours on {config.behaviour_seeds} seeds" if config.behaviour_seeds else ""
+    print(f"trial ({game.skills} skills, {config.roulette_weighting} roulette weighting{behaviours}): population "
           f"{config.population_size} x {len(result.history)} generations "
           f"({result.stop_reason}), {result.evaluations} evaluations, workers {config.workers}")
     print(f"best fitness {result.best.fitness:.4f}")
     print(f"wall time {seconds:.2f} s (target < {TARGET_SECONDS:.0f} s: {'met' if seconds < TARGET_SECONDS else 'MISSED'})")
     if args.outputs:
         print(f"of which replaying each generation's best into the recording: {replaying:.2f} s")
+    if args.record:
+        record("trial", [Figure(
+            f"one Table 2 trial ({config.population_size} × {len(result.history)} generations, {game.skills} "
+            f"skills), {config.workers} workers", round(seconds, 2), "s", target=f"< {TARGET_SECONDS:.0f} s")],
+            command=this_command(), load_before=load_before)
 
 
 def _as_a_run(config: GAConfig, game: GameConfig) -> tuple[object, float]:

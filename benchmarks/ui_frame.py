@@ -25,6 +25,7 @@ from app.ui.panels.rules import decision_html, rules_html
 from fuzzy.random_rulebase import random_rulebase
 from fuzzy.vocabulary import Vocabulary
 from soccer.config import GameConfig
+from results import Figure, add_record_option, load_average, record, this_command  # benchmarks/results.py
 
 SEED = 7
 
@@ -33,7 +34,9 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--frames", type=int, default=300)
     parser.add_argument("--rules", type=int, default=10)
+    add_record_option(parser)
     args = parser.parse_args()
+    load_before = load_average()
     vocabulary = Vocabulary.default()
     context = UiContext(None, None, vocabulary, GameConfig())
     rulebase = random_rulebase(np.random.default_rng(SEED), vocabulary, rules=args.rules)
@@ -59,6 +62,12 @@ def main() -> None:
     per_frame = (time.perf_counter() - start) / args.frames
     print(f"{args.rules} rules: {per_frame * 1e3:.2f} ms per frame on the server "
           f"-> {1 / per_frame:.0f} frames/s possible (target {style.FRAME_RATE:.0f})")
+    if args.record:
+        record("ui_frame", [Figure(f"UI, one game with every panel live, {args.rules} rules (server side)",
+                                   round(per_frame * 1e3, 2), "ms per frame",
+                                   target=f"{style.FRAME_RATE:.0f} frames/s ({1e3 / style.FRAME_RATE:.0f} ms)",
+                                   note=f"{1 / per_frame:.0f} frames/s possible")],
+               command=this_command(), load_before=load_before)
 
 
 if __name__ == "__main__":

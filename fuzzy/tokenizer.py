@@ -1,4 +1,4 @@
-"""A hand-written tokenizer for rule text (README, Rule text): words, parentheses, brackets, commas.
+"""A hand-written tokenizer for rule text (docs/reference/rules.md): words, parentheses, brackets, commas.
 
 Each token keeps its 1-based line and column so the parser can say exactly where it stopped.
 `#` starts a comment that runs to the end of the line; every line ends with an END token.

@@ -3,14 +3,15 @@
 Generation 0 is the evaluated initial population; a run evaluates at most `max_generations`
 generations, i.e. population_size x max_generations evaluations. Each generation: breed (or, for
 random search, draw fresh individuals), draw one game seed per individual, evaluate, record
-statistics, checkpoint, call the callbacks. Everything random comes from one Generator seeded
-by config.seed and saved in every checkpoint, so a resumed run continues bit for bit.
+statistics (after the behaviour seeds' games, when the run counts behaviours), checkpoint, call the
+callbacks. Everything random comes from one Generator seeded by config.seed and saved in every
+checkpoint, so a resumed run continues bit for bit.
 
-`stop` is obeyed within a generation too (ga/evaluation.py plays it in chunks and checks between them):
-the generation in progress is abandoned and the run ends as it was after the last finished generation,
-which is what its checkpoint holds, so a resumed run plays the abandoned generation again, the same.
-Callbacks with an `on_progress(done, total)` method hear how many of the generation's individuals
-have been evaluated, after every chunk.
+`stop` is obeyed within a generation too (ga/evaluation.py plays it in chunks and checks between them,
+the behaviour seeds' games included): the generation in progress is abandoned and the run ends as it was
+after the last finished generation, which is what its checkpoint holds, so a resumed run plays the
+abandoned generation again, the same. Callbacks with an `on_progress(done, total)` method hear how many
+of the generation's individuals have been evaluated, after every chunk.
 """
 
 from __future__ import annotations
@@ -28,24 +29,32 @@ from fuzzy.vocabulary import Vocabulary
 from ga.checkpoint import load_checkpoint, save_checkpoint
 from ga.codec import ChromosomeCodec
 from ga.config import SEED_BOUND, GAConfig
+from ga.diversity import BehaviourProbe, behaviour_seeds
 from ga.evaluation import Evaluation, EvaluationStopped, Evaluator
 from ga.genes import GeneSpace
 from ga.individual import Individual
 from ga.initialisation import random_population
+from ga.provenance import RANDOM_DRAW
 from ga.reproduction import next_generation
 from ga.result import GENERATIONS_DONE, STOPPED, TARGET_REACHED, RunResult
 from ga.state import GA, RANDOM_SEARCH, RunState
-from ga.statistics import generation_stats
+from ga.statistics import NOT_MEASURED, generation_stats
 
 # A callback is a function (stats, population) or an object with on_generation(stats, population).
 Callback = Any
 
 
 def evolve(config: GAConfig, evaluate: Evaluator, vocabulary: Vocabulary, *, callbacks: Iterable[Callback] = (),
-           checkpoint: str | Path | None = None, stop: threading.Event | None = None) -> RunResult:
+           checkpoint: str | Path | None = None, stop: threading.Event | None = None,
+           initial_population: Sequence[np.ndarray] | None = None) -> RunResult:
     """Run the messy-coded GA over rules in `vocabulary` (the one `evaluate` plays them in); `stop`
-    ends it within the generation in progress (which is abandoned)."""
-    return _run(_fresh_state(GA, config, vocabulary), evaluate, callbacks, checkpoint, stop)
+    ends it within the generation in progress (which is abandoned). `initial_population` (population_size
+    chromosomes over the same vocabulary, e.g. a population evolved in another game) is generation 0 instead
+    of random ones."""
+    if initial_population is not None and len(initial_population) != config.population_size:
+        raise ValueError(f"an initial population of {len(initial_population)} for a population size of "
+                         f"{config.population_size}")
+    return _run(_fresh_state(GA, config, vocabulary), evaluate, callbacks, checkpoint, stop, initial_population)
 
 
 def random_search(config: GAConfig, evaluate: Evaluator, vocabulary: Vocabulary, *,
@@ -71,7 +80,7 @@ def _fresh_state(algorithm: str, config: GAConfig, vocabulary: Vocabulary) -> Ru
 
 
 def _run(state: RunState, evaluate: Evaluator, callbacks: Iterable[Callback], checkpoint: str | Path | None,
-         stop: threading.Event | None) -> RunResult:
+         stop: threading.Event | None, initial_population: Sequence[np.ndarray] | None = None) -> RunResult:
     config = state.config
     rng = np.random.default_rng()
     rng.bit_generator.state = state.rng_state
@@ -85,15 +94,20 @@ def _run(state: RunState, evaluate: Evaluator, callbacks: Iterable[Callback], ch
             watcher(done, total)
 
     started = time.perf_counter() - state.wall_time
+    probe = BehaviourProbe(behaviour_seeds(config), codec) if config.behaviour_seeds else None
     with Evaluation(evaluate, config.workers, stop=stop, progress=progress) as evaluation:
         while (reason := _stop_reason(state, stop)) is None:
-            population = _next_population(state, codec.space, rng)
+            if not state.history and initial_population is not None:
+                population = [Individual(np.array(chromosome, copy=True)) for chromosome in initial_population]
+            else:
+                population = _next_population(state, codec.space, rng)
             try:
                 population = _evaluated(population, evaluation, codec, rng)
+                behaviours = probe(population, evaluation) if probe is not None else NOT_MEASURED
             except EvaluationStopped:
                 reason = STOPPED  # the state (and rng) stay as after the last finished generation
                 break
-            state = _recorded(state, population, rng, time.perf_counter() - started)
+            state = _recorded(state, population, rng, time.perf_counter() - started, behaviours)
             if checkpoint is not None:
                 save_checkpoint(checkpoint, state)
             for listener in listeners:
@@ -120,7 +134,7 @@ def _next_population(state: RunState, space: GeneSpace, rng: np.random.Generator
         return next_generation(state.population, config, space, rng)
     chromosomes = random_population(space, config.population_size, config.max_length,
                                     config.consequent_probability, rng)
-    return [Individual(chromosome) for chromosome in chromosomes]
+    return [Individual(chromosome, birth=RANDOM_DRAW) for chromosome in chromosomes]
 
 
 class _Decoded(Sequence[Rulebase]):
@@ -148,8 +162,9 @@ def _evaluated(population: list[Individual], evaluation: Evaluation, codec: Chro
 
 
 def _recorded(state: RunState, population: list[Individual], rng: np.random.Generator,
-              wall_time: float) -> RunState:
-    stats = generation_stats(len(state.history), population, state.evaluations + len(population), wall_time)
+              wall_time: float, behaviours: int) -> RunState:
+    stats = generation_stats(len(state.history), population, state.evaluations + len(population), wall_time,
+                             behaviours)
     contender = min(population, key=lambda individual: individual.fitness)  # first of equals
     best = contender if state.best is None or contender.fitness < state.best.fitness else state.best
     return RunState(state.algorithm, state.config, state.vocabulary, population, rng.bit_generator.state,

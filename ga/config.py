@@ -1,5 +1,5 @@
 """GAConfig: every GA parameter in one validated object; defaults = the chapter's Table 2, and
-for what it leaves open (the roulette weighting) the calibrated choice (README, "Calibration")."""
+for what it leaves open (the roulette weighting) the calibrated choice (docs/research/calibration.md)."""
 
 from __future__ import annotations
 
@@ -9,6 +9,7 @@ from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 
 SEED_BOUND = 2**63  # seeds (the run's and its games') lie in [0, SEED_BOUND)
+MAX_BEHAVIOUR_SEEDS = 16
 # Breeding a generation is not interrupted by a stop (evaluation is, between chunks): at this size it takes
 # about a second, at 100,000 tens of seconds (docs/reference/limits.md, benchmarks/stop_latency.py)
 MAX_POPULATION = 10_000
@@ -26,7 +27,8 @@ class GAConfig(BaseModel):
     max_length: int = Field(64, ge=2, le=10_000, description="maximum genes per chromosome")
     consequent_probability: float = Field(0.25, gt=0, lt=1,
                                           description="chance that an initial gene is a consequent")
-    crossover: Literal["one-point", "two-point"] = "one-point"
+    crossover: Literal["one-point", "two-point", "uniform"] = Field(
+        "one-point", description="cut-and-splice at one or two points, or rule-wise uniform (ga/crossover.py)")
     crossover_probability: float = Field(0.8, ge=0, le=1)
     mutation_probability: float = Field(0.35, ge=0, le=1, description="chance that a child is mutated")
     mutation_rate: float = Field(0.10, ge=0, le=1, description="chance that each gene of a mutated child is hit")
@@ -40,6 +42,11 @@ class GAConfig(BaseModel):
     target_fitness: float = Field(0.05, ge=0, le=1, description="stop once the best fitness reaches this")
     seed: int = Field(0, ge=0, lt=SEED_BOUND)
     workers: int = Field(1, ge=1, le=MAX_WORKERS, description="evaluation processes; results do not depend on it")
+    behaviour_seeds: int = Field(0, ge=0, le=MAX_BEHAVIOUR_SEEDS,
+                                 description="K: every generation each distinct chromosome also plays K common "
+                                             "seeds, to count the distinct ways the population plays "
+                                             "(ga/diversity.py); 0 = not measured. Costs K games per new chromosome; "
+                                             "the evolution itself does not change")
 
     @model_validator(mode="after")
     def _elites_leave_room_to_breed(self) -> "GAConfig":

@@ -24,7 +24,7 @@ from typing import Any, Callable, NamedTuple, Sequence
 
 from fuzzy.rule import Rulebase
 
-INVALID_FITNESS = 1.0  # a ruleset with no valid rule is never played (README, The genetic algorithm)
+INVALID_FITNESS = 1.0  # a ruleset with no valid rule is never played (docs/research/index.md, "The model")
 # Rulebases per chunk for an evaluator that does not say (`chunk_size`): a SimpleSoccer chunk of this many
 # 1000-tick games plays in well under a second and holds a few MB (benchmarks/stop_latency.py)
 CHUNK_SIZE = 100
@@ -97,10 +97,11 @@ class Evaluation:
             self._pool = None
         gc.unfreeze()
 
-    def __call__(self, rulebases: Sequence[Rulebase], seeds: Sequence[int]) -> list[Score]:
+    def __call__(self, rulebases: Sequence[Rulebase], seeds: Sequence[int], *, report: bool = True) -> list[Score]:
         """One Score per rulebase; empty (invalid) rulebases score INVALID_SCORE without being played.
         `rulebases` may decode each on access: only a chunk's are held at a time. EvaluationStopped when
-        the stop event is set before the last chunk is played."""
+        the stop event is set before the last chunk is played. `report`: call `progress` (False for games
+        that are not the generation's evaluation, such as the behaviour seeds')."""
         start_generation = getattr(self.evaluate, "start_generation", None)
         if start_generation is not None:  # an evaluator keeping something per generation (rcss traces)
             start_generation()
@@ -113,7 +114,7 @@ class Evaluation:
             for chunk, results in zip(chunks, self._play_group(chunks, seeds)):
                 for (i, _), result in zip(chunk, results):
                     scores[i] = _score(result)
-            if self.progress is not None:
+            if self.progress is not None and report:
                 self.progress(spans[min(first + group, len(spans)) - 1].stop, len(rulebases))
         return scores
 

@@ -29,6 +29,9 @@ ACTION, DIRECTION, POWER = 1, 2, 3  # consequent columns
 IS, IS_NOT = 0, 1
 QUALIFIERS = ("IS", "IS NOT")
 MIN_LENGTH = 2  # one premise and one consequent: the smallest valid ruleset
+# What each column of a gene holds, by kind (for people: mutation reports, the lineage and breeding views).
+FIELD_NAMES = {PREMISE: ("kind", "object", "qualifier", "term", "connector"),
+               CONSEQUENT: ("kind", "action", "direction", "power", "unused")}
 
 
 @dataclass(frozen=True)
@@ -78,6 +81,15 @@ class GeneSpace:
             np.array([c for c in range(KIND + 1, GENE_WIDTH) if self.field_sizes[kind, c] > 1])
             for kind in (PREMISE, CONSEQUENT)
         )
+
+    def value_name(self, kind: int, column: int, value: int) -> str:
+        """The name a gene field's value stands for, e.g. (PREMISE, TERM, 1) -> "VERYNEAR"; "NULL" for a
+        consequent's Null direction or power."""
+        values = {
+            PREMISE: {OBJECT: self.objects, QUALIFIER: QUALIFIERS, TERM: self.terms, CONNECTOR: self.connectors},
+            CONSEQUENT: {ACTION: self.actions, DIRECTION: self.directions, POWER: self.powers},
+        }[kind][column]
+        return values[value] if value < len(values) else "NULL"
 
     def check(self, chromosome: np.ndarray) -> None:
         """Raise ValueError unless every gene of the chromosome is in range."""

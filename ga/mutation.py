@@ -6,18 +6,21 @@ from __future__ import annotations
 import numpy as np
 
 from ga.genes import KIND, GeneSpace
+from ga.provenance import Mutation
 
 
-def mutate(chromosome: np.ndarray, rate: float, space: GeneSpace, rng: np.random.Generator) -> np.ndarray:
-    """A mutated copy; `chromosome` itself is left untouched."""
-    mutant = chromosome.copy()
-    hits = np.flatnonzero(rng.random(len(mutant)) < rate)
+def mutate(chromosome: np.ndarray, rate: float, space: GeneSpace, rng: np.random.Generator) -> Mutation:
+    """The changes a mutation of `chromosome` makes (ga/provenance.py); `mutation.apply(chromosome, ())` is the
+    mutated copy, and `chromosome` itself is left untouched."""
+    hits = np.flatnonzero(rng.random(len(chromosome)) < rate)
     if hits.size == 0:
-        hits = rng.integers(0, len(mutant), size=1)
-    for gene in hits:
-        kind = mutant[gene, KIND]
-        column = rng.choice(space.mutable_columns[kind])
-        size = space.field_sizes[kind, column]
+        hits = rng.integers(0, len(chromosome), size=1)
+    changes = []
+    for gene in hits.tolist():
+        kind = chromosome[gene, KIND]
+        column = int(rng.choice(space.mutable_columns[kind]))
+        size = int(space.field_sizes[kind, column])
+        old = int(chromosome[gene, column])
         # A non-zero shift modulo the field size: uniform over the other values.
-        mutant[gene, column] = (mutant[gene, column] + rng.integers(1, size)) % size
-    return mutant
+        changes.append((gene, column, old, (old + int(rng.integers(1, size))) % size))
+    return Mutation(tuple(changes))

@@ -7,11 +7,12 @@ from typing import Any
 
 import numpy as np
 
+from ga.diversity import gene_codes, genotypic_diversity
 from ga.genes import CONSEQUENT, KIND, PREMISE, composition
 from ga.individual import Individual
 
 GOAL_BINS = 5  # shares of 0, 1, .., GOAL_BINS - 1 goals, then one share for more
-GENE_CODE_RADIX = 1 << 8  # gene fields are int8
+NOT_MEASURED = 0  # distinct_behaviours when the run plays no behaviour seeds (a population always plays one way)
 
 
 @dataclass(frozen=True)
@@ -38,6 +39,10 @@ class GenerationStats:
     unique_premise_genes: int
     unique_consequent_genes: int
     unique_genes: int
+    distinct_chromosomes: int  # diversity (ga/diversity.py): different gene sequences
+    distinct_rules: int  # different rules in the population's rule sets
+    rule_set_distance: float  # mean Jaccard distance between two individuals' rule sets
+    distinct_behaviours: int  # distinct outcomes on the run's behaviour seeds; NOT_MEASURED without them
     evaluations: int  # so far in the run
     wall_time: float  # seconds since the run started: the one non-deterministic figure
 
@@ -46,22 +51,29 @@ class GenerationStats:
 
     @classmethod
     def from_dict(cls, data: dict[str, Any]) -> "GenerationStats":
-        return cls(**{f.name: data[f.name] for f in fields(cls)})
+        """Statistics as saved; those of runs from before a statistic existed read it as ADDED_LATER says."""
+        return cls(**{f.name: data[f.name] if f.name in data or f.name not in ADDED_LATER else ADDED_LATER[f.name]
+                      for f in fields(cls)})
 
     @classmethod
     def field_names(cls) -> tuple[str, ...]:
         return tuple(f.name for f in fields(cls))
 
 
-def generation_stats(generation: int, population: list[Individual], evaluations: int,
-                     wall_time: float) -> GenerationStats:
+# Statistics that checkpoints and statistics.csv files of older runs lack, with the value they read as.
+ADDED_LATER: dict[str, Any] = {"distinct_chromosomes": 0, "distinct_rules": 0, "rule_set_distance": 0.0,
+                               "distinct_behaviours": NOT_MEASURED}
+
+
+def generation_stats(generation: int, population: list[Individual], evaluations: int, wall_time: float,
+                     behaviours: int = NOT_MEASURED) -> GenerationStats:
     fitness = np.array([ind.fitness for ind in population])
     goals = np.minimum([ind.goals for ind in population], GOAL_BINS)
     goal_shares = np.bincount(goals, minlength=GOAL_BINS + 1) / len(population)
     counts = np.array([(len(ind.chromosome), *composition(ind.chromosome)) for ind in population], dtype=float)
     genes, premises, rules, valid_rules = counts.T
     pool = np.concatenate([ind.chromosome for ind in population])
-    codes = pool.astype(np.int64) @ GENE_CODE_RADIX ** np.arange(pool.shape[1])  # one integer per distinct gene
+    codes = gene_codes(pool)
     unique_premises = len(np.unique(codes[pool[:, KIND] == PREMISE]))
     unique_consequents = len(np.unique(codes[pool[:, KIND] == CONSEQUENT]))
     return GenerationStats(
@@ -70,5 +82,6 @@ def generation_stats(generation: int, population: list[Individual], evaluations:
         float(genes.mean()), float(genes.std()), float(premises.mean()), float(premises.std()),
         float(rules.mean()), float(rules.std()), float(valid_rules.mean()), float(valid_rules.std()),
         unique_premises, unique_consequents, unique_premises + unique_consequents,
+        *genotypic_diversity([ind.chromosome for ind in population]), behaviours,
         evaluations, wall_time,
     )

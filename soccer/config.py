@@ -161,7 +161,7 @@ class EvaluationRules(BaseModel):
     idle_distance: float = Field(0.01, ge=0.0)
     fitness: FitnessName = "simple-composite"
     # What the kicking skills do with the ball out of reach, and what the player knows of the goal
-    # (soccer/skills.py). `sighted` by calibration (README, "Calibration"): with `assisted` the GA
+    # (soccer/skills.py). `sighted` by calibration (docs/research/calibration.md): with `assisted` the GA
     # reaches the 10-goal cap within a few generations; with `strict` goal scorers spread further and
     # the trials' plateaus spread three times as wide as the chapter's "tightly clustered" curves.
     skills: SkillSet = "sighted"
@@ -173,7 +173,7 @@ class GameConfig(EvaluationRules):
     games_per_evaluation: int = Field(1, ge=1, le=MAX_GAMES_PER_EVALUATION)
     noise: bool = False  # rcssserver-like velocity and turn noise
     # What the fitness counts as a kick: the kicks that reached the ball (default), or also every tick the
-    # player's body pushes the ball (README, "Calibration": the chapter's 5.2.3 reads fitness 1.0 as "no ball
+    # player's body pushes the ball (docs/research/calibration.md: the chapter's 5.2.3 reads fitness 1.0 as "no ball
     # movement", and a player that shoves the ball along moves it). SimpleSoccer only: on rcssserver the
     # server counts the kicks.
     count_touches: bool = False

@@ -37,7 +37,7 @@ from soccer.skills import (DASH, HUNT, KICK, LEFT, RIGHT, TURN, goal_direction_f
 from soccer.world import Pitches, World
 
 RUNNING, MAX_TICKS, GOAL_CAP, IDLE = 0, 1, 2, 3
-NO_OUTCOME = -1  # Decision.outcome before a game's first tick
+NO_OUTCOME = -1  # Decision.outcome before a game's first tick, or of the tick before new controllers
 END_REASONS = ("running", "max-ticks", "goal-cap", "idle")
 
 
@@ -547,7 +547,9 @@ class GameBatch:
         if len(rulebases) != self.games:
             raise ValueError(f"need {self.games} rulebases, got {len(rulebases)}")
         self.compiled: CompiledRulebases = compile_rulebases(list(rulebases), self.vocabulary)
-        self.decision = self.decision._replace(strengths=np.zeros((self.games, max(self.compiled.max_rules, 1))))
+        # The last tick's outcome was the old controllers' doing: it no longer explains the decision shown
+        self.decision = self.decision._replace(strengths=np.zeros((self.games, max(self.compiled.max_rules, 1))),
+                                               outcome=np.full(self.games, NO_OUTCOME, dtype=np.int64))
         self._arguments = KernelArguments(
             pitches=plain(self.world.pitches), state=plain(self.state), observation=plain(self.observation),
             decision=plain(self.decision), rulebases=plain(self.compiled),

@@ -15,7 +15,7 @@ from soccer.config import SOCCER_VOCABULARY, GameConfig
 from soccer.engine import END_REASONS, NO_OUTCOME, GameBatch
 from soccer.outcome import Outcome
 
-TRAIL_LENGTH = 60  # ball positions kept for the trail (6 s)
+TRAIL_LENGTH = 60  # ticks of the ball's path kept for the trail (6 s): a shot long past fades away
 
 
 @dataclass(frozen=True)
@@ -51,6 +51,7 @@ class SoccerEnv:
         self.rulebase = rulebase
         self._batch: GameBatch | None = None
         self._trail: deque[tuple[float, float]] = deque(maxlen=TRAIL_LENGTH)
+        self._trail_tick: int | None = None  # the tick of the trail's newest point
         self._seed = 0
 
     def set_rulebase(self, rulebase: Rulebase) -> SoccerState:
@@ -65,6 +66,7 @@ class SoccerEnv:
         self._seed = int(seed)
         self._batch = GameBatch([self.rulebase], [self._seed], self.config, self.vocabulary)
         self._trail.clear()
+        self._trail_tick = None
         return self.state
 
     def step(self) -> SoccerState:
@@ -80,14 +82,16 @@ class SoccerEnv:
             raise RuntimeError("call reset(seed) first")
         vocabulary, game, seen, decided = batch.vocabulary, batch.state, batch.observation, batch.decision
         player, ball = self._positions()
-        if not self._trail or self._trail[-1] != ball:
+        tick = int(game.ticks[0])
+        if tick != self._trail_tick:  # once a tick, resting or not: the trail is the last TRAIL_LENGTH ticks' path
             self._trail.append(ball)
+            self._trail_tick = tick
         action_index = int(decided.action[0])
         action = vocabulary.action_names[action_index] if action_index != NO_ACTION else None
         uses = vocabulary.actions[action] if action else ()
         done = bool(game.done[0])
         return SoccerState(
-            tick=int(game.ticks[0]),
+            tick=tick,
             player=player,
             facing=float(game.facing[0]),
             ball=ball,

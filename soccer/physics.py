@@ -1,4 +1,4 @@
-"""rcssserver's body commands applied to velocities and facing (README, SimpleSoccer). Velocities are in metres
+"""rcssserver's body commands applied to velocities and facing (docs/research/index.md, "The model"). Velocities are in metres
 per tick, angles in degrees; pymunk then moves the bodies and resolves contacts. Each function is
 one server formula, so the tests check them against hand-computed values."""
 

@@ -14,7 +14,7 @@ from app.api.errors import MAX_BODY_BYTES, BodySizeLimit, install_error_handlers
 from app.api.guard import RequestGuard
 from app.api.models import ServerInfo
 from app.api.routes import classroom as classroom_routes
-from app.api.routes import experiments, rulebases, rules, runs, vocabulary
+from app.api.routes import experiments, lineage, rulebases, rules, runs, vocabulary
 from app.api.ui_page import UI_PATH, ui_router
 from app.origins import SiteAddresses
 from app.rerun_viewer import VIEWER_PATH, viewer_home
@@ -67,7 +67,7 @@ def create_app(
     app.add_middleware(RequestGuard, site=site, classroom=classroom)  # outermost: checked before anything else
 
     api = APIRouter(prefix=API_PREFIX)
-    for module in (vocabulary, rulebases, rules, runs, experiments):
+    for module in (vocabulary, rulebases, rules, runs, lineage, experiments):
         api.include_router(module.router)
     if classroom is not None:
         api.include_router(classroom_routes.router)

@@ -1,4 +1,4 @@
-"""Every bad request gets a 4xx with a message saying what was wrong, never a 500 (README, JSON API)."""
+"""Every bad request gets a 4xx with a message saying what was wrong, never a 500 (docs/reference/api.md)."""
 
 from __future__ import annotations
 

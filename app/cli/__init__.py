@@ -31,6 +31,8 @@ COMMANDS = {
     "experiment": Entry("app.cli.experiment", "experiment_command",
                         "Reproduce the chapter's experiments and judge its findings."),
     "rules": Entry("app.cli.rules", "app", "Work with rulebases: check, infer, export, decode, usage, simplify."),
+    "lineage": Entry("app.cli.lineage", "lineage_command",
+                     "A player's family tree: its ancestors and where each of its rules came from."),
 }
 
 

@@ -52,12 +52,17 @@ class OneLineErrors(TyperCommand):
 
 class CommandList(TyperGroup):
     """A group of commands (`typer.Typer(cls=CommandList)`) whose help lists each command with the first
-    paragraph of its help whole, wrapped (click cuts it at 45 columns with "...")."""
+    paragraph of its help whole, wrapped (click cuts it at 45 columns with "..."), as its short help."""
+
+    def get_command(self, ctx: Any, name: str) -> Any:
+        command = super().get_command(ctx, name)
+        if command is not None and not command.short_help:
+            command.short_help = " ".join((command.help or "").split("\n\n")[0].split())
+        return command
 
     def format_commands(self, ctx: Any, formatter: Any) -> None:
         with formatter.section("Commands"):
             formatter.write_dl([(name, self.summary(ctx, name)) for name in self.list_commands(ctx)])
 
     def summary(self, ctx: Any, name: str) -> str:
-        command = self.get_command(ctx, name)
-        return command.short_help or " ".join((command.help or "").split("\n\n")[0].split())
+        return self.get_command(ctx, name).short_help

@@ -12,15 +12,17 @@ from typing import TYPE_CHECKING, Annotated, Any, Optional
 import typer
 
 from app.cli.common import fail
-from app.cli.play import (CountTouchesOption, EnvOption, FitnessOption, GoalCapOption, IdleTicksOption,
+from app.cli.play import (ENV_PANEL, CountTouchesOption, EnvOption, FitnessOption, GoalCapOption, IdleTicksOption,
                           MaxTicksOption, NoiseOption, RcssserverOption, ServerOption, ServersOption, SkillsOption,
                           chosen_env, config_from_options, game_config, option_help, option_name, rcss_executable,
                           rcss_servers, trial_config)
 from app.environments import RCSS, RCSS_WORKERS, SIMPLE, checked_workers, default_workers
+from app.experiment.executors import LOCAL, RAY
 from ga.config import GAConfig
 from soccer.config import GameConfig
 
 if TYPE_CHECKING:  # the run's machinery (numpy, numba, rerun) is imported when a run starts, not for --help
+    from app.rcss_cluster import RayCluster
     from app.run import Run, RunSettings
     from app.run_outputs import RunFolder
     from ga.result import RunResult
@@ -41,7 +43,8 @@ PopulationSize = _ga_option("population_size", "Individuals per generation.", in
 Generations = _ga_option("max_generations", "Generations evaluated, the initial one included.", int)
 MaxLength = _ga_option("max_length", "Maximum genes per chromosome.", int)
 ConsequentProbability = _ga_option("consequent_probability", "Chance that an initial gene is a consequent.", float)
-Crossover = _ga_option("crossover", "Cut-and-splice crossover: one-point or two-point.", str)
+Crossover = _ga_option("crossover", "Crossover: one-point or two-point (cut-and-splice), or uniform (rule by rule).",
+                       str)
 CrossoverProbability = _ga_option("crossover_probability", "Chance that a pair of parents is crossed.", float)
 MutationProbability = _ga_option("mutation_probability", "Chance that a child is mutated.", float)
 MutationRate = _ga_option("mutation_rate", "Chance that each gene of a mutated child is hit.", float)
@@ -53,6 +56,9 @@ TournamentSelector = _ga_option("tournament_selector", "Chance that the better e
 EliteFraction = _ga_option("elite_fraction", "Share of the population copied unchanged (elitist).", float)
 TargetFitness = _ga_option("target_fitness", "Stop once the best fitness reaches this.", float)
 Seed = _ga_option("seed", "Seed of the whole run: the same seed gives the same run, bit for bit.", int)
+BehaviourSeeds = _ga_option("behaviour_seeds", "K: each generation, every new chromosome also plays K common seeds "
+                            "so statistics.csv counts the distinct ways the population plays (costs K games per new "
+                            "chromosome; 0: off). SimpleSoccer only.", int)
 Workers = Annotated[Optional[int], typer.Option(
     "--workers", help="Evaluation processes; results do not depend on it. Not with --env rcss: there the GA "
     "evaluates in this one process and trials run in parallel over the servers instead (--servers, or the "
@@ -62,6 +68,14 @@ GamesPerEvaluation = Annotated[Optional[int], typer.Option(
     "--games-per-evaluation", help=option_help(GameConfig, "games_per_evaluation",
                                                "Games an evaluation averages, from different starts."),
     show_default=False, rich_help_panel="Game")]
+Executor = Annotated[Optional[str], typer.Option(
+    "--executor", help="With --env rcss: where the servers run: local (this machine) or ray (every node of a Ray "
+    "cluster starts its own, from its $RCSSSERVER or PATH unless --rcssserver names a path good on every node; "
+    "--servers is then per node, default one per CPU). (default: local)", show_default=False,
+    rich_help_panel=ENV_PANEL)]
+Address = Annotated[Optional[str], typer.Option(
+    "--address", help="With --executor ray: the Ray cluster's address. (default: start Ray here)",
+    show_default=False, rich_help_panel=ENV_PANEL)]
 Out = Annotated[Optional[Path], typer.Option(
     "--out", help="Run folder for the outputs. (default: runs/<timestamp>)", show_default=False,
     rich_help_panel=RUN_PANEL)]
@@ -78,11 +92,13 @@ def evolve_command(
     mutation_rate: MutationRate = None, selection: Selection = None, roulette_weighting: RouletteWeighting = None,
     tournament_size: TournamentSize = None, tournament_selector: TournamentSelector = None,
     elite_fraction: EliteFraction = None, target_fitness: TargetFitness = None, seed: Seed = None,
-    workers: Workers = None, fitness: FitnessOption = None, games_per_evaluation: GamesPerEvaluation = None,
+    workers: Workers = None, behaviour_seeds: BehaviourSeeds = None, fitness: FitnessOption = None,
+    games_per_evaluation: GamesPerEvaluation = None,
     max_ticks: MaxTicksOption = None, goal_cap: GoalCapOption = None, idle_ticks: IdleTicksOption = None,
     noise: NoiseOption = None, skills: SkillsOption = None, count_touches: CountTouchesOption = None,
     env: EnvOption = None, server: ServerOption = None,
-    rcssserver: RcssserverOption = None, servers: ServersOption = None, out: Out = None, resume_dir: Resume = None,
+    rcssserver: RcssserverOption = None, servers: ServersOption = None, executor: Executor = None,
+    address: Address = None, out: Out = None, resume_dir: Resume = None,
 ) -> None:
     """Evolve a goal-scoring rulebase with the messy-coded GA (defaults: the chapter's Table 2)."""
     options = dict(locals())  # first: the options are the function's locals
@@ -91,10 +107,10 @@ def evolve_command(
     if resume_dir is not None:
         # The servers may change: a resumed rcss run can use other servers (or ports) than before.
         given = [f"--{name.replace('_', '-')}" for name, value in options.items()
-                 if value is not None and name not in ("resume_dir", "server", "rcssserver", "servers")]
+                 if value is not None and name not in ("resume_dir", *WHERE_SERVERS_RUN)]
         if given:
             fail(f"--resume continues a run with its own settings; drop {', '.join(given)}")
-        _resume(resume_dir, server, rcssserver, servers)
+        _resume(resume_dir, server, rcssserver, servers, _cluster(executor, address, server, rcssserver, servers))
     else:
         _start(GA, options)
 
@@ -102,11 +118,13 @@ def evolve_command(
 def random_search_command(
     population_size: PopulationSize = None, generations: Generations = None, max_length: MaxLength = None,
     consequent_probability: ConsequentProbability = None, target_fitness: TargetFitness = None, seed: Seed = None,
-    workers: Workers = None, fitness: FitnessOption = None, games_per_evaluation: GamesPerEvaluation = None,
+    workers: Workers = None, behaviour_seeds: BehaviourSeeds = None, fitness: FitnessOption = None,
+    games_per_evaluation: GamesPerEvaluation = None,
     max_ticks: MaxTicksOption = None, goal_cap: GoalCapOption = None, idle_ticks: IdleTicksOption = None,
     noise: NoiseOption = None, skills: SkillsOption = None, count_touches: CountTouchesOption = None,
     env: EnvOption = None, server: ServerOption = None,
-    rcssserver: RcssserverOption = None, servers: ServersOption = None, out: Out = None,
+    rcssserver: RcssserverOption = None, servers: ServersOption = None, executor: Executor = None,
+    address: Address = None, out: Out = None,
 ) -> None:
     """The baseline: spend the same evaluations on fresh random rulebases (population x generations),
     with the same statistics and outputs as evolve. Continue a killed one with `evolve --resume`."""
@@ -117,16 +135,40 @@ def random_search_command(
 
 
 # ---- where evaluations play -------------------------------------------------------------------
+WHERE_SERVERS_RUN = ("server", "rcssserver", "servers", "executor", "address")
+
+
+def _cluster(executor: str | None, address: str | None, servers: list[str] | None, rcssserver: Path | None,
+             count: int | None) -> "RayCluster | None":
+    """The Ray cluster whose nodes run the servers (--executor ray), or None for this machine's."""
+    if executor not in (None, LOCAL, RAY):
+        fail(f"--executor: unknown executor {executor!r}; choose one of {LOCAL}, {RAY}")
+    if executor != RAY:
+        if address is not None:
+            fail("--address needs --executor ray")
+        return None
+    if servers:
+        fail("--server names servers you run; with --executor ray every node starts its own (--servers per node)")
+    from app.rcss_cluster import RayCluster
+
+    return RayCluster(address, count, str(rcssserver) if rcssserver is not None else None)
+
+
 def _settings(algorithm: str, options: dict[str, Any]) -> "RunSettings":
     """The run the options ask for, each checked with a message naming its option (before the run's
     machinery is imported: a bad option is refused at once)."""
-    game_options = {name: options.pop(name) for name in ("fitness", "max_ticks", "goal_cap", "idle_ticks", "skills")}
-    simple_options = {name: options.pop(name) for name in ("noise", "count_touches", "games_per_evaluation")}
+    game_options = {name: options.pop(name) for name in ("fitness", "max_ticks", "goal_cap", "idle_ticks", "skills",
+                                                         "noise")}  # noise: SimpleSoccer's, or the server's
+    simple_options = {name: options.pop(name) for name in ("count_touches", "games_per_evaluation")}
     env = chosen_env(options.pop("env"), options.get("server"),
                      {option_name(name, {}): value for name, value in simple_options.items()},
                      {"--rcssserver": options.get("rcssserver"), "--servers": options.get("servers")})
     servers = options.pop("server")
     rcssserver, count = options.pop("rcssserver"), options.pop("servers")
+    executor, address = options.pop("executor"), options.pop("address")
+    if env == SIMPLE and executor is not None:
+        fail(f"--executor: for --env {RCSS} only (SimpleSoccer evaluations run on this machine's cores: --workers)")
+    cluster = _cluster(executor, address, servers, rcssserver, count)
     for name in ("out", "resume_dir"):
         options.pop(name, None)
     options["max_generations"] = options.pop("generations")
@@ -142,10 +184,10 @@ def _settings(algorithm: str, options: dict[str, Any]) -> "RunSettings":
                 fail(f"--workers: {exc}")
         options["workers"] = RCSS_WORKERS
         trial = trial_config(**game_options)
-        executable = rcss_executable(servers, rcssserver, count)
+        executable = rcss_executable(servers, rcssserver, count) if cluster is None else None  # found on the nodes
         where = {"env": RCSS, "trial": trial, "servers": tuple(rcss_servers(servers)) if servers else (),
                  "start_servers": 0 if servers else count or 1,
-                 "rcssserver": str(executable) if executable else None}
+                 "rcssserver": str(executable) if executable else None, "cluster": cluster}
     ga = config_from_options(GAConfig, options, RENAMED)
     from app.run import RunSettings
 
@@ -166,7 +208,8 @@ def _start(algorithm: str, options: dict[str, Any]) -> None:
     _drive(run, history=[])
 
 
-def _resume(path: Path, servers: list[str] | None, rcssserver: Path | None, count: int | None) -> None:
+def _resume(path: Path, servers: list[str] | None, rcssserver: Path | None, count: int | None,
+            cluster: "RayCluster | None") -> None:
     from app.run import Run
     from app.run_outputs import RunFolderError
     from ga.checkpoint import CheckpointError
@@ -178,9 +221,13 @@ def _resume(path: Path, servers: list[str] | None, rcssserver: Path | None, coun
         fail(str(exc))
     given = [option for option, value in (("--server", servers), ("--rcssserver", rcssserver), ("--servers", count))
              if value]
+    if cluster is not None:
+        given.append("--executor")
     if run.settings.env == SIMPLE and given:
         fail(f"{', '.join(given)}: the run in {run.folder.path} plays SimpleSoccer, not on rcssserver")
-    if servers:
+    if cluster is not None:
+        run.settings = run.settings.on_cluster(cluster)
+    elif servers:
         rcss_executable(servers, rcssserver, count)  # refuses --server with --rcssserver/--servers
         run.settings = run.settings.with_servers(rcss_servers(servers))
     elif run.settings.env == RCSS and (run.settings.start_servers or rcssserver or count):
@@ -280,11 +327,12 @@ def _replay_line(run: "Run") -> str:
         settings = run.settings
         servers = " ".join(f"--server {server}" for server in settings.servers)
         if settings.start_servers:  # those it started are gone: play starts its own
-            servers = f"--rcssserver {settings.rcssserver} --servers {settings.start_servers}"
+            executable = f"--rcssserver {settings.rcssserver} " if settings.rcssserver else ""
+            servers = f"{executable}--servers {settings.start_servers}"
         line += f"\nplay the best on rcssserver: soccer-lab play {run.folder.best_rules} --env {RCSS} {servers}"
     return line
 
 
 def _outputs(folder: "RunFolder") -> list[Path]:
-    return [p for p in (folder.best_rules, folder.best_json, folder.statistics, folder.checkpoint, folder.recording,
-                        folder.manifest) if p.exists()]
+    return [p for p in (folder.best_rules, folder.best_json, folder.statistics, folder.lineage, folder.checkpoint,
+                        folder.recording, folder.manifest) if p.exists()]

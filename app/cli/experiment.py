@@ -1,5 +1,6 @@
 """`soccer-lab experiment PRESET`: the chapter's study (its section 6) with one command: the SimpleSoccer
-presets on local processes or Ray, `robocup` on rcssservers."""
+presets on local processes or Ray, `robocup` (and `transfer`) on rcssservers; the experiments beyond it;
+at several seeds (--replicates, --seeds) to tell robust verdicts from lucky ones."""
 
 from __future__ import annotations
 
@@ -10,25 +11,29 @@ from typing import TYPE_CHECKING, Annotated, Optional
 import typer
 
 from app.cli.common import fail
-from app.cli.play import (RcssserverOption, ServerOption, ServersOption, config_from_options, option_help,
-                          rcss_addresses)
-from app.experiment.executors import EXECUTOR_NAMES, LOCAL, ExecutorError, RcssExecutor, make_executor
-from app.experiment.presets import (CHAPTER_GENERATIONS, CHOICES, DEFAULT_TRIALS, INITIAL_TRIALS, LONG_GENERATIONS,
-                                    ROBOCUP, ExperimentOptions)
+from app.cli.play import config_from_options, option_help, rcss_addresses, server_options
+from app.experiment.executors import EXECUTOR_NAMES, LOCAL, RAY, ExecutorError, RcssExecutor, make_executor
+from app.experiment.presets import (ALL, ALL_PLUS, CHAPTER_GENERATIONS, CHOICES, DEFAULT_TRIALS, INITIAL_TRIALS,
+                                    LONG_GENERATIONS, ROBOCUP, TRANSFER, TRANSFER_TRIALS, ExperimentOptions)
 from soccer.config import SKILL_SET_NAMES
 from soccer.rcss.errors import RcssError
 
 if TYPE_CHECKING:  # the runner (the GA, the report's statistics and figures) is imported when an experiment runs
+    from app.experiment.replicates import ReplicatesOutcome
     from app.experiment.runner import ExperimentOutcome
+    from app.experiment.transfer import TransferOutcome
 
 DEFAULT_OUT_FOLDER = "experiments"
+ServerOption, RcssserverOption, ServersOption = server_options(f"For the {ROBOCUP} and {TRANSFER} presets")
 
 
 def experiment_command(
-    preset: Annotated[str, typer.Argument(help=f"One of: {', '.join(CHOICES)}.", show_default=False)],
+    preset: Annotated[str, typer.Argument(
+        help=f"One of: {', '.join((*CHOICES, TRANSFER))}. {ALL}: the chapter's SimpleSoccer study; {ALL_PLUS}: it "
+        "and the experiments beyond it.", show_default=False)],
     trials: Annotated[Optional[int], typer.Option(
         "--trials", help=f"Trials per setting. (default: the chapter's, {DEFAULT_TRIALS}; {INITIAL_TRIALS} for "
-        f"initial and {ROBOCUP})", show_default=False)] = None,
+        f"initial and {ROBOCUP}; {TRANSFER_TRIALS} for {TRANSFER})", show_default=False)] = None,
     population: Annotated[Optional[int], typer.Option(
         "--population", help=option_help(ExperimentOptions, "population",
                                          "Table 2's population size; every setting scales with it."),
@@ -45,11 +50,23 @@ def experiment_command(
     seed: Annotated[Optional[int], typer.Option(
         "--seed", help=option_help(ExperimentOptions, "seed", "Experiment seed; each trial's seed derives from it."),
         show_default=False)] = None,
+    replicates: Annotated[Optional[int], typer.Option(
+        "--replicates", help="Run the experiment at this many seeds (--seed, --seed + 1, ...), each in OUT/seed-S, "
+        "and report each finding's verdict per replicate and whether it is robust. (default: 1)",
+        show_default=False)] = None,
+    seeds: Annotated[Optional[str], typer.Option(
+        "--seeds", help="Replicates at these experiment seeds, comma-separated (e.g. 0,913), instead of counting "
+        "up from --seed.", show_default=False)] = None,
+    replays: Annotated[Optional[int], typer.Option(
+        "--replays", help=option_help(ExperimentOptions, "replays",
+                                      "Fresh starts each trial's best is re-played on (its true quality)."),
+        show_default=False)] = None,
     skills: Annotated[Optional[str], typer.Option(
         "--skills", help=option_help(ExperimentOptions, "skills", f"Skill set: {', '.join(SKILL_SET_NAMES)}."),
         show_default=False)] = None,
     noise: Annotated[Optional[bool], typer.Option(
-        "--noise/--no-noise", help=option_help(ExperimentOptions, "noise", "rcssserver-like movement noise."),
+        "--noise/--no-noise", help=option_help(ExperimentOptions, "noise", "rcssserver-like movement noise "
+                                               f"({ROBOCUP}: the servers' own, on unless --no-noise)."),
         show_default=False)] = None,
     count_touches: Annotated[Optional[bool], typer.Option(
         "--count-touches/--no-count-touches", help=option_help(
@@ -60,14 +77,14 @@ def experiment_command(
                                                  "Roulette weight: linear (1 - fitness) or inverse (1 / fitness)."),
         show_default=False)] = None,
     out: Annotated[Optional[Path], typer.Option(
-        "--out", help="Output folder; running again into it resumes. (default: experiments/PRESET-seedN)",
-        show_default=False)] = None,
+        "--out", help="Output folder; running again into it resumes. (default: experiments/PRESET-seedN, with "
+        "replicates experiments/PRESET-seedsN-M)", show_default=False)] = None,
     workers: Annotated[Optional[int], typer.Option(
         "--workers", min=1, help=f"Trials run at once. (default: all cores; not for {ROBOCUP})",
         show_default=False)] = None,
     executor: Annotated[Optional[str], typer.Option(
-        "--executor", help=f"Where trials run: {' or '.join(EXECUTOR_NAMES)}. (default: {LOCAL}; {ROBOCUP} plays "
-        "on rcssservers)", show_default=False)] = None,
+        "--executor", help=f"Where trials run: {' or '.join(EXECUTOR_NAMES)}. (default: {LOCAL}; {ROBOCUP}: "
+        "rcssservers on this machine, or with ray on every node of the cluster)", show_default=False)] = None,
     address: Annotated[Optional[str], typer.Option(
         "--address", help="Ray cluster address (with --executor ray); default: start Ray here.",
         show_default=False)] = None,
@@ -80,54 +97,110 @@ def experiment_command(
     rcssserver: RcssserverOption = None,
     servers: ServersOption = None,
 ) -> None:
-    """Reproduce the chapter's experiments: statistics.csv, figures, report.md and report.html."""
-    if preset not in CHOICES:
-        fail(f"unknown preset {preset!r}; choose one of {', '.join(CHOICES)}")
+    """Reproduce the chapter's experiments: statistics.csv, figures, report.md and report.html (transfer:
+    transfer.md and transfer.html)."""
+    if preset not in (*CHOICES, TRANSFER):
+        fail(f"unknown preset {preset!r}; choose one of {', '.join((*CHOICES, TRANSFER))}")
+    on_servers = preset in (ROBOCUP, TRANSFER)
     options: ExperimentOptions = config_from_options(ExperimentOptions, {
         "trials": trials, "population": population, "generations": generations, "max_ticks": max_ticks,
         "seed": seed, "skills": skills, "noise": noise, "count_touches": count_touches,
-        "roulette_weighting": roulette_weighting})
-    folder = out or Path(DEFAULT_OUT_FOLDER) / f"{preset}-seed{options.seed}"
+        "roulette_weighting": roulette_weighting, "replays": replays})
+    replicate_seeds = _replicate_seeds(options.seed, replicates, seeds)
+    if replicate_seeds is not None and preset == TRANSFER:
+        fail(f"--replicates, --seeds: not for {TRANSFER} (its sources are the {ROBOCUP} preset's runs at --seed)")
+    if replicate_seeds is None:
+        folder = out or Path(DEFAULT_OUT_FOLDER) / f"{preset}-seed{options.seed}"
+    else:
+        folder = out or Path(DEFAULT_OUT_FOLDER) / f"{preset}-seeds{'-'.join(map(str, replicate_seeds))}"
     _check_where_trials_run(preset, {"--server": server, "--rcssserver": rcssserver, "--servers": servers},
-                            {"--executor": executor, "--workers": workers, "--address": address, "--noise": noise,
-                             "--count-touches": count_touches})
+                            {"--workers": workers, "--count-touches": count_touches})
     from app.experiment.runner import ExperimentError, run_experiment
+    from app.experiment.transfer import run_transfer
 
     try:
         with ExitStack() as stack:
-            if preset == ROBOCUP:
-                runner = RcssExecutor(stack.enter_context(rcss_addresses(server, rcssserver, servers)))
+            if on_servers:
+                runner = _robocup_runner(stack, options, executor, address, server, rcssserver, servers)
             else:
                 runner = make_executor(executor or LOCAL, workers=workers, address=address)
             progress = stack.enter_context(ExperimentProgress(preset))
-            outcome = run_experiment(preset, options, folder, runner, progress=progress)
+            if preset == TRANSFER:
+                transfer = run_transfer(options, folder, runner, progress=progress)
+            elif replicate_seeds is None:
+                outcome = run_experiment(preset, options, folder, runner, progress=progress)
+            else:
+                from app.experiment.replicates import run_replicates
+
+                outcome = run_replicates(preset, options, replicate_seeds, folder, runner, progress=progress)
     except (ExecutorError, ExperimentError) as exc:
         fail(str(exc))
     except RcssError as exc:
         fail(f"{exc}; finished trials and generations are kept: run the same command again to resume")
     except KeyboardInterrupt:
-        kept = "finished trials (and the generations of the trial under way)" if preset == ROBOCUP else "finished trials"
+        kept = "finished trials (and the generations of the trial under way)" if on_servers else "finished trials"
         typer.echo(f"\ninterrupted; {kept} are kept: run the same command again to resume", err=True)
         raise typer.Exit(130)
+    if preset == TRANSFER:
+        _transfer_summary(transfer)
+        return
     if library:
         _record(preset, options, outcome, data_dir)
     _summary(outcome)
 
 
+def _replicate_seeds(seed: int, replicates: int | None, seeds: str | None) -> list[int] | None:
+    """The replicates' seeds; None for one experiment at --seed (no --replicates nor --seeds)."""
+    if replicates is None and seeds is None:
+        return None
+    from app.experiment.replicates import replicate_seeds
+    from app.experiment.runner import ExperimentError
+
+    try:
+        given = None if seeds is None else [int(part) for part in seeds.split(",") if part.strip()]
+    except ValueError:
+        fail(f"--seeds: comma-separated whole numbers, e.g. 0,913 (got {seeds!r})")
+    if given is not None and (not given or any(not 0 <= s < 2**63 for s in given)):
+        fail("--seeds: one or more seeds in [0, 2^63)")
+    try:
+        return replicate_seeds(seed, replicates, given)
+    except ExperimentError as exc:
+        fail(str(exc))
+
+
+def _robocup_runner(stack: ExitStack, options: ExperimentOptions, executor: str | None, address: str | None,
+                    server: list[str] | None, rcssserver: Path | None, servers: int | None):
+    """robocup's trials on this machine's servers (started here, or the --server's), or on servers every node of
+    a Ray cluster starts (--executor ray: --servers per node, --rcssserver a path good on every node)."""
+    if executor not in (None, LOCAL, RAY):
+        fail(f"--executor: unknown executor {executor!r}; choose one of {', '.join(EXECUTOR_NAMES)}")
+    if executor != RAY:
+        if address is not None:
+            fail("--address needs --executor ray")
+        return RcssExecutor(stack.enter_context(rcss_addresses(server, rcssserver, servers, options.trial().noise)))
+    if server:
+        fail("--server names servers you run; with --executor ray every node starts its own (--servers per node)")
+    from app.rcss_cluster import ClusterRcssExecutor, RayCluster
+
+    cluster = RayCluster(address, servers, str(rcssserver) if rcssserver is not None else None)
+    return ClusterRcssExecutor(cluster, announce=lambda line: typer.echo(line, err=True))
+
+
 def _check_where_trials_run(preset: str, rcss_options: dict[str, object], local_options: dict[str, object]) -> None:
-    """robocup plays on rcssservers (the rcss options), every other preset SimpleSoccer on the executor (the
-    local options)."""
-    given = [option for option, value in (local_options if preset == ROBOCUP else rcss_options).items()
-             if value is not None]
-    if given and preset == ROBOCUP:
-        fail(f"{', '.join(given)}: {ROBOCUP} plays its trials on rcssservers (--servers sets how many, the noise and "
-             "the count of kicks are the server's), not SimpleSoccer on an executor")
+    """robocup and transfer play on rcssservers (the rcss options), every other preset SimpleSoccer on the
+    executor (the local options)."""
+    on_servers = preset in (ROBOCUP, TRANSFER)
+    given = [option for option, value in (local_options if on_servers else rcss_options).items() if value is not None]
+    if given and on_servers:
+        fail(f"{', '.join(given)}: {preset} plays its trials on rcssservers (--servers sets how many, the count "
+             "of kicks is the server's), not SimpleSoccer on worker processes")
     if given:
-        fail(f"{', '.join(given)}: for the {ROBOCUP} preset only (the others play SimpleSoccer)")
+        fail(f"{', '.join(given)}: for the {ROBOCUP} and {TRANSFER} presets only (the others play SimpleSoccer)")
 
 
 class ExperimentProgress:
-    """One bar for the whole experiment, counted in evaluations (trials differ in size)."""
+    """One bar for the whole experiment, counted in the games (or evaluations) its trials play: they differ in
+    size."""
 
     def __init__(self, preset: str):
         from rich.console import Console
@@ -151,7 +224,9 @@ class ExperimentProgress:
         self.progress.update(self.task, completed=completed, total=total, note=note)
 
 
-def _record(preset: str, options: ExperimentOptions, outcome: "ExperimentOutcome", data_dir: Path | None) -> None:
+def _record(preset: str, options: ExperimentOptions, outcome: "ExperimentOutcome | ReplicatesOutcome",
+            data_dir: Path | None) -> None:
+    """In the library: one experiment, or replicates as one entry (their summary report above them)."""
     from app.experiment.library import library_summary
     from app.paths import DATABASE_FILE, default_data_dir
     from app.store import Store, StoreError
@@ -168,9 +243,24 @@ def _record(preset: str, options: ExperimentOptions, outcome: "ExperimentOutcome
         typer.echo(f"warning: not recorded in the library: {exc}", err=True)
 
 
-def _summary(outcome: "ExperimentOutcome") -> None:
-    trials = len(outcome.plan.specs)
+def _transfer_summary(outcome: "TransferOutcome") -> None:
+    from app.experiment.transfer import REPORT_HTML, REPORT_MD, STATISTICS_FILE
+
+    typer.echo(f"{len(outcome.plan.specs)} rcssserver runs ({outcome.ran} run now) and {len(outcome.players)} player "
+               f"games in {outcome.seconds:.1f} s")
+    for claim, measured, verdict, _ in outcome.findings:
+        typer.echo(f"{verdict}: {claim} ({measured})")
+    typer.echo(f"outputs in {outcome.folder}: {REPORT_MD}, {REPORT_HTML}, {STATISTICS_FILE}, "
+               f"{len(outcome.figures)} figures, transfer/ (sources and players.csv)")
+
+
+def _summary(outcome: "ExperimentOutcome | ReplicatesOutcome") -> None:
+    trials = outcome.trials
     typer.echo(f"{trials} trials ({outcome.ran} run, {outcome.skipped} already finished) in {outcome.seconds:.1f} s")
-    typer.echo("verdicts: " + ", ".join(f"{n} {v}" for v, n in outcome.report.verdicts().items() if n))
-    typer.echo(f"outputs in {outcome.folder}: statistics.csv, report.md, report.html, "
-               f"{len(outcome.report.figures)} figures, trials/ (per-trial CSV and .rrd)")
+    typer.echo("verdicts: " + (", ".join(f"{n} {v}" for v, n in outcome.report.verdicts().items() if n) or "none"))
+    if hasattr(outcome, "replicates"):
+        typer.echo(f"outputs in {outcome.folder}: report.md, report.html, verdicts.csv (each finding per replicate), "
+                   f"and seed-S/ per replicate (statistics.csv, bests.csv, report, figures, trials/)")
+        return
+    typer.echo(f"outputs in {outcome.folder}: statistics.csv, bests.csv, report.md, report.html, "
+               f"{len(outcome.report.figures)} figures, trials/ (per-trial CSV, .rrd and best player)")

@@ -67,7 +67,9 @@ IdleTicksOption = Annotated[Optional[int], typer.Option(
                                      "A game ends after this many ticks without moving or kicking."),
     show_default=False, rich_help_panel=GAME_PANEL)]
 NoiseOption = Annotated[Optional[bool], typer.Option(
-    "--noise/--no-noise", help=option_help(GameConfig, "noise", "rcssserver-like movement noise."),
+    "--noise/--no-noise", help=option_help(GameConfig, "noise", "rcssserver-like movement noise; on rcssserver "
+                                           "the server's own noise, on unless --no-noise (servers without it play a "
+                                           "trial the same every time)."),
     show_default=False, rich_help_panel=GAME_PANEL)]
 
 SkillsOption = Annotated[Optional[str], typer.Option(
@@ -93,27 +95,36 @@ def game_config(**options: Any) -> GameConfig:
 # The environment options, shared with `evolve` and `random-search`.
 EnvOption = Annotated[Optional[str], typer.Option(
     "--env", help=f"Where games are played: {' or '.join(ENVIRONMENTS)} (SimpleSoccer or a real rcssserver; with "
-    f"{RCSS} the game options left unset take the chapter's RoboCup trial settings, see the README). "
+    f"{RCSS} the game options left unset take the chapter's RoboCup trial settings, see docs/robocup/index.md). "
     f"(default: {SIMPLE})",
     show_default=False, rich_help_panel=ENV_PANEL)]
-ServerOption = Annotated[Optional[list[str]], typer.Option(
-    "--server", help="With --env rcss: an rcssserver you run, as HOST:PORT (its player port; run it with "
-    "server::synch_mode=true server::coach_w_referee=true). Repeat for several servers: trials run on them in "
-    "parallel, one at a time on each. (default: soccer-lab starts --servers servers itself)",
-    show_default=False, rich_help_panel=ENV_PANEL)]
-RcssserverOption = Annotated[Optional[Path], typer.Option(
-    "--rcssserver", help="With --env rcss: the rcssserver executable soccer-lab starts its servers from (each on "
-    "free ports, in a scratch folder, with the options trials need; all stopped when the command ends). "
-    f"(default: ${EXECUTABLE_VARIABLE}, else rcssserver on PATH)", show_default=False, rich_help_panel=ENV_PANEL)]
-ServersOption = Annotated[Optional[int], typer.Option(
-    "--servers", min=1, max=MAX_SERVERS, help="With --env rcss: how many rcssservers soccer-lab starts; trials run "
-    "on them in parallel. (default: 1)", show_default=False, rich_help_panel=ENV_PANEL)]
+def server_options(when: str) -> tuple[Any, Any, Any]:
+    """The --server, --rcssserver and --servers options, their help starting with `when` they apply
+    ("With --env rcss", or for `experiment` "For the robocup and transfer presets")."""
+    server = Annotated[Optional[list[str]], typer.Option(
+        "--server", help=f"{when}: an rcssserver you run, as HOST:PORT (its player port; run it with "
+        "server::synch_mode=true server::coach_w_referee=true). Repeat for several servers: trials run on them in "
+        "parallel, one at a time on each. (default: soccer-lab starts --servers servers itself)",
+        show_default=False, rich_help_panel=ENV_PANEL)]
+    rcssserver = Annotated[Optional[Path], typer.Option(
+        "--rcssserver", help=f"{when}: the rcssserver executable soccer-lab starts its servers from (each on "
+        "free ports, in a scratch folder, with the options trials need; all stopped when the command ends). "
+        f"(default: ${EXECUTABLE_VARIABLE}, else rcssserver on PATH)", show_default=False, rich_help_panel=ENV_PANEL)]
+    servers = Annotated[Optional[int], typer.Option(
+        "--servers", min=1, max=MAX_SERVERS, help=f"{when}: how many rcssservers soccer-lab starts; trials run "
+        "on them in parallel (on a Ray cluster: on each node). (default: 1; on a Ray cluster one per CPU of each "
+        "node)", show_default=False, rich_help_panel=ENV_PANEL)]
+    return server, rcssserver, servers
+
+
+ServerOption, RcssserverOption, ServersOption = server_options(f"With --env {RCSS}")
 
 
 def chosen_env(env: str | None, servers: list[str] | None, simple_only: dict[str, Any],
                rcss_only: dict[str, Any] | None = None) -> str:
     """--env checked against the other options: --server and `rcss_only` ({"--servers": value}, None = not
-    given) need rcss; `simple_only` ({"--noise": value}) are refused with rcss rather than silently ignored."""
+    given) need rcss; `simple_only` ({"--count-touches": value}) are refused with rcss rather than silently
+    ignored."""
     env = SIMPLE if env is None else env
     try:
         checked_env(env)
@@ -140,22 +151,25 @@ def rcss_executable(servers: list[str] | None, rcssserver: Path | None, count: i
     try:
         return find_rcssserver(rcssserver)
     except RcssLaunchError as exc:
-        fail(f"{exc}: give --rcssserver PATH (see README), or --server HOST:PORT for a server you run")
+        fail(f"{exc}: give --rcssserver PATH (see docs/robocup/index.md), or --server HOST:PORT for a server "
+             "you run")
 
 
 @contextmanager
-def rcss_addresses(servers: list[str] | None, rcssserver: Path | None, count: int | None) -> Iterator[list[str]]:
+def rcss_addresses(servers: list[str] | None, rcssserver: Path | None, count: int | None,
+                   noise: bool = True) -> Iterator[list[str]]:
     """The HOST:PORTs trials play on: the --server's the user runs, or `count` (default 1) servers soccer-lab
-    starts from `rcssserver` (default $RCSSSERVER, else PATH) and stops when the block ends."""
+    starts from `rcssserver` (default $RCSSSERVER, else PATH), with or without their noise, and stops when
+    the block ends."""
     executable = rcss_executable(servers, rcssserver, count)
     if executable is None:
         yield rcss_servers(servers)
         return
-    from soccer.rcss.servers import RcssLaunchError, ServerPool, describe
+    from soccer.rcss.servers import RcssLaunchError, ServerPool, describe, noise_options
 
     with ExitStack() as stack:
         try:
-            pool = stack.enter_context(ServerPool(executable, count or 1))
+            pool = stack.enter_context(ServerPool(executable, count or 1, noise_options(noise)))
         except RcssLaunchError as exc:
             fail(str(exc))
         typer.echo(describe(pool.servers), err=True)
@@ -209,10 +223,9 @@ def play_command(
     from app.rulebase_files import RulebaseFileError, load_rulebase
     from soccer.engine import play_game, play_games
 
-    env = chosen_env(env, server, {"--noise": noise, "--count-touches": count_touches},
-                     {"--rcssserver": rcssserver, "--servers": servers})
-    config = game_config(fitness=fitness, max_ticks=max_ticks, goal_cap=goal_cap, idle_ticks=idle_ticks, noise=noise,
-                         skills=skills, count_touches=count_touches)
+    env = chosen_env(env, server, {"--count-touches": count_touches}, {"--rcssserver": rcssserver, "--servers": servers})
+    config = game_config(fitness=fitness, max_ticks=max_ticks, goal_cap=goal_cap, idle_ticks=idle_ticks,
+                         noise=noise if env == SIMPLE else None, skills=skills, count_touches=count_touches)
     try:
         player = load_rulebase(rulebase)
     except RulebaseFileError as exc:
@@ -223,8 +236,8 @@ def play_command(
         from soccer.rcss.params import ServerParams
 
         trial = trial_config(fitness=fitness, max_ticks=max_ticks, goal_cap=goal_cap, idle_ticks=idle_ticks,
-                             skills=skills)
-        with rcss_addresses(server, rcssserver, servers) as addresses:
+                             skills=skills, noise=noise)
+        with rcss_addresses(server, rcssserver, servers, trial.noise) as addresses:
             results = _play_on_rcss(player, seeds, addresses, trial, trace=stream is not None)
         traces, world = [result.trace for result in results], ServerParams().world
     elif stream is None:

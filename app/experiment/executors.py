@@ -82,7 +82,7 @@ class RayExecutor:
                                   log_to_driver=False)
                 else:
                     self.ray.init(address=self.address, log_to_driver=False)
-            except (ConnectionError, RuntimeError, ValueError) as exc:
+            except Exception as exc:  # noqa: BLE001 - Ray raises a bare Exception when its node does not start in time
                 where = f" at {self.address}" if self.address else ""
                 raise ExecutorError(f"cannot start Ray{where}: {str(exc).splitlines()[0] if str(exc) else exc!r}") \
                     from None
@@ -126,12 +126,15 @@ class RcssExecutor:
     def evaluator(self, trial: TrialConfig) -> RcssEvaluator:
         """The evaluator playing `trial` rules, connected to every server on first use."""
         if self._evaluate is None or trial != self._trial:
-            from soccer.rcss.evaluate import RcssEvaluator
-
             self._close()
-            self._evaluate, self._trial = RcssEvaluator(self.servers, trial), trial
+            self._evaluate, self._trial = self._new_evaluator(trial), trial
             self._evaluate.connect()
         return self._evaluate
+
+    def _new_evaluator(self, trial: TrialConfig) -> RcssEvaluator:
+        from soccer.rcss.evaluate import RcssEvaluator
+
+        return RcssEvaluator(self.servers, trial)
 
     def map_unordered(self, function: Callable[..., Any], items: Iterable[Any]) -> Iterator[tuple[Any, Any]]:
         """`function(item, evaluator)` for each item (a TrialSpec of rcssserver trials), in order."""

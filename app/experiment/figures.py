@@ -1,5 +1,6 @@
 """The experiment's figures (PNG, matplotlib without pyplot: no display, no global state), in the manner
-of the chapter's Figs. 8-31, drawn from the statistics table alone."""
+of the chapter's Figs. 8-31, drawn from the statistics table, and each trial's best player as the GA
+saw it and re-played on fresh starts (bests.csv). Generation axes tick whole generations only."""
 
 from __future__ import annotations
 
@@ -8,9 +9,10 @@ from pathlib import Path
 
 import numpy as np
 from matplotlib.figure import Figure as MatplotlibFigure
+from matplotlib.ticker import MaxNLocator
 
 from app.experiment.presets import Preset
-from app.experiment.table import StatisticsTable
+from app.experiment.table import BestsTable, StatisticsTable
 
 FIGURES_FOLDER = "figures"
 SIZE_INCHES = (7.5, 4.2)
@@ -42,28 +44,45 @@ class Figure:
     caption: str
 
 
-def write_figures(table: StatisticsTable, preset: Preset, folder: Path) -> list[Figure]:
-    """Every figure of the preset into folder/figures/; their paths relative to folder."""
+def write_figures(table: StatisticsTable, preset: Preset, folder: Path,
+                  bests: BestsTable | None = None) -> list[Figure]:
+    """Every figure of the preset into folder/figures/ (those of bests when there are bests); their paths
+    relative to folder."""
     (folder / FIGURES_FOLDER).mkdir(parents=True, exist_ok=True)
     figures = []
     for kind in preset.figures:
-        title, draw = DRAWERS[kind]
-        figure = MatplotlibFigure(figsize=SIZE_INCHES, dpi=DPI, layout="constrained")
-        axes = figure.subplots()
-        draw(axes, table, preset)
-        chapter = CHAPTER_FIGURES.get((preset.name, kind))
-        caption = f"{preset.title}: {title}" + (f" (chapter Fig. {chapter})" if chapter else "")
-        axes.set_title(caption, fontsize=10)
+        if kind in BEST_DRAWERS and not (bests and bests.settings(preset.name)):
+            continue
+        figure, caption = draw_figure(kind, table, preset, bests)
         relative = Path(FIGURES_FOLDER) / f"{preset.name}-{kind}.png"
         figure.savefig(folder / relative, metadata={"Software": None})
         figures.append(Figure(relative, caption))
     return figures
 
 
+def draw_figure(kind: str, table: StatisticsTable, preset: Preset,
+                bests: BestsTable | None = None) -> tuple[MatplotlibFigure, str]:
+    """One figure of the preset, and its caption."""
+    title, draw = {**DRAWERS, **BEST_DRAWERS}[kind]
+    figure = MatplotlibFigure(figsize=SIZE_INCHES, dpi=DPI, layout="constrained")
+    axes = figure.subplots()
+    draw(axes, bests if kind in BEST_DRAWERS else table, preset)
+    if axes.get_xlabel() == "generation":
+        axes.xaxis.set_major_locator(MaxNLocator(integer=True))
+    chapter = CHAPTER_FIGURES.get((preset.name, kind))
+    caption = f"{preset.title}: {title}" + (f" (chapter Fig. {chapter})" if chapter else "")
+    axes.set_title(caption, fontsize=10)
+    return figure, caption
+
+
 # ---- drawers ---------------------------------------------------------------------------------------
 def _x(table: StatisticsTable, preset: Preset) -> tuple[dict[str, np.ndarray], str]:
-    """Generations, or evaluations when the settings spend them at different rates (population, random)."""
+    """Generations; evaluations when the settings spend them at different rates (population, random);
+    games played when their evaluations play different numbers of games."""
     settings = table.settings(preset.name)
+    games = {s.label: s.games_per_evaluation for s in preset.settings}
+    if len({games.get(s, 1) for s in settings}) > 1:
+        return {s: table.evaluations(preset.name, s) * games.get(s, 1) for s in settings}, "games played"
     rates = {table.evaluations(preset.name, s)[0] for s in settings}
     if len(rates) > 1:
         return {s: table.evaluations(preset.name, s) for s in settings}, "evaluations"
@@ -102,13 +121,16 @@ def _averaged(column: str, ylabel: str):
 
 
 def _goal_histogram(axes, table: StatisticsTable, preset: Preset) -> None:
+    """One bar per generation, centred on it, stacked by goals scored."""
     shares = np.array([np.concatenate([table.curves(preset.name, s, c) for s in table.settings(preset.name)])
                        for c in GOAL_COLUMNS])  # goal class x trials x generations
     mean = np.nanmean(shares, axis=1) * 100
     generations = np.arange(mean.shape[1])
-    width = 0.8 / len(GOAL_COLUMNS)
-    for i, label in enumerate(GOAL_LABELS):
-        axes.bar(generations + (i - (len(GOAL_COLUMNS) - 1) / 2) * width, mean[i], width, label=f"{label} goals")
+    below = np.zeros(mean.shape[1])
+    for share, label in zip(mean, GOAL_LABELS):
+        axes.bar(generations, share, 0.8, bottom=below, align="center", label=f"{label} goals")
+        below += share
+    axes.set_xlim(-0.6, mean.shape[1] - 0.4)
     axes.set_xlabel("generation")
     axes.set_ylabel("% of population (mean over trials)")
     axes.legend(fontsize=7, ncols=3)
@@ -139,6 +161,63 @@ def _gene_pools(axes, table: StatisticsTable, preset: Preset) -> None:
     axes.grid(alpha=0.3)
 
 
+def _best_so_far(axes, table: StatisticsTable, preset: Preset) -> None:
+    """The best fitness found so far, averaged over trials: what a run of restarts ends with."""
+    xs, xlabel = _x(table, preset)
+    for setting in table.settings(preset.name):
+        curves = np.fmin.accumulate(table.curves(preset.name, setting, "best"), axis=1)
+        axes.plot(xs[setting], np.nanmean(curves, axis=0), label=setting)
+    axes.legend(title=preset.varied, fontsize=8)
+    axes.set_xlabel(xlabel)
+    axes.set_ylabel("best fitness so far (lower is better)")
+    axes.grid(alpha=0.3)
+
+
+def _rules_and_bound(axes, table: StatisticsTable, preset: Preset) -> None:
+    """Valid rules per chromosome against their bound: a valid rule takes two genes at least."""
+    for setting in table.settings(preset.name):
+        rules = np.nanmean(table.curves(preset.name, setting, "valid_rules_mean"), axis=0)
+        bound = np.nanmean(table.curves(preset.name, setting, "genes_mean"), axis=0) / 2
+        (line,) = axes.plot(rules, label=f"{setting}: valid rules")
+        axes.plot(bound, linestyle="--", color=line.get_color(), label=f"{setting}: bound (genes / 2)")
+    axes.set_xlabel("generation")
+    axes.set_ylabel("per chromosome (mean over trials)")
+    axes.legend(title=preset.varied, fontsize=7, ncols=2)
+    axes.grid(alpha=0.3)
+
+
+def _premises_per_rule(axes, table: StatisticsTable, preset: Preset) -> None:
+    for setting in table.settings(preset.name):
+        premises = table.curves(preset.name, setting, "premises_mean")
+        rules = table.curves(preset.name, setting, "valid_rules_mean")
+        with np.errstate(divide="ignore", invalid="ignore"):  # a generation without valid rules has no ratio
+            axes.plot(np.nanmean(premises / rules, axis=0), label=setting)
+    axes.set_xlabel("generation")
+    axes.set_ylabel("premises per valid rule (mean over trials)")
+    axes.legend(title=preset.varied, fontsize=8)
+    axes.grid(alpha=0.3)
+
+
+def _true_quality(axes, bests: BestsTable, preset: Preset) -> None:
+    """Each trial's best: the fitness the GA saw (one noisy game, or the mean of the few it survived)
+    beside its mean over the replays, joined per trial."""
+    replays = sorted({int(row["replays"]) for row in bests.rows if row["preset"] == preset.name})
+    for i, setting in enumerate(bests.settings(preset.name)):
+        seen = bests.column(preset.name, setting, "fitness_seen")
+        replayed = bests.column(preset.name, setting, "replay_fitness")
+        x = np.full(len(seen), float(i))
+        for a, b in zip(seen, replayed):
+            axes.plot([i - 0.15, i + 0.15], [a, b], color="0.75", linewidth=0.7)
+        axes.scatter(x - 0.15, seen, facecolors="none", edgecolors="C0", label="as the GA saw it" if i == 0 else None)
+        axes.scatter(x + 0.15, replayed, color="C3",
+                     label=f"re-played on {'/'.join(map(str, replays))} fresh starts" if i == 0 else None)
+    axes.set_xticks(range(len(bests.settings(preset.name))), bests.settings(preset.name))
+    axes.set_xlabel(preset.varied)
+    axes.set_ylabel("fitness of each trial's best (lower is better)")
+    axes.legend(fontsize=8)
+    axes.grid(alpha=0.3, axis="y")
+
+
 # figure kind -> (title, drawer(axes, table, preset))
 DRAWERS = {
     "mean_fitness": ("population average fitness", _fitness("mean", "population average")),
@@ -148,5 +227,12 @@ DRAWERS = {
     "valid_rules": ("average valid rules per chromosome", _averaged("valid_rules_mean", "valid rules per chromosome")),
     "composition": ("population composition", _composition),
     "gene_pools": ("gene pools", _gene_pools),
+    "best_so_far": ("best fitness so far", _best_so_far),
+    "rules_and_bound": ("valid rules per chromosome and their bound", _rules_and_bound),
+    "premises_per_rule": ("premises per valid rule", _premises_per_rule),
 }
-FIGURE_KINDS = tuple(DRAWERS)
+# figure kind -> (title, drawer(axes, bests, preset)): drawn from bests.csv
+BEST_DRAWERS = {
+    "true_quality": ("each trial's best, as the GA saw it and re-played", _true_quality),
+}
+FIGURE_KINDS = (*DRAWERS, *BEST_DRAWERS)

@@ -27,11 +27,14 @@ PLAIN_NAME = re.compile(r"[A-Za-z0-9_\-][A-Za-z0-9_.\-]*")
 
 
 def library_summary(options: "ExperimentOptions", outcome: "ExperimentOutcome") -> dict[str, Any]:
-    """What the store keeps about a finished experiment (the files stay in its folder)."""
+    """What the store keeps about a finished experiment, or replicates of one (the files stay in its
+    folder; a replicates folder has the summary report above the replicates' folders)."""
+    seeds = getattr(outcome.report, "seeds", None)
     return {
         "presets": [p.name for p in outcome.plan.presets],
         "options": options.model_dump(),
-        "trials": len(outcome.plan.specs),
+        **({"seeds": seeds} if seeds is not None else {}),
+        "trials": outcome.trials,
         "verdicts": outcome.report.verdicts(),
         "statistics": STATISTICS_FILE,
         "report": REPORT_HTML,

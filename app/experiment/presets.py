@@ -14,6 +14,16 @@ so experiments switch early stopping off (`EXPERIMENT_TARGET_FITNESS`).
 
 A setting is identified by its full configuration, not by its preset: the same configuration in two
 presets (Table 2 is the control of four of them) is one set of trials, run once and shared.
+
+Beyond the chapter (`all-plus` adds them to `all`): the experiments its text leaves for future work.
+`uniform-crossover` (6.4.4) adds a rule-wise uniform crossover (ga/crossover.py) to the crossover
+comparison; `rule-pressure` (6.4.1, 6.4.5) follows rules per chromosome and premises per rule for 100
+generations at maximum lengths 25, 64 and 128, to tell "more rules" from "shorter rules" and show what
+happens where rules reach their bound (half the chromosome length); `games-per-evaluation` (5.2) scores
+each evaluation on 1 or on 5 games at equal games played (the 1-game run gets 5x the generations);
+`restarts` (6.4.4, after Luke) sets 4 independent runs of 25 generations against one of 100 at equal
+evaluations. The chapter's later control (elitist selection) is theirs, but for `games-per-evaluation`,
+whose question the chapter raised about its Table 2 trials.
 """
 
 from __future__ import annotations
@@ -33,7 +43,9 @@ if TYPE_CHECKING:  # soccer.rcss.trial loads the player's compiled skills: impor
     from soccer.rcss.trial import TrialConfig
 
 ALL = "all"
+ALL_PLUS = "all-plus"
 ROBOCUP = "robocup"
+TRANSFER = "transfer"  # app/experiment/transfer.py: named here, where `experiment --help` reads it without numpy
 EXPERIMENT_TARGET_FITNESS = 0.0  # fitness is always > 0, so no trial stops early (see above)
 
 TABLE_2 = GAConfig()  # the chapter's control values are GAConfig's defaults
@@ -42,6 +54,7 @@ CHAPTER_GENERATIONS = TABLE_2.max_generations
 LATER_CONTROL = {"selection": "elitist"}  # section 4: used after the selection comparison
 
 DEFAULT_TRIALS = 10
+TRANSFER_TRIALS = 10  # a seeded rcssserver run of Table 2 takes about 20 minutes on a 2-core machine
 INITIAL_TRIALS = 20
 MAX_LENGTHS = (25, 50, 64, 75, 100)
 POPULATION_SIZES = (50, 100, 200, 500)
@@ -51,6 +64,11 @@ CROSSOVERS = ("one-point", "two-point")
 MUTATION_RATES = (0.05, 0.10, 0.15, 0.20, 0.25)
 LONG_GENERATIONS = 100
 RANDOM_SEARCH_POPULATION = 500  # the chapter: 40 "generations" of 500 = the GA's 20,000 evaluations
+BEYOND_CROSSOVERS = ("one-point", "two-point", "uniform")
+RULE_PRESSURE_LENGTHS = (25, 64, 128)  # the chapter's smallest maximum (rules reach their bound), Table 2's, twice it
+GAMES_PER_EVALUATION = (1, 5)  # the chapter, 5.2: "the average of five games"
+RESTARTS = 4  # runs of Table 2's 25 generations, against one of LONG_GENERATIONS (Luke's "many shorter experiments")
+DEFAULT_REPLAYS = 100  # fresh starts each trial's best is re-played on: its true quality
 
 
 class ExperimentOptions(BaseModel):
@@ -72,6 +90,8 @@ class ExperimentOptions(BaseModel):
                                 description="every tick the player's body pushes the ball counts as a kick")
     roulette_weighting: RouletteWeighting = Field(GAConfig.model_fields["roulette_weighting"].default,
                                                   description="roulette weight: 1 - fitness or 1 / fitness")
+    replays: int = Field(DEFAULT_REPLAYS, ge=1, le=10_000,
+                         description="fresh starts each trial's best is re-played on (its true quality)")
 
     @property
     def population_scale(self) -> float:
@@ -92,17 +112,41 @@ class ExperimentOptions(BaseModel):
                           count_touches=self.count_touches)
 
     def trial(self) -> TrialConfig:
-        """The rcssserver trials: the chapter's (1200 cycles) unless max_ticks was given, with the skill set
-        (noise is the server's own, and so is the count of kicks)."""
+        """The rcssserver trials: the chapter's (1200 cycles, the server's noise) unless max_ticks or noise was
+        given, with the skill set (the server counts the kicks)."""
         from soccer.rcss.trial import TrialConfig
 
-        length = {"max_ticks": self.max_ticks} if "max_ticks" in self.model_fields_set else {}
-        return TrialConfig(skills=self.skills, **length)
+        given = {name: getattr(self, name) for name in ("max_ticks", "noise") if name in self.model_fields_set}
+        return TrialConfig(skills=self.skills, **given)
 
     def identity(self) -> dict[str, Any]:
         """What makes two experiment folders' finished trials interchangeable (trials count excluded:
         more trials only add files)."""
         return self.model_dump(exclude={"trials"})
+
+    def size(self, robocup: bool = False) -> RunSize:
+        """Table 2's control at this run's size (games: server cycles for robocup)."""
+        return RunSize(self.population, self.generations, self.trial().max_ticks if robocup else self.max_ticks)
+
+
+@dataclass(frozen=True)
+class RunSize:
+    """The size of a run's Table 2 control: what a shrunk experiment shrinks."""
+
+    population: int
+    generations: int
+    max_ticks: int  # a game's length (server cycles on rcssserver)
+
+    def shortfalls(self, needed: "RunSize") -> list[str]:
+        """What this size lacks against `needed`, e.g. ["population 200 (here 20)"]."""
+        return [f"{what} {need} (here {have})"
+                for what, have, need in (("population", self.population, needed.population),
+                                         ("generations", self.generations, needed.generations),
+                                         ("game length", self.max_ticks, needed.max_ticks))
+                if have < need]
+
+
+CHAPTER_SIZE = RunSize(CHAPTER_POPULATION, CHAPTER_GENERATIONS, GameConfig().max_ticks)
 
 
 @dataclass(frozen=True)
@@ -113,6 +157,8 @@ class Setting:
     algorithm: str  # ga.state.GA or RANDOM_SEARCH
     ga: GAConfig  # seed 0: each trial gets its own
     trial: TrialConfig | None = None  # rcssserver trials; None: SimpleSoccer games (the options' game)
+    games_per_evaluation: int = 1  # SimpleSoccer games averaged into one evaluation
+    restarts: int = 1  # independent runs of `ga` in one trial; its best is the best of their bests
 
     @property
     def key(self) -> str:
@@ -120,13 +166,24 @@ class Setting:
         identity: list[Any] = [self.algorithm, self.ga.model_dump(exclude={"seed", "workers"})]
         if self.trial is not None:
             identity.append(self.trial.model_dump())
+        # only when set, so the chapter's settings keep the keys (and trial files) they always had
+        identity += [{"games_per_evaluation": self.games_per_evaluation}] if self.games_per_evaluation != 1 else []
+        identity += [{"restarts": self.restarts}] if self.restarts != 1 else []
         digest = hashlib.sha256(json.dumps(identity, sort_keys=True).encode()).hexdigest()
         where = "-rcss" if self.trial is not None else ""
-        return f"{self.algorithm}{where}-p{self.ga.population_size}-g{self.ga.max_generations}-{digest[:10]}"
+        runs = f"x{self.restarts}" if self.restarts != 1 else ""
+        games = f"-k{self.games_per_evaluation}" if self.games_per_evaluation != 1 else ""
+        return (f"{self.algorithm}{where}-p{self.ga.population_size}-g{self.ga.max_generations}{runs}{games}-"
+                f"{digest[:10]}")
 
     @property
     def evaluations(self) -> int:
-        return self.ga.population_size * self.ga.max_generations
+        return self.ga.population_size * self.ga.max_generations * self.restarts
+
+    @property
+    def games(self) -> int:
+        """Games a trial plays in its runs (its best's replays aside): what it costs."""
+        return self.evaluations * self.games_per_evaluation
 
 
 @dataclass(frozen=True)
@@ -138,6 +195,8 @@ class Preset:
     trials: int
     per_trial: bool = False  # the chapter shows each trial's curve (Figs. 11-12, 26-27)
     figures: tuple[str, ...] = field(default=())  # figure kinds (app.experiment.figures.FIGURE_KINDS)
+    size: RunSize = CHAPTER_SIZE  # this run's Table 2 control
+    chapter_size: RunSize = CHAPTER_SIZE  # the chapter's: the size its findings were read at
 
 
 def _config(options: ExperimentOptions, base: dict[str, Any], **changes: Any) -> GAConfig:
@@ -178,6 +237,25 @@ def _preset_settings(name: str, options: ExperimentOptions) -> tuple[Setting, ..
         generations = max(1, round(ga.evaluations / population))
         search = _config(options, {}, population_size=population, max_generations=generations)
         return (Setting("GA", GA, ga.ga), Setting("random search", RANDOM_SEARCH, search))
+    if name == "uniform-crossover":
+        return tuple(Setting(method, GA, _config(options, LATER_CONTROL, crossover=method))
+                     for method in BEYOND_CROSSOVERS)
+    if name == "rule-pressure":
+        generations = options.scaled_generations(LONG_GENERATIONS)
+        return tuple(Setting(str(length), GA, _config(options, LATER_CONTROL, max_generations=generations,
+                                                      max_length=length))
+                     for length in RULE_PRESSURE_LENGTHS)
+    if name == "games-per-evaluation":  # equal games played: the 1-game run has 5x the generations
+        most = max(GAMES_PER_EVALUATION)
+        return tuple(Setting(f"{games} game{'s' if games > 1 else ''}", GA,
+                             _config(options, {}, max_generations=options.scaled_generations(
+                                 CHAPTER_GENERATIONS * most // games)), games_per_evaluation=games)
+                     for games in GAMES_PER_EVALUATION)
+    if name == "restarts":  # equal evaluations: RESTARTS x G generations against one run of RESTARTS x G
+        short = _config(options, LATER_CONTROL, max_generations=options.scaled_generations(CHAPTER_GENERATIONS))
+        long = _long_setting(options)
+        return (Setting(f"{RESTARTS} x {short.max_generations} generations", GA, short, restarts=RESTARTS),
+                Setting(f"1 x {long.ga.max_generations} generations", GA, long.ga))
     raise KeyError(name)
 
 
@@ -202,9 +280,19 @@ PRESET_TABLE: dict[str, tuple[str, str, int, bool, tuple[str, ...]]] = {
     "random": ("GA against random search", "search", DEFAULT_TRIALS, False, ("mean_fitness", "best_fitness")),
     ROBOCUP: ("RoboCup initial trials (Table 2 on rcssserver)", "trial", INITIAL_TRIALS, True,
               ("mean_fitness", "best_fitness", "goal_histogram")),
+    # beyond the chapter: its future work
+    "uniform-crossover": ("Uniform crossover", "crossover", DEFAULT_TRIALS, False,
+                          ("mean_fitness", "best_fitness")),
+    "rule-pressure": ("Rules per chromosome at their bound (100 generations)", "max length", DEFAULT_TRIALS, False,
+                      ("rules_and_bound", "premises_per_rule", "chromosome_length")),
+    "games-per-evaluation": ("Games per evaluation (equal games played)", "games per evaluation", DEFAULT_TRIALS,
+                             False, ("mean_fitness", "best_fitness")),
+    "restarts": ("Restarts against one long run (equal evaluations)", "runs", DEFAULT_TRIALS, False,
+                 ("mean_fitness", "best_so_far")),
 }
-PRESET_NAMES: tuple[str, ...] = tuple(name for name in PRESET_TABLE if name != ROBOCUP)  # SimpleSoccer's: `all`
-CHOICES: tuple[str, ...] = (*PRESET_NAMES, ROBOCUP, ALL)
+BEYOND_NAMES: tuple[str, ...] = ("uniform-crossover", "rule-pressure", "games-per-evaluation", "restarts")
+PRESET_NAMES: tuple[str, ...] = tuple(name for name in PRESET_TABLE if name not in (ROBOCUP, *BEYOND_NAMES))  # `all`
+CHOICES: tuple[str, ...] = (*PRESET_NAMES, ROBOCUP, *BEYOND_NAMES, ALL, ALL_PLUS)
 
 
 def preset(name: str, options: ExperimentOptions) -> Preset:
@@ -212,12 +300,17 @@ def preset(name: str, options: ExperimentOptions) -> Preset:
     if name not in PRESET_TABLE:
         raise KeyError(f"unknown preset {name!r}; choose one of {', '.join(CHOICES)}")
     title, varied, trials, per_trial, figures = PRESET_TABLE[name]
-    return Preset(name, title, varied, _preset_settings(name, options), options.trials or trials, per_trial, figures)
+    robocup = name == ROBOCUP
+    chapter = ExperimentOptions().size(robocup)
+    return Preset(name, title, varied, _preset_settings(name, options), options.trials or trials, per_trial,
+                  (*figures, "true_quality"), options.size(robocup), chapter)
 
 
 def presets(name: str, options: ExperimentOptions) -> list[Preset]:
-    """`all` expands to every SimpleSoccer preset, in the chapter's order."""
-    return [preset(n, options) for n in (PRESET_NAMES if name == ALL else (name,))]
+    """`all` expands to every SimpleSoccer preset of the chapter, in its order; `all-plus` adds the ones
+    beyond it."""
+    names = {ALL: PRESET_NAMES, ALL_PLUS: (*PRESET_NAMES, *BEYOND_NAMES)}.get(name, (name,))
+    return [preset(n, options) for n in names]
 
 
 def trial_seed(experiment_seed: int, setting: Setting, trial: int) -> int:

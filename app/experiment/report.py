@@ -9,16 +9,24 @@ trials are the independent samples):
 - a claimed change within runs (first vs last generation of the same trial): Wilcoxon signed-rank, one-sided;
 - a claimed trend along the run: Spearman rank correlation of the trial-averaged curve with the generation;
 - a claimed difference in consistency: Brown-Forsythe (Levene's test about the median).
-"No difference" claims agree when the test finds none; with fewer than MIN_TRIALS trials per setting
-the verdict is "inconclusive": too few trials to tell absence of evidence from evidence of absence.
-Claims about a level (e.g. "plateaus around 0.75") have no test; the tolerance used is stated.
+"No difference" claims agree when the test finds none. Claims about a level (e.g. "plateaus around 0.75")
+have no test; the tolerance used is stated.
+
+A shrunk run is judged only where it can tell: with fewer than MIN_TRIALS trials per setting (below it
+the rank tests cannot reach p < ALPHA, and "no difference" is absence of evidence), or a smaller
+population, fewer generations or shorter games than the chapter's Table 2 control (its findings
+describe runs of that size), a finding's verdict is "too small to judge", with the size it needs; what
+was measured is still shown. The report's header states the run's size against the chapter's.
+
+The questions the chapter leaves open (its future work) are answered in "Beyond the chapter"
+(app/experiment/beyond.py), under the same rules.
 """
 
 from __future__ import annotations
 
 import base64
 import html
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable
 
@@ -26,13 +34,15 @@ import numpy as np
 from scipy import stats
 
 from app.experiment.figures import Figure, write_figures
-from app.experiment.presets import ROBOCUP, Preset
-from app.experiment.table import StatisticsTable
+from app.experiment.presets import BEYOND_NAMES, ROBOCUP, Preset
+from app.experiment.table import BestsTable, StatisticsTable
 
 ALPHA = 0.05
-MIN_TRIALS = 5
+MIN_TRIALS = 5  # the fewest per setting at which the rank tests used can reach p < ALPHA
 VALUE_DECIMALS = 10  # per-trial values are compared at this precision (see _settled)
 AGREES, DISAGREES, INCONCLUSIVE, NOT_RUN = "agrees", "disagrees", "inconclusive", "not run"
+TOO_SMALL = "too small to judge"
+VERDICTS = (AGREES, DISAGREES, INCONCLUSIVE, TOO_SMALL, NOT_RUN)
 GOAL_SCORING = 0.5  # fitness of one goal: at or below it a player scores (Table 1)
 PLATEAU_LEVEL, PLATEAU_TOLERANCE = 0.75, 0.10  # 6.2: average fitness plateaus "around 0.75"
 LENGTH_SHARE, LENGTH_TOLERANCE = 2 / 3, 0.10  # 6.4.1, 6.4.5: chromosome length settles at "about 2/3" of the maximum
@@ -60,6 +70,14 @@ class Assessment:
     measured: str
     verdict: str
     test: str
+    needs: str = ""  # for TOO_SMALL: the size the finding needs, against this run's
+
+    @property
+    def shown(self) -> str:
+        """The verdict as the report prints it."""
+        if self.verdict == TOO_SMALL:
+            return f"{TOO_SMALL} (needs {self.needs})"
+        return self.verdict.upper() if self.verdict == DISAGREES else self.verdict
 
 
 @dataclass(frozen=True)
@@ -75,8 +93,10 @@ class Report:
     findings: list[tuple[Finding, Assessment]]
     figures: list[Figure]
 
+    answers: list = field(default_factory=list)  # (app.experiment.beyond.Question, Assessment)
+
     def verdicts(self) -> dict[str, int]:
-        counts = {v: 0 for v in (AGREES, DISAGREES, INCONCLUSIVE, NOT_RUN)}
+        counts = {v: 0 for v in VERDICTS}
         for _, assessment in self.findings:
             counts[assessment.verdict] += 1
         return counts
@@ -105,11 +125,6 @@ def _medians(groups: dict[str, np.ndarray]) -> str:
     return "; ".join(f"{setting}: {np.median(v):.3f}" for setting, v in groups.items()) + " (median over trials)"
 
 
-def _few(groups: dict[str, np.ndarray]) -> int | None:
-    smallest = min(len(v) for v in groups.values())
-    return smallest if smallest < MIN_TRIALS else None
-
-
 def _p_between(groups: dict[str, np.ndarray], alternative: str = "two-sided") -> tuple[float, str]:
     samples = list(groups.values())
     name = "Mann-Whitney U" if len(samples) == 2 else "Kruskal-Wallis H"
@@ -121,27 +136,28 @@ def _p_between(groups: dict[str, np.ndarray], alternative: str = "two-sided") ->
     return float(stats.kruskal(*samples).pvalue), name
 
 
-def _too_few(measured: str, trials: int) -> Assessment:
-    return Assessment(measured, INCONCLUSIVE, f"too few trials ({trials} per setting; the test needs {MIN_TRIALS})")
+def too_small(table: StatisticsTable, preset: Preset) -> str:
+    """What the run lacks to judge the preset's findings ("" when nothing): MIN_TRIALS trials per
+    setting, and the chapter's population, generations and game length."""
+    trials = min((len(table.trials(preset.name, s)) for s in table.settings(preset.name)), default=0)
+    lacking = [f"{MIN_TRIALS} trials per setting (here {trials})"] if trials < MIN_TRIALS else []
+    return ", ".join(lacking + preset.size.shortfalls(preset.chapter_size))
 
 
 # ---- claim shapes -----------------------------------------------------------------------------------
 def no_difference(*measures: tuple[str, Callable]) -> Callable[[StatisticsTable, Preset], Assessment]:
     """The chapter claims the varied parameter makes no significant difference to each measure."""
     def assess(table: StatisticsTable, preset: Preset) -> Assessment:
-        measured, tests, different, few = [], [], False, None
+        measured, tests, different = [], [], False
         for name, values in measures:
             groups = _groups(table, preset, values)
             p, test = _p_between(groups)
             measured.append(f"{name}: {_medians(groups)}")
             tests.append(f"{test} on {name}, p = {p:.3g}")
             different |= p < ALPHA
-            few = few or _few(groups)
         text = " | ".join(measured)
         if different:
             return Assessment(text, DISAGREES, "; ".join(tests) + f": a significant difference (p < {ALPHA})")
-        if few:
-            return _too_few(text, few)
         return Assessment(text, AGREES, "; ".join(tests) + f": no significant difference (p >= {ALPHA})")
     return assess
 
@@ -158,7 +174,8 @@ def improves(column: str | tuple[str, ...], what: str, increase: bool) -> Callab
             start, end = curves[:, 0], np.array([row[~np.isnan(row)][-1] for row in curves])
             change = end - start if increase else start - end
             try:
-                p = float(stats.wilcoxon(change, alternative="greater").pvalue)
+                with np.errstate(divide="ignore", invalid="ignore"):  # a handful of trials: no normal approximation
+                    p = float(stats.wilcoxon(change, alternative="greater").pvalue)
             except ValueError:  # no change at all
                 p = 1.0
             measured.append(f"{setting}: {np.median(start):.3f} -> {np.median(end):.3f}")
@@ -181,7 +198,8 @@ def trend(column: str, what: str, rising: bool, from_share: float = 0.0) -> Call
         curve = np.nanmean(table.curves(preset.name, table.settings(preset.name)[0], column), axis=0)
         part = curve[int(from_share * len(curve)):]
         if len(part) < MIN_TRIALS:
-            return Assessment(f"{what}: {len(part)} generations", INCONCLUSIVE, "too few generations for a trend")
+            return Assessment(f"{what}: {len(part)} generations", TOO_SMALL, "Spearman rank correlation",
+                              f"{MIN_TRIALS} generations in the part tested (here {len(part)})")
         if np.ptp(part) == 0 or np.isnan(part).any():  # a flat (or gapped) curve has no rank correlation: no trend
             rho, p = 0.0, 1.0
         else:
@@ -270,14 +288,8 @@ def _roulette_unstable(table: StatisticsTable, preset: Preset) -> Assessment:
     others = np.concatenate([v for s, v in groups.items() if s != "roulette"])
     p = float(stats.mannwhitneyu(groups["roulette"], others, alternative="greater").pvalue)
     measured = "mean |change of best per generation|, second half: " + _medians(groups)
-    few = _few(groups)
-    if p < ALPHA:
-        verdict = AGREES
-    elif few:
-        return _too_few(measured, few)
-    else:
-        verdict = DISAGREES
-    return Assessment(measured, verdict, f"Mann-Whitney U, one-sided, roulette vs the others, p = {p:.3g}")
+    return Assessment(measured, AGREES if p < ALPHA else DISAGREES,
+                      f"Mann-Whitney U, one-sided, roulette vs the others, p = {p:.3g}")
 
 
 def _elitist_like_tournament(table: StatisticsTable, preset: Preset) -> Assessment:
@@ -287,8 +299,7 @@ def _elitist_like_tournament(table: StatisticsTable, preset: Preset) -> Assessme
     test = f"{test}, two-sided, p = {p:.3g}"
     if p < ALPHA:
         return Assessment(measured, DISAGREES, test + f": a significant difference (p < {ALPHA})")
-    few = _few(groups)
-    return _too_few(measured, few) if few else Assessment(measured, AGREES, test + ": no significant difference")
+    return Assessment(measured, AGREES, test + ": no significant difference")
 
 
 def _best_mutation_rate(table: StatisticsTable, preset: Preset) -> Assessment:
@@ -339,9 +350,6 @@ def _ga_better(column_values, what: str) -> Callable[[StatisticsTable, Preset], 
         measured = f"{what}: {_medians(groups)}"
         if p < ALPHA:
             return Assessment(measured, AGREES, f"Mann-Whitney U, one-sided (GA lower), p = {p:.3g}")
-        few = _few(groups)
-        if few and np.median(groups[ga]) < np.median(groups[search]):
-            return _too_few(measured, few)
         return Assessment(measured, DISAGREES, f"Mann-Whitney U, one-sided (GA lower), p = {p:.3g}: "
                                                f"the GA is not significantly better than random search")
     return assess
@@ -445,20 +453,32 @@ def _study(preset_name: str) -> str:
 
 def assess_findings(table: StatisticsTable, presets: list[Preset]) -> list[tuple[Finding, Assessment]]:
     """Every finding of the study the presets belong to, assessed from the table ("not run" when its
-    preset is not in it); the other study's findings are left out (`experiment all` is the whole
-    SimpleSoccer study, `experiment robocup` the RoboCup trials)."""
+    preset is not in it; "too small to judge" when the run is smaller than it needs); the other study's
+    findings are left out (`experiment all` is the whole SimpleSoccer study, `experiment robocup` the
+    RoboCup trials). Presets beyond the chapter alone have no findings of it."""
     by_name = {p.name: p for p in presets}
-    studies = {_study(p.name) for p in presets}
+    studies = {_study(p.name) for p in presets if p.name not in BEYOND_NAMES}
     present = set(table.presets())
     results = []
     for finding in FINDINGS:
         if _study(finding.preset) not in studies:
             continue
         if finding.preset in present and finding.preset in by_name:
-            results.append((finding, finding.assess(table, by_name[finding.preset])))
+            results.append((finding, judged(finding.assess, table, by_name[finding.preset])))
         else:
             results.append((finding, Assessment("-", NOT_RUN, "-")))
     return results
+
+
+def judged(assess: Callable[[StatisticsTable, Preset], Assessment], table: StatisticsTable,
+           preset: Preset) -> Assessment:
+    """The assessment, or "too small to judge" (what was measured kept) when the run is smaller than
+    the finding needs."""
+    assessment = assess(table, preset)
+    lacking = too_small(table, preset)
+    if lacking and assessment.verdict != TOO_SMALL:
+        return Assessment(assessment.measured, TOO_SMALL, assessment.test, lacking)
+    return assessment
 
 
 # ---- writing --------------------------------------------------------------------------------------
@@ -466,57 +486,109 @@ METHOD = (f"Each verdict is computed from statistics.csv. Tests use one value pe
           f"level {ALPHA}: Kruskal-Wallis H (3+ settings) or Mann-Whitney U (2 settings) for differences between "
           f"settings; Wilcoxon signed-rank for a change from the first to the last generation of the same trials; "
           f"Spearman rank correlation for a trend along the run; Brown-Forsythe for a difference in consistency. "
-          f"A claimed absence of difference agrees when no significant difference is found, and is inconclusive "
-          f"with fewer than {MIN_TRIALS} trials per setting. Claims about a level name their tolerance. Each "
+          f"A claimed absence of difference agrees when no significant difference is found. A run with fewer "
+          f"than {MIN_TRIALS} trials per setting, or smaller than the chapter's Table 2 control (population, "
+          f"generations, game length), is too small to judge: such verdicts say the size they need. Claims about "
+          f"a level name their tolerance. Each "
           f"setting's table counts the trials whose population never learned to kick (final average at or above "
           f"{NEVER_KICKING}) and those taken over by goal scorers (at or below {SCORERS_SPREAD}): the two ways a "
           f"run leaves the chapter's plateau around {PLATEAU_LEVEL}, and the measured reason behind most "
           f"disagreements.")
 
 
-def write_report(table: StatisticsTable, presets: list[Preset], folder: Path) -> Report:
-    """Figures, report.md and report.html into `folder`."""
+def write_report(table: StatisticsTable, presets: list[Preset], folder: Path,
+                 bests: BestsTable | None = None) -> Report:
+    """Figures, report.md and report.html into `folder`; `bests` (bests.csv) adds each trial's best as
+    the GA saw it and re-played, and the answers beyond the chapter."""
+    from app.experiment.beyond import assess_questions
+
+    bests = bests or BestsTable([])
     present = [p for p in presets if p.name in table.presets()]
-    figures = {p.name: write_figures(table, p, folder) for p in present}
-    report = Report(assess_findings(table, presets), [f for p in present for f in figures[p.name]])
-    blocks = _blocks(table, present, figures, report)
+    figures = {p.name: write_figures(table, p, folder, bests) for p in present}
+    report = Report(assess_findings(table, presets), [f for p in present for f in figures[p.name]],
+                    assess_questions(table, bests, present))
+    blocks = _blocks(table, bests, present, figures, report)
     (folder / REPORT_MD).write_text(_markdown(blocks))
     (folder / REPORT_HTML).write_text(_html(blocks, folder))
     return report
 
 
-def _blocks(table: StatisticsTable, presets: list[Preset], figures: dict[str, list[Figure]], report: Report) -> list:
+def run_size(table: StatisticsTable, bests: BestsTable, presets: list[Preset]) -> str:
+    """The run's size against the chapter's, for the report's header."""
+    if not presets:
+        return "Nothing run."
+    size, chapter = presets[0].size, presets[0].chapter_size
+    trials = sorted({len(table.trials(p.name, s)) for p in presets for s in table.settings(p.name)})
+    replays = sorted({int(row["replays"]) for row in bests.rows})
+    trials_text = str(trials[0]) if len(trials) == 1 else f"{trials[0]}-{trials[-1]}"
+    text = (f"Size: Table 2's control at population {size.population}, {size.generations} generations, games of "
+            f"{size.max_ticks} ticks (the chapter's: {chapter.population}, {chapter.generations}, "
+            f"{chapter.max_ticks}); {trials_text} trials per setting (the chapter's: 20 for its initial trials, "
+            f"10 otherwise)")
+    if replays:
+        text += f"; each trial's best re-played on {', '.join(map(str, replays))} fresh starts"
+    lacking = [too_small(table, p) for p in presets]
+    if any(lacking):
+        text += (f". Smaller than the chapter's ({next(filter(None, lacking))}): findings it cannot tell are "
+                 f"'{TOO_SMALL}', with the size they need")
+    return text + "."
+
+
+def _blocks(table: StatisticsTable, bests: BestsTable, presets: list[Preset], figures: dict[str, list[Figure]],
+            report: Report) -> list:
     counts = report.verdicts()
     blocks: list = [("h1", "soccer-lab: the chapter's experiments"),
-                    ("p", "Verdicts: " + ", ".join(f"{n} {v}" for v, n in counts.items() if n)),
+                    ("p", run_size(table, bests, presets)),
+                    ("p", "Verdicts: " + (", ".join(f"{n} {v}" for v, n in counts.items() if n) or "none")),
                     ("p", METHOD)]
-    for preset in presets:
+    chapter = [p for p in presets if p.name not in BEYOND_NAMES]
+    beyond = [p for p in presets if p.name in BEYOND_NAMES]
+    for preset in chapter:
         blocks.append(("h2", f"{preset.title} ({preset.name})"))
-        rows = []
-        for setting in table.settings(preset.name):
-            trials = len(table.trials(preset.name, setting))
-            rows.append([setting, str(trials), str(table.curves(preset.name, setting, "generation").shape[1]),
-                         str(int(table.evaluations(preset.name, setting)[-1])),
-                         f"{np.median(table.final(preset.name, setting, 'mean')):.3f}",
-                         f"{np.median(table.final(preset.name, setting, 'best')):.3f}",
-                         f"{np.median(table.best_so_far(preset.name, setting)):.3f}",
-                         *_outcomes(table.final(preset.name, setting, "mean"))])
-        blocks.append(("table", [preset.varied, "trials", "generations", "evaluations", "final average (median)",
-                                 "final best (median)", "run's best (median)",
-                                 f"trials where kicking never spread (final average >= {NEVER_KICKING})",
-                                 f"trials taken over by goal scorers (final average <= {SCORERS_SPREAD})"], rows))
-        blocks.extend(("figure", f.path, f.caption) for f in figures[preset.name])
+        blocks += _preset_blocks(table, bests, preset, figures[preset.name])
         findings = [(f, a) for f, a in report.findings if f.preset == preset.name]
         if findings:
             blocks.append(("h3", "Findings"))
             blocks.append(("table", ["chapter", "claim", "measured here", "verdict", "test"],
-                           [[f.where, f.claim, a.measured, a.verdict.upper() if a.verdict == DISAGREES else a.verdict,
-                             a.test] for f, a in findings]))
+                           [[f.where, f.claim, a.measured, a.shown, a.test] for f, a in findings]))
+    if beyond:
+        from app.experiment.beyond import BEYOND_INTRODUCTION
+
+        blocks += [("h2", "Beyond the chapter"), ("p", BEYOND_INTRODUCTION)]
+        for preset in beyond:
+            blocks.append(("h3", f"{preset.title} ({preset.name})"))
+            blocks += _preset_blocks(table, bests, preset, figures[preset.name])
+            answers = [(q, a) for q, a in report.answers if q.preset == preset.name]
+            blocks.append(("table", ["chapter", "question", "answer here", "measured here", "test"],
+                           [[q.where, q.question, a.shown, a.measured, a.test] for q, a in answers]))
     skipped = [f for f, a in report.findings if a.verdict == NOT_RUN]
     if skipped:
         blocks.append(("h2", "Findings not assessed (their preset was not run)"))
         blocks.append(("table", ["preset", "chapter", "claim"], [[f.preset, f.where, f.claim] for f in skipped]))
     return blocks
+
+
+def _preset_blocks(table: StatisticsTable, bests: BestsTable, preset: Preset, figures: list[Figure]) -> list:
+    """The preset's settings table (with its trials' bests, re-played, when known) and its figures."""
+    replays = {int(row["replays"]) for row in bests.rows}
+    rows = []
+    for setting in table.settings(preset.name):
+        trials = len(table.trials(preset.name, setting))
+        row = [setting, str(trials), str(table.curves(preset.name, setting, "generation").shape[1]),
+               str(int(table.evaluations(preset.name, setting)[-1])),
+               f"{np.median(table.final(preset.name, setting, 'mean')):.3f}",
+               f"{np.median(table.final(preset.name, setting, 'best')):.3f}",
+               f"{np.median(table.best_so_far(preset.name, setting)):.3f}"]
+        if replays:
+            quality = bests.column(preset.name, setting, "replay_fitness")
+            row.append(f"{np.median(quality):.3f}" if len(quality) else "-")
+        rows.append(row + _outcomes(table.final(preset.name, setting, "mean")))
+    quality = [f"its best re-played on {'/'.join(map(str, sorted(replays)))} fresh starts (median)"] if replays else []
+    blocks: list = [("table", [preset.varied, "trials", "generations", "evaluations", "final average (median)",
+                               "final best (median)", "run's best (median)", *quality,
+                               f"trials where kicking never spread (final average >= {NEVER_KICKING})",
+                               f"trials taken over by goal scorers (final average <= {SCORERS_SPREAD})"], rows)]
+    return blocks + [("figure", f.path, f.caption) for f in figures]
 
 
 def _outcomes(final_means: np.ndarray) -> list[str]:

@@ -1,6 +1,14 @@
 """Running an experiment: plan the trials, run the unfinished ones on an executor, write each finished
-trial atomically to trials/<setting key>-<trial>.csv (with its rerun recording beside it), then
-assemble statistics.csv, the figures and the report.
+trial atomically to trials/<setting key>-<trial>.csv (with its rerun recording and its best player,
+.best.json, beside it), then assemble statistics.csv, bests.csv, the figures and the report.
+
+A trial's best player (the lowest running mean it saw: one noisy game, or the mean of the few games it
+survived) is re-played on `replays` fresh starts when the trial ends: its true quality, in bests.csv
+beside the fitness the GA saw. A trial of several restarts runs its GA that many times (seeds derived
+from the trial's), its statistics one run after another, its best the best of their bests.
+
+Every invocation appends a line to runs.jsonl (when it started, its wall time, the trials it ran and
+skipped, the load average before and after): a resumed experiment's wall time is the sum of its lines.
 
 Resuming is running again into the same folder: finished trial files are read, not recomputed. The
 folder's manifest.json records the options that fix the trials' results; another experiment with
@@ -13,14 +21,18 @@ from __future__ import annotations
 
 import csv
 import json
+import os
 import time
 from dataclasses import dataclass, replace
+from datetime import datetime, timezone
 from pathlib import Path
-from typing import Any, Protocol
+from typing import Any, Iterable, Protocol
+
+import numpy as np
 
 from app.experiment.presets import ExperimentOptions, Preset, Setting, presets, trial_seed
-from app.experiment.table import ALGORITHM, PRESET, SEED, SETTING, TRIAL, StatisticsTable
-from ga.config import GAConfig
+from app.experiment.table import ALGORITHM, PRESET, SEED, SETTING, TRIAL, BestsTable, StatisticsTable
+from ga.config import SEED_BOUND, GAConfig
 from ga.evaluation import Evaluator
 from ga.state import GA
 from soccer.config import GameConfig
@@ -28,6 +40,10 @@ from soccer.config import GameConfig
 MANIFEST = "manifest.json"
 TRIALS_FOLDER = "trials"
 STATISTICS_FILE = "statistics.csv"
+BESTS_FILE = "bests.csv"
+RUNS_LOG = "runs.jsonl"
+OPTIONS_ADDED_SINCE = {"replays"}  # a folder from before them holds trials all of whose other options match
+RESTART_KEY, REPLAY_KEY = 1, 2  # SeedSequence spawn keys: a restart's seed, the replays' seeds
 
 
 class ExperimentError(ValueError):
@@ -41,7 +57,8 @@ class TrialSpec:
     setting: Setting
     trial: int
     seed: int
-    game: GameConfig
+    game: GameConfig  # the setting's games (games per evaluation included)
+    replays: int = 1  # fresh starts the trial's best is re-played on
     checkpoint: Path | None = None  # where the GA checkpoints each generation (trials on rcssserver)
 
     @property
@@ -52,22 +69,74 @@ class TrialSpec:
     def config(self) -> GAConfig:
         return self.setting.ga.model_copy(update={"seed": self.seed})
 
+    def configs(self) -> list[GAConfig]:
+        """One per restart: the trial's seed, then seeds derived from it."""
+        seeds = [self.seed, *derived_seeds(self.seed, RESTART_KEY, self.setting.restarts - 1)]
+        return [self.setting.ga.model_copy(update={"seed": seed}) for seed in seeds]
 
-def run_trial(spec: TrialSpec, evaluate: Evaluator | None = None) -> list[dict[str, Any]]:
-    """One whole GA (or random search) run; its statistics rows. Runs in a worker process or Ray task
-    with SimpleSoccer games, or with `evaluate` (trials on rcssservers) in this process; continues from
-    the spec's checkpoint when there is one."""
+    def replay_seeds(self) -> list[int]:
+        return derived_seeds(self.seed, REPLAY_KEY, self.replays)
+
+
+def derived_seeds(seed: int, key: int, count: int) -> list[int]:
+    """`count` seeds drawn from (seed, key): apart from every seed the run itself draws."""
+    state = np.random.SeedSequence(seed, spawn_key=(key,)).generate_state(count, np.uint64)
+    return [int(value) % SEED_BOUND for value in state]
+
+
+@dataclass(frozen=True)
+class TrialResult:
+    rows: list[dict[str, Any]]  # statistics per generation (restarts one after another)
+    best: dict[str, Any]  # the best player, the fitness the GA saw and its replays (trials/*.best.json)
+
+
+def run_trial(spec: TrialSpec, evaluate: Evaluator | None = None) -> TrialResult:
+    """One whole GA (or random search) run, or one per restart; then its best re-played. Runs in a
+    worker process or Ray task with SimpleSoccer games, or with `evaluate` (trials on rcssservers) in
+    this process; continues from the spec's checkpoint when there is one."""
     from ga.algorithms import evolve, random_search, resume
     from soccer.config import SOCCER_VOCABULARY
     from soccer.evaluate import SimpleSoccerEvaluator
 
     evaluate = evaluate or SimpleSoccerEvaluator(spec.game, SOCCER_VOCABULARY)
     if spec.checkpoint is not None and spec.checkpoint.is_file():
-        result = resume(spec.checkpoint, evaluate)
+        results = [resume(spec.checkpoint, evaluate)]
     else:
         run = evolve if spec.setting.algorithm == GA else random_search
-        result = run(spec.config, evaluate, SOCCER_VOCABULARY, checkpoint=spec.checkpoint)
-    return [stats.to_dict() for stats in result.history]
+        results = [run(config, evaluate, SOCCER_VOCABULARY, checkpoint=spec.checkpoint) for config in spec.configs()]
+    rows = _one_after_another([[stats.to_dict() for stats in result.history] for result in results])
+    best = min(results, key=lambda result: result.best.fitness)  # first of equals
+    # replays are single games: on rcssserver the trials' own evaluator, else one game per start
+    replay = evaluate if spec.setting.trial is not None else SimpleSoccerEvaluator(
+        spec.game.model_copy(update={"games_per_evaluation": 1}), SOCCER_VOCABULARY)
+    return TrialResult(rows, best_record(best, rows, replay, spec.replay_seeds()))
+
+
+def _one_after_another(histories: list[list[dict[str, Any]]]) -> list[dict[str, Any]]:
+    """Restarts' statistics as one run: generations, evaluations and wall time carry on."""
+    rows: list[dict[str, Any]] = []
+    for history in histories:
+        before = rows[-1] if rows else {"generation": -1, "evaluations": 0, "wall_time": 0.0}
+        rows += [{**row, "generation": before["generation"] + 1 + row["generation"],
+                  "evaluations": before["evaluations"] + row["evaluations"],
+                  "wall_time": before["wall_time"] + row["wall_time"]} for row in history]
+    return rows
+
+
+def best_record(result: Any, rows: list[dict[str, Any]], replay: Evaluator, seeds: list[int]) -> dict[str, Any]:
+    from fuzzy.printer import format_rulebase
+    from ga.evaluation import Evaluation
+
+    best = result.best
+    with Evaluation(replay) as evaluation:
+        scores = evaluation([result.best_rulebase] * len(seeds), seeds)
+    fitness = np.array([score.fitness for score in scores])
+    goals = np.array([score.goals for score in scores])
+    return {"generation": next(row["generation"] for row in rows if row["best"] <= best.fitness),
+            "fitness_seen": best.fitness, "evaluations_seen": best.evaluations, "replays": len(seeds),
+            "replay_fitness": float(fitness.mean()), "replay_fitness_std": float(fitness.std()),
+            "replay_goals": float(goals.mean()), "replay_scoring": float(np.mean(goals > 0)),
+            "chromosome": best.chromosome.tolist(), "rules": format_rulebase(result.best_rulebase, result.vocabulary)}
 
 
 @dataclass(frozen=True)
@@ -93,8 +162,10 @@ class Plan:
 def plan(preset_name: str, options: ExperimentOptions) -> Plan:
     chosen = presets(preset_name, options)
     game = options.game()
-    memberships = [Membership(p.name, setting.label, TrialSpec(setting, trial, trial_seed(options.seed, setting, trial), game))
-                   for p in chosen for setting in p.settings for trial in range(p.trials)]
+    memberships = [Membership(p.name, setting.label, TrialSpec(
+        setting, trial, trial_seed(options.seed, setting, trial),
+        game.model_copy(update={"games_per_evaluation": setting.games_per_evaluation}), options.replays))
+        for p in chosen for setting in p.settings for trial in range(p.trials)]
     return Plan(chosen, memberships)
 
 
@@ -114,14 +185,19 @@ class TrialFolder:
     def checkpoint(self, spec: TrialSpec) -> Path:
         return self.path / f"{spec.name}.checkpoint"
 
+    def best(self, spec: TrialSpec) -> Path:
+        return self.path / f"{spec.name}.best.json"
+
     def finished(self, spec: TrialSpec) -> bool:
         return self.statistics(spec).is_file()
 
-    def write(self, spec: TrialSpec, rows: list[dict[str, Any]]) -> None:
+    def write(self, spec: TrialSpec, result: TrialResult) -> None:
         from app.recording import RunRecorder
 
+        rows = result.rows
         recorder = RunRecorder(self.recording(spec), history=rows)
         recorder.close()
+        _write_atomically(self.best(spec), json.dumps(result.best, indent=1))
         temporary = self.statistics(spec).with_suffix(".csv.tmp")
         with temporary.open("w", newline="") as handle:
             writer = csv.DictWriter(handle, fieldnames=list(rows[0]), lineterminator="\n")
@@ -133,6 +209,9 @@ class TrialFolder:
     def read(self, spec: TrialSpec) -> list[dict[str, str]]:
         with self.statistics(spec).open(newline="") as handle:
             return list(csv.DictReader(handle))
+
+    def read_best(self, spec: TrialSpec) -> dict[str, Any]:
+        return json.loads(self.best(spec).read_text())
 
 
 class Progress(Protocol):
@@ -149,16 +228,22 @@ class ExperimentOutcome:
     skipped: int  # trials found finished
     seconds: float
 
+    @property
+    def trials(self) -> int:
+        return len(self.plan.specs)
 
-def prepare_folder(folder: Path, options: ExperimentOptions) -> None:
-    """Create the folder, or check that the one there holds trials of the same options."""
+
+def prepare_folder(folder: Path, options: ExperimentOptions, identity: dict[str, Any] | None = None) -> None:
+    """Create the folder, or check that the one there holds trials of the same options (or `identity`)."""
     manifest = folder / MANIFEST
-    identity = options.identity()
+    identity = options.identity() if identity is None else identity
     if manifest.is_file():
         try:
             recorded = json.loads(manifest.read_text())
         except (OSError, json.JSONDecodeError) as exc:
             raise ExperimentError(f"cannot read {manifest}: {exc}") from None
+        # an option added since the folder was made does not change the trials it holds
+        identity = {k: v for k, v in identity.items() if k in recorded or k not in OPTIONS_ADDED_SINCE}
         if recorded != identity:
             differing = sorted(k for k in set(recorded) | set(identity) if recorded.get(k) != identity.get(k))
             raise ExperimentError(f"{folder} holds an experiment with other options ({', '.join(differing)}); "
@@ -174,21 +259,35 @@ def prepare_folder(folder: Path, options: ExperimentOptions) -> None:
 
 
 def run_trials(experiment: Plan, folder: Path, executor: Any, progress: Progress | None = None) -> tuple[int, int]:
-    """Run every unfinished trial; (ran, skipped). Progress counts evaluations over the whole experiment."""
-    trials = TrialFolder(folder)
-    specs = experiment.specs
-    pending = [spec if spec.setting.trial is None else replace(spec, checkpoint=trials.checkpoint(spec))
-               for spec in specs if not trials.finished(spec)]
-    # Longest first, so no long trial is left alone at the end while other cores idle.
-    pending.sort(key=lambda spec: -spec.setting.evaluations)
-    total = sum(spec.setting.evaluations for spec in specs)
-    completed = total - sum(spec.setting.evaluations for spec in pending)
+    """Run every unfinished trial; (ran, skipped). Progress counts games over the whole experiment."""
+    return run_trials_in([(experiment, folder)], executor, progress)
+
+
+def run_trials_in(experiments: Iterable[tuple[Plan, Path]], executor: Any,
+                  progress: Progress | None = None) -> tuple[int, int]:
+    """run_trials for several experiments (one per replicate) on one executor, so no core waits for the
+    last trial of one before the next begins. They run one after another (an interrupted run leaves whole
+    replicates), each's trials longest first, so no long trial is left alone at the end while other cores
+    idle."""
+    specs, pending, folders, order = [], [], {}, {}
+    for index, (experiment, folder) in enumerate(experiments):
+        trials = TrialFolder(folder)
+        for spec in experiment.specs:
+            specs.append(spec)
+            if not trials.finished(spec):
+                on_servers = spec.setting.trial is not None  # checkpointed after every generation
+                pending.append(replace(spec, checkpoint=trials.checkpoint(spec)) if on_servers else spec)
+                folders[spec.name, spec.seed] = trials  # a trial's seed differs between replicates
+                order[spec.name, spec.seed] = index
+    pending.sort(key=lambda spec: (order[spec.name, spec.seed], -spec.setting.games))
+    total = sum(spec.setting.games for spec in specs)
+    completed = total - sum(spec.setting.games for spec in pending)
     skipped = len(specs) - len(pending)
     if progress is not None:
         progress.update(completed, total, skipped=skipped)
-    for spec, rows in executor.map_unordered(run_trial, pending):
-        trials.write(spec, rows)
-        completed += spec.setting.evaluations
+    for spec, result in executor.map_unordered(run_trial, pending):
+        folders[spec.name, spec.seed].write(spec, result)
+        completed += spec.setting.games
         if progress is not None:
             progress.update(completed, total, skipped=skipped)
     return len(pending), skipped
@@ -199,13 +298,25 @@ def assemble(experiment: Plan, folder: Path) -> StatisticsTable:
     trials = TrialFolder(folder)
     rows = []
     for membership in experiment.memberships:
-        spec = membership.spec
-        keys = {PRESET: membership.preset, SETTING: membership.setting, TRIAL: spec.trial, SEED: spec.seed,
-                ALGORITHM: spec.setting.algorithm}
-        rows.extend({**keys, **row} for row in trials.read(spec))
+        rows.extend({**_keys(membership), **row} for row in trials.read(membership.spec))
     table = StatisticsTable(rows)
     _write_atomically(folder / STATISTICS_FILE, table.to_csv())
     return StatisticsTable.read(folder / STATISTICS_FILE)  # typed as any reader of the CSV sees it
+
+
+def assemble_bests(experiment: Plan, folder: Path) -> BestsTable:
+    """bests.csv from the trial files: each trial's best player, the fitness the GA saw, its replays."""
+    trials = TrialFolder(folder)
+    table = BestsTable([{**_keys(m), **trials.read_best(m.spec)} for m in experiment.memberships
+                        if trials.best(m.spec).is_file()])  # none for trials from before bests were kept
+    _write_atomically(folder / BESTS_FILE, table.to_csv())
+    return BestsTable.read(folder / BESTS_FILE)
+
+
+def _keys(membership: Membership) -> dict[str, Any]:
+    spec = membership.spec
+    return {PRESET: membership.preset, SETTING: membership.setting, TRIAL: spec.trial, SEED: spec.seed,
+            ALGORITHM: spec.setting.algorithm}
 
 
 def run_experiment(preset_name: str, options: ExperimentOptions, folder: Path, executor: Any, *,
@@ -213,14 +324,41 @@ def run_experiment(preset_name: str, options: ExperimentOptions, folder: Path, e
     """Plan, run what is unfinished, assemble statistics.csv, then write figures and the report."""
     from app.experiment.report import write_report
 
-    started = time.perf_counter()
+    clock = RunClock()
     experiment = plan(preset_name, options)
     prepare_folder(folder, options)
     with executor:
         ran, skipped = run_trials(experiment, folder, executor, progress)
     table = assemble(experiment, folder)
-    report = write_report(table, experiment.presets, folder)
-    return ExperimentOutcome(folder, experiment, table, report, ran, skipped, time.perf_counter() - started)
+    report = write_report(table, experiment.presets, folder, assemble_bests(experiment, folder))
+    seconds = clock.log(folder, preset_name, options, [options.seed], ran, skipped)
+    return ExperimentOutcome(folder, experiment, table, report, ran, skipped, seconds)
+
+
+class RunClock:
+    """One invocation's wall time and the machine's load around it, logged to the folder's runs.jsonl."""
+
+    def __init__(self) -> None:
+        self.started = datetime.now(timezone.utc).isoformat(timespec="seconds")
+        self.load_before = [round(x, 2) for x in os.getloadavg()]
+        self.start = time.perf_counter()
+
+    def log(self, folder: Path, preset_name: str, options: ExperimentOptions, seeds: list[int], ran: int,
+            skipped: int) -> float:
+        seconds = time.perf_counter() - self.start
+        entry = {"preset": preset_name, "seeds": seeds, "trials": options.trials,  # None: the chapter's
+                 "started": self.started, "seconds": round(seconds, 1),
+                 "ran": ran, "skipped": skipped, "load_average_before": self.load_before,
+                 "load_average_after": [round(x, 2) for x in os.getloadavg()], "cores": os.cpu_count()}
+        with (folder / RUNS_LOG).open("a") as handle:
+            handle.write(json.dumps(entry) + "\n")
+        return seconds
+
+
+def read_runs(folder: Path) -> list[dict[str, Any]]:
+    """runs.jsonl's entries, oldest first (none for a folder from before it was kept)."""
+    log = folder / RUNS_LOG
+    return [json.loads(line) for line in log.read_text().splitlines() if line.strip()] if log.is_file() else []
 
 
 def _write_atomically(path: Path, text: str) -> None:

@@ -1,46 +1,68 @@
 """statistics.csv in memory: one row per (preset, setting, trial, generation), every statistic of `ga.statistics.GenerationStats`.
-Figures and the report read only this table, so they work as well on fabricated statistics."""
+bests.csv: one row per (preset, setting, trial), its best player's fitness as the GA saw it and re-played.
+Figures and the report read only these tables, so they work as well on fabricated statistics."""
 
 from __future__ import annotations
 
 import csv
 import io
 from pathlib import Path
-from typing import Any, Iterable, Mapping
+from typing import Any, Iterable, Mapping, Self
 
 import numpy as np
 
-from ga.statistics import GenerationStats
+from ga.statistics import ADDED_LATER, GenerationStats
 
 PRESET, SETTING, TRIAL, SEED, ALGORITHM = "preset", "setting", "trial", "seed", "algorithm"
 KEY_COLUMNS = (PRESET, SETTING, TRIAL, SEED, ALGORITHM)
 STATISTIC_COLUMNS = GenerationStats.field_names()
 COLUMNS = (*KEY_COLUMNS, *STATISTIC_COLUMNS)
 TEXT_COLUMNS = (PRESET, SETTING, ALGORITHM)
+# bests.csv: where the best was found, the fitness the GA saw (its running mean over `evaluations_seen`
+# evaluations), then its `replays` fresh starts: mean and std of fitness, mean goals, share that scored
+BEST_COLUMNS = (*KEY_COLUMNS, "generation", "fitness_seen", "evaluations_seen", "replays", "replay_fitness",
+                "replay_fitness_std", "replay_goals", "replay_scoring")
 
 
 class TableError(ValueError):
     pass
 
 
-class StatisticsTable:
+class CsvTable:
+    """Rows of a CSV the runner writes, with `columns` checked on reading (`what`: the rows, in errors)."""
+
+    columns: tuple[str, ...] = ()
+    what = "rows"
+
     def __init__(self, rows: Iterable[Mapping[str, Any]]):
-        self.rows = [dict(row) for row in rows]
-        missing = [c for c in COLUMNS if self.rows and c not in self.rows[0]]
+        self.rows = [self._completed(row) for row in rows]
+        missing = [c for c in self.columns if self.rows and c not in self.rows[0]]
         if missing:
-            raise TableError(f"statistics lack the columns {', '.join(missing)}")
+            raise TableError(f"{self.what} lack the columns {', '.join(missing)}")
+
+    @staticmethod
+    def _completed(row: Mapping[str, Any]) -> dict[str, Any]:
+        return dict(row)
 
     @classmethod
-    def read(cls, path: str | Path) -> "StatisticsTable":
+    def read(cls, path: str | Path) -> Self:
         with Path(path).open(newline="") as handle:
             return cls(_typed(row) for row in csv.DictReader(handle))
 
     def to_csv(self) -> str:
         buffer = io.StringIO()
-        writer = csv.DictWriter(buffer, fieldnames=COLUMNS, extrasaction="ignore", lineterminator="\n")
+        writer = csv.DictWriter(buffer, fieldnames=self.columns, extrasaction="ignore", lineterminator="\n")
         writer.writeheader()
         writer.writerows(self.rows)
         return buffer.getvalue()
+
+
+class StatisticsTable(CsvTable):
+    columns, what = COLUMNS, "statistics"
+
+    @staticmethod
+    def _completed(row: Mapping[str, Any]) -> dict[str, Any]:
+        return {**ADDED_LATER, **row}  # an older study's table lacks the later statistics
 
     # ---- selections -----------------------------------------------------------------------------
     def presets(self) -> list[str]:
@@ -80,6 +102,19 @@ class StatisticsTable:
 
     def _rows(self, preset: str, setting: str) -> list[dict[str, Any]]:
         return [row for row in self.rows if row[PRESET] == preset and row[SETTING] == setting]
+
+
+class BestsTable(CsvTable):
+    columns, what = BEST_COLUMNS, "bests"
+
+    def settings(self, preset: str) -> list[str]:
+        return _unique(row[SETTING] for row in self.rows if row[PRESET] == preset)
+
+    def column(self, preset: str, setting: str, column: str) -> np.ndarray:
+        """One value per trial, in trial order."""
+        rows = sorted((row for row in self.rows if row[PRESET] == preset and row[SETTING] == setting),
+                      key=lambda row: int(row[TRIAL]))
+        return np.array([float(row[column]) for row in rows])
 
 
 def _unique(values: Iterable[Any]) -> list[Any]:

@@ -137,7 +137,7 @@ class Game:
 
 
 def rules_summary(config: GameConfig) -> str:
-    """The open choices of a game (README, "Calibration") in a line, e.g. "sighted skills · noise"."""
+    """The open choices of a game (docs/research/calibration.md) in a line, e.g. "sighted skills · noise"."""
     parts = [f"{config.skills} skills"]
     if config.noise:
         parts.append("noise")

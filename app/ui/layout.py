@@ -14,7 +14,7 @@ import viser
 
 from app.ui import style
 
-RIGHT_TABS = ("Inference", "Policy map", "Population")
+RIGHT_TABS = ("Inference", "Policy map", "Population", "Lineage", "Breeding")
 
 
 class Layout:

@@ -35,6 +35,7 @@ COMMAND_NODE = "/pitch/command"
 COMMAND_LABEL_NODE = "/pitch/command_label"
 FRAME_NODE = "/stadium"  # the frame around the grass
 Z_GRASS, Z_CONE, Z_TRAIL, Z_COMMAND, Z_FRAME, Z_BODY = -0.05, 0.02, 0.03, 0.04, 0.1, 0.2
+Z_BALL = 0.25  # over the player: a ball at its feet stays in sight
 FRAME_WIDTH = 1000.0  # metres: far past any canvas's edge
 
 
@@ -137,7 +138,7 @@ class PitchView:
         # One cone for each colour, the one shown switched: a colour change would be a new picture.
         self.cones = {seen: scene.add_frame(name, show_axes=False, position=(0.0, 0.0, Z_CONE - Z_BODY))
                       for seen, name in CONE_NODES.items()}
-        self.ball = scene.add_frame(BALL_NODE, show_axes=False, position=to_scene(0, 0, Z_BODY))
+        self.ball = scene.add_frame(BALL_NODE, show_axes=False, position=to_scene(0, 0, Z_BALL))
         self.trail = scene.add_line_segments(
             TRAIL_NODE, np.zeros((1, 2, 3), np.float32), colors=style.BALL_TRAIL, thickness=style.TRAIL_THICKNESS,
             visible=False,
@@ -154,7 +155,7 @@ class PitchView:
     def show(self, frame: PitchFrame) -> None:
         self.player.position = to_scene(*frame.player, Z_BODY)
         self.player.wxyz = yaw_quaternion(frame.facing)
-        self.ball.position = to_scene(*frame.ball, Z_BODY)
+        self.ball.position = to_scene(*frame.ball, Z_BALL)
         for seen, cone in self.cones.items():
             cone.visible = seen == frame.ball_visible
         self._show_trail(frame.trail)
@@ -188,7 +189,9 @@ class PitchView:
         self._trail_shown = trail.copy()
         points = np.stack([trail[:-1], trail[1:]], axis=1) if len(trail) >= 2 else np.zeros((0, 2, 2))
         # The ball jumps to the centre line after a goal: no trail segment across that jump.
-        points = points[np.linalg.norm(points[:, 1] - points[:, 0], axis=1) <= self.geometry.ball_speed_max * 1.01]
+        # A resting ball's ticks add no segment.
+        step = np.linalg.norm(points[:, 1] - points[:, 0], axis=1)
+        points = points[(step > 0) & (step <= self.geometry.ball_speed_max * 1.01)]
         if len(points):
             scene_points = np.zeros((len(points), 2, 3), np.float32)
             scene_points[..., 0] = points[..., 0]

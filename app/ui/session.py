@@ -22,11 +22,13 @@ from app.ui import style
 from app.ui.context import UiContext
 from app.ui.game import Game
 from app.ui.layout import Layout
+from app.ui.panels.breeding import BreedingPanel
 from app.ui.panels.classroom import ClassPanel
 from app.ui.panels.editor import EditorPanel
 from app.ui.panels.evolve import EvolvePanel
 from app.ui.panels.inference import InferencePanel
 from app.ui.panels.library import LibraryPanel
+from app.ui.panels.lineage import LineagePanel
 from app.ui.panels.play import PlayControls
 from app.ui.panels.policy_view import PolicyPanel
 from app.ui.panels.population import PopulationPanel
@@ -166,7 +168,7 @@ class Session:
                 gui, self.runs, self.store, on_load=self.play_player,
                 on_generation=lambda *finished: self.population.generation_finished(*finished),
                 on_run_ended=lambda run_id, status: self.population.run_ended(run_id, status),
-                on_runs_changed=lambda: self.library.refresh(), api_url=context.api_url,
+                on_runs_changed=self._runs_changed, api_url=context.api_url,
             )
         with tabs.add_tab("Library"):
             self.library = LibraryPanel(gui, self.store, self.runs, context.vocabulary, context.api_url,
@@ -186,6 +188,15 @@ class Session:
         with self.layout.right_tab("Population"):
             self.population = PopulationPanel(gui, context.game.world, context.vocabulary,
                                               start_seed=lambda: self.game.seed, game_of_run=self.run_game)
+        with self.layout.right_tab("Lineage"):
+            self.lineage = LineagePanel(gui, self.store, context.vocabulary,
+                                        population_shown=self.population.shown_players,
+                                        current_run=lambda: self.evolve.run_id, on_load=self.play_player)
+        with self.layout.right_tab("Breeding"):
+            self.breeding = BreedingPanel(gui, self.store, context.vocabulary, context.game.world,
+                                          start_seed=lambda: self.game.seed, game_of_run=self.run_game,
+                                          app_game=context.game, demo=(context.demo_rulebase(), context.demo_name),
+                                          current_run=lambda: self.evolve.run_id)
         self.ready.set()
         self._render()
 
@@ -251,6 +262,14 @@ class Session:
             self.controls.seed.value = seed
             self._game_over_since = None
             self._show_rulebase(rulebase, name)
+
+    def _runs_changed(self) -> None:
+        """A run started or ended: the panels that list runs list it (a panel built later lists them then)."""
+        if not self.ready.is_set():
+            return
+        self.library.refresh()
+        self.lineage.refresh()
+        self.breeding.refresh()
 
     def run_game(self, run_id: int) -> GameConfig:
         """The game a run's players play in on this tab: the run's rules (skills, noise, kick counting,
@@ -355,6 +374,7 @@ class Session:
         ticks = self._due_ticks(elapsed) if self.playing else 0
         if self.ready.is_set():
             self.population.advance(ticks)
+            self.breeding.advance(ticks)
         if ticks == 0:
             return
         if self.game.done:

@@ -85,3 +85,5 @@ MINI_PITCH_GRASS = "#2e7d32"
 MINI_PITCH_DONE = "#607d8b"  # grey grass: the game is over
 MINI_PITCH_PLAYER = "#64b5f6"  # lighter than PLAYER, to read on the small dark pitch
 BALL_HEX = "#ffc107"  # BALL as a hex string for SVG
+PLOT_PADDING = (14, 14, 0, 0)  # px above and right of a plot: the top tick's label (1) is not cut off
+SCROLLBAR_ROOM = "padding-right:12px"  # a panel's scrollbar lies over its content's right edge

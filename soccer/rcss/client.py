@@ -354,6 +354,7 @@ class Session:
         self.trainer: TrainerClient | None = None
         self.last_player_cycle: PlayerCycle | None = None
         self.time = 0
+        self.late_cycles = 0  # cycles read too late to answer (the server stepped on without our commands)
 
     @property
     def params(self) -> ServerParams:
@@ -386,6 +387,7 @@ class Session:
             self.player.act(player_commands)
             self.trainer.done()
         else:
+            self.late_cycles += 1
             self.player.read_backlog()
             self.trainer.read_backlog()
         trainer_cycle = self.trainer.read_cycle()  # the server sends the trainer's (think) last

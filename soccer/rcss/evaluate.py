@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import multiprocessing
 import signal
+import sys
 from multiprocessing.connection import Connection, wait
 from typing import Sequence
 
@@ -107,6 +108,7 @@ class RcssEvaluator:
         results = self._play(rulebases, seeds)
         if self.trace:
             self.traced.update(zip(zip(rulebases, seeds), results))
+        warn_if_late(results)
         return results
 
     @property
@@ -175,6 +177,16 @@ class RcssEvaluator:
 
     def __exit__(self, *exc) -> None:
         self.close()
+
+
+def warn_if_late(results: Sequence[TrialResult]) -> None:
+    """One line on stderr when the player missed cycles: the machine was too busy to answer the server within
+    its 1.25 s, so the server stepped on without the player's commands (the trials are not what they seem)."""
+    late = sum(result.late_cycles for result in results)
+    if late:
+        cycles = sum(result.ticks for result in results)
+        print(f"warning: the player answered {late} of {cycles} rcssserver cycles too late (a busy machine): "
+              "the server stepped on without its commands", file=sys.stderr, flush=True)
 
 
 def _client_process(connection: Connection, server: str, trainer_port: int | None, team: str, timeouts: Timeouts,

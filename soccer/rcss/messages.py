@@ -280,8 +280,12 @@ def _numbers_and_flags(values: str, what: str) -> tuple[list[float], list[str]]:
 
 
 def _time(text: str, kind: str) -> int:
+    """The time after `(KIND `, up to the first object or, in a see of nothing (`(see 870522)`: the player
+    faces off the pitch), the closing parenthesis."""
+    start = len(kind) + 2
+    end = min((i for i in (text.find(" ", start), text.find(")", start)) if i >= 0), default=-1)
     try:
-        return int(text[len(kind) + 2:text.index(" ", len(kind) + 2)])
+        return int(text[start:end])
     except ValueError:
         raise RcssParseError(f"malformed {kind} message: no time in {text[:60]!r}") from None
 

@@ -25,6 +25,9 @@ VIEW_HALF_ANGLE = {"narrow": 30.0, "normal": 60.0, "wide": 90.0}
 SERVER_NAMES = {"max_power": "maxpower", "max_moment": "maxmoment", "min_power": "minpower",
                 "min_moment": "minmoment"}
 DEFAULT_WORLD = WorldConfig()
+# The server's random parameters: any above 0 (or wind) makes movement, turns and kicks noisy.
+NOISE_PARAMETERS = ("player_rand", "ball_rand", "kick_rand")
+WIND_PARAMETERS = ("wind_force", "wind_rand")
 
 
 @dataclass(frozen=True)
@@ -38,6 +41,7 @@ class ServerParams:
     coach: bool = True
     coach_w_referee: bool = True
     coach_port: int = 6001
+    noise: bool = True  # rcssserver's defaults are noisy (NOISE_PARAMETERS)
 
     @classmethod
     def from_message(cls, values: Mapping[str, object]) -> "ServerParams":
@@ -52,22 +56,29 @@ class ServerParams:
             raise RcssConfigError(f"rcssserver's server_param holds values the player cannot use: {problems}") from None
         options = {"min_power": float, "min_moment": float, "synch_mode": bool, "coach": bool,
                    "coach_w_referee": bool, "coach_port": int}
-        return cls(world, **{name: kind(values[SERVER_NAMES.get(name, name)]) for name, kind in options.items()
-                             if SERVER_NAMES.get(name, name) in values})
+        return cls(world, noise=_noisy(values),
+                   **{name: kind(values[SERVER_NAMES.get(name, name)]) for name, kind in options.items()
+                      if SERVER_NAMES.get(name, name) in values})
 
     def check_usable(self) -> None:
         """Raise RcssConfigError naming the option when the server runs with options trials cannot use."""
         if not self.synch_mode:
             raise RcssConfigError(
-                "rcssserver is not in synch mode: start it with server::synch_mode=true (see README)"
+                "rcssserver is not in synch mode: start it with server::synch_mode=true (see docs/robocup/index.md)"
             )
         if not self.coach:
             raise RcssConfigError(
                 "rcssserver runs without the offline trainer: start it with server::coach=true "
-                "server::coach_w_referee=true (see README)"
+                "server::coach_w_referee=true (see docs/robocup/index.md)"
             )
         if not self.coach_w_referee:
             raise RcssConfigError(
                 "rcssserver runs with coach=true but without referees, so goals are never announced: "
                 "add server::coach_w_referee=true"
             )
+
+
+def _noisy(values: Mapping[str, object]) -> bool:
+    """Whether the server adds noise (a parameter it does not send counts as its noisy default)."""
+    windless = bool(values.get("wind_none", False)) or not any(float(values.get(n, 0)) > 0 for n in WIND_PARAMETERS)
+    return any(float(values.get(n, 1)) > 0 for n in NOISE_PARAMETERS) or not windless

@@ -34,7 +34,7 @@ from soccer.rcss.errors import RcssError
 
 EXECUTABLE_NAME = "rcssserver"
 EXECUTABLE_VARIABLE = "RCSSSERVER"  # an environment variable naming the executable
-# What trials need (see README): the server steps when the clients say (done); the offline trainer
+# What trials need (docs/robocup/index.md): the server steps when the clients say (done); the offline trainer
 # places ball and player while the referees still announce goals and out-of-play; nothing is logged;
 # the clock never reaches half time (a negative half_time switches the referee's time keeping off);
 # no offside, free-kick faults, extra time or penalties to end a trial early.
@@ -52,6 +52,20 @@ TRIAL_OPTIONS: dict[str, str] = {
     "server::nr_extra_halfs": "0",
     "server::penalty_shoot_outs": "false",
 }
+# The server's noise switched off (NOTES: movement, turn, kick and ball noise; wind). rcssserver seeds its
+# noise from the clock and takes no seed, so only without it does a trial play the same twice. Heterogeneous
+# player types stay random, but our player is type 0, and see's quantisation is deterministic.
+NOISELESS_OPTIONS: dict[str, str] = {
+    "server::player_rand": "0",
+    "server::ball_rand": "0",
+    "server::kick_rand": "0",
+    "server::wind_none": "true",
+}
+
+
+def noise_options(noise: bool) -> dict[str, str]:
+    """The options (beyond TRIAL_OPTIONS) of servers for trials with or without the server's noise."""
+    return {} if noise else dict(NOISELESS_OPTIONS)
 LOG_FILE = "rcssserver.log"
 MAX_SERVERS = 32  # each server wants about a core while it plays
 START_ATTEMPTS = 5  # another program may take the free ports between our choice and the server's bind

@@ -8,6 +8,14 @@ play (kick-in, goal kick, corner, own goal, ...). After a goal the server freeze
 waits `restart_wait_cycles` cycles, then puts the ball on a random point of the centre line and sets
 play_on again, as the recorded trainer did (tests/rcss/transcripts/trial_goals.txt). Kicks are the server's
 own count of kicks that reached the ball (sense_body's kick counter).
+
+A server plays thousands of trials in its life, so each trial first puts back what earlier ones changed
+(`Trial.fresh_start`): the player's stamina (a server never restores it: a player that dashes used up its
+stamina capacity within 6 trials of 1200 cycles and crept along at stamina 0 for the rest of the run),
+the referees' counters (a play-mode change resets them; the ball-stuck count would carry over) and the
+phase of the player's see (every second cycle with view width normal, counted over the server's life).
+So a trial's course depends only on its rulebase, its seed and the server's noise: with the noise off
+(soccer/rcss/servers.py, NOISELESS_OPTIONS; `TrialConfig.noise`) the same trial plays the same on any server, after any others.
 """
 
 from __future__ import annotations
@@ -24,10 +32,13 @@ from fuzzy.vocabulary import Vocabulary
 from soccer.config import EvaluationRules, FitnessName
 from soccer.fitness import fitness as fitness_of
 from soccer.rcss.client import PlayerCycle, Session, TrainerCycle
+from soccer.rcss.errors import RcssConfigError
 from soccer.rcss.localisation import PITCH_HALF_LENGTH, PITCH_HALF_WIDTH
 from soccer.rcss.player import RcssPlayer
+from soccer.rcss.servers import NOISELESS_OPTIONS
 
 PLAY_ON = "play_on"
+BEFORE_KICK_OFF = "before_kick_off"  # the mode a new server starts in: the clock stands still, nothing moves
 CONTINUING_MODES = frozenset({PLAY_ON, "drop_ball"})  # the ball stays in play
 OUR_SIDE = "l"  # the player is the left team's only player: it attacks (g r)
 RENAMED_FIELDS = {"max_cycles": "max_ticks", "idle_cycles": "idle_ticks"}
@@ -40,6 +51,10 @@ class TrialConfig(EvaluationRules):
     max_ticks: PositiveInt = 1200  # 120 s of server time at 100 ms per cycle, as the chapter
     fitness: FitnessName = "robocup-composite"
     restart_wait_cycles: PositiveInt = 5  # after a goal, cycles before the trainer restarts play
+    # The server's own noise (movement, turns, kicks), on as in the chapter. Off, a trial plays the same every
+    # time (rcssserver seeds its noise from the clock): servers soccer-lab starts get NOISELESS_OPTIONS
+    # (soccer/rcss/servers.py), and a server you run must match (its server_param says).
+    noise: bool = True
 
     @model_validator(mode="before")
     @classmethod
@@ -82,6 +97,9 @@ class TrialResult:
     end: str  # why the trial ended: "time", "goal cap", "idle", "out of play (MODE)", "no rules"
     seed: int
     trace: TrialTrace | None = field(default=None, compare=False, repr=False)  # when the trial was traced
+    # Cycles the client read too late to answer (a busy machine): the server stepped on without the player's
+    # commands. Not part of the result; a measure of how far the machine kept up.
+    late_cycles: int = field(default=0, compare=False)
 
 
 def start_position(rng: np.random.Generator) -> tuple[float, float]:
@@ -106,20 +124,22 @@ class Trial:
         self.goals = self.kicks = self.ticks = self.idle = 0
         self.cycles_since_goal: int | None = None  # None: no goal freeze under way
         self.end: str | None = None
-        self.kick_count = session.last_player_cycle.sense_body.kick_count if session.last_player_cycle else 0
+        self.kick_count = 0  # the server's count when the trial starts (fresh_start)
         self.position: tuple[float, float] | None = None
         # with `trace`: per cycle player x, y, body angle, ball x, y (see_global), action, goals before, and the
         # latest decision's command (kind, value, direction, outcome)
         self.rows: list[tuple] | None = [] if trace else None
 
     def run(self) -> TrialResult:
-        """Place ball and player (answering the cycle we are in), then play until the trial ends."""
+        """Start fresh, place ball and player, then play until the trial ends."""
+        self.fresh_start()
         trainer = self.session.trainer
         player_x, player_y = start_position(self.rng)
         trainer.move_ball(0.0, 0.0)
         trainer.move_player(self.session.player.team, self.session.player.unum, player_x, player_y, 0.0)
         trainer.change_mode(PLAY_ON)
         commands: list[str] = []
+        late_before = self.session.late_cycles
         while self.end is None:
             player_cycle, trainer_cycle = self.session.step(commands)
             goals_before = self.goals
@@ -128,7 +148,23 @@ class Trial:
             commands = self.respond(player_cycle) if self.end is None else []
             if self.rows is not None:
                 self._note_row(trainer_cycle, goals_before)
-        return TrialResult(self.score(), self.goals, self.kicks, self.ticks, self.end, self.seed, self._trace())
+        return TrialResult(self.score(), self.goals, self.kicks, self.ticks, self.end, self.seed, self._trace(),
+                           self.session.late_cycles - late_before)
+
+    def fresh_start(self) -> None:
+        """Put the server back as a new one starts a trial: full stamina (the trainer's `(recover)`), the
+        referees' counters reset (a change of play mode; before_kick_off stops the clock) with the ball already
+        on the centre spot (the ball-stuck referee counts from where it last saw the ball), and the cycle in
+        which ball and player are placed one without a see, so that the trial's first cycle has one, as on a
+        new server. Answers the cycle we are in and leaves the one in which placing happens unanswered."""
+        trainer = self.session.trainer
+        trainer.command("(recover)")
+        trainer.change_mode(BEFORE_KICK_OFF)
+        trainer.move_ball(0.0, 0.0)
+        player_cycle, _ = self.session.step([])
+        if player_cycle.see is not None:  # the player sees every second cycle: the next one has none
+            player_cycle, _ = self.session.step([])
+        self.kick_count = player_cycle.sense_body.kick_count
 
     def _note_row(self, trainer_cycle: TrainerCycle, goals_before: int) -> None:
         seen = trainer_cycle.see_global
@@ -205,7 +241,18 @@ class Trial:
 def run_trial(session: Session, rulebase: Rulebase, seed: int, config: TrialConfig = TrialConfig(),
               trace: bool = False) -> TrialResult:
     """Play one trial on an open session (with `trace`, its TrialTrace too). A rulebase without rules
-    scores the worst fitness unplayed."""
+    scores the worst fitness unplayed. A server whose noise is not the trial's is refused (RcssConfigError)."""
     if len(rulebase) == 0:
         return TrialResult(fitness_of(config.fitness, 0, 0, 1, math.inf, 2 * PITCH_HALF_LENGTH), 0, 0, 0, "no rules", seed)
+    check_noise(session, config)
     return Trial(session, rulebase, seed, config, trace).run()
+
+
+def check_noise(session: Session, config: TrialConfig) -> None:
+    if session.params.noise == config.noise:
+        return
+    if config.noise:
+        raise RcssConfigError(f"rcssserver at {session.server} runs without noise, but the trials want the server's "
+                              "noise: start it with its default player_rand, ball_rand and kick_rand")
+    raise RcssConfigError(f"rcssserver at {session.server} adds noise, but the trials want none: start it with "
+                          + " ".join(f"{name}={value}" for name, value in NOISELESS_OPTIONS.items()))

@@ -9,7 +9,7 @@ from contextlib import ExitStack, contextmanager
 from typing import Iterator
 
 from soccer.rcss.client import DEFAULT_TEAM
-from tests.rcss.replay import Line, ReplayServer, read_transcript
+from tests.rcss.replay import Line, ReplayServer, read_transcript, with_fresh_start
 from tests.rcss.conftest import GOALS, OUT_OF_PLAY, TRANSCRIPTS, player_thinks, without_error_probes
 
 # The recorded trials: 3 goals in 451 cycles (fitness 1/6), and a kick-in after 12 cycles with one kick
@@ -25,7 +25,7 @@ def replay_server(path) -> ReplayServer:
     """A server replaying `path`; its server_param names the replay's own trainer port, and its see_global
     our client's team (a real server names the team the player gave in its init; the recording's player
     gave RECORDED_TEAM)."""
-    lines = without_error_probes(read_transcript(path))
+    lines = with_fresh_start(without_error_probes(read_transcript(path)))
     server = ReplayServer(lines, client_timeout=30.0)  # a client process starts in seconds on a busy machine
     coach_port = f"(coach_port {server.trainer_port})"
     team = f'"{DEFAULT_TEAM}"'

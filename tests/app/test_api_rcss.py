@@ -46,7 +46,8 @@ def test_a_run_against_a_dead_server_fails_with_the_servers_message(tmp_path):
     ({"env": "rcss", "ga": {"workers": 2}}, "ga.workers: with env rcss the GA runs 1 worker"),
     ({"env": "rcss", "trial": {"max_ticks": 0}}, "trial.max_ticks: Input should be greater than 0"),
     ({"env": "rcss", "trial": {"fitness": "style points"}}, "trial.fitness: Input should be"),
-    ({"env": "rcss", "trial": {"noise": True}}, "trial.noise: Extra inputs are not permitted"),
+    ({"env": "rcss", "trial": {"count_touches": True}}, "trial.count_touches: Extra inputs are not permitted"),
+    ({"env": "rcss", "trial": {"noise": "loud"}}, "trial.noise: Input should be a valid boolean"),
     ({"env": "rcss", "servers": ["127.0.0.1:6000"], "start_servers": 2}, "start_servers: give the servers you run "
                                                                           "or how many soccer-lab starts, not both"),
     ({"start_servers": 2}, "start_servers: started servers are for env rcss only"),

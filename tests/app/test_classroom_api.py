@@ -197,6 +197,15 @@ def test_students_neither_see_nor_change_each_others_rulebases_and_runs(room):
     assert [r["id"] for r in teacher.get("/api/runs").json()] == [run_id]
     assert teacher.post(f"/api/runs/{run_id}/stop").status_code == 200  # the teacher may stop anyone's
     room.runs.wait(run_id, timeout=120)
+    # A run's lineage and populations are as private as the run
+    run_id = ada.post("/api/runs", json=SMALL_RUN).json()["id"]
+    room.runs.wait(run_id, timeout=120)
+    assert ada.get(f"/api/runs/{run_id}/population", params={"generation": 0}).status_code == 200
+    for path in (f"/api/runs/{run_id}/lineage", f"/api/runs/{run_id}/population?generation=0"):
+        assert ben.get(path).status_code == 404, path
+    breeding = {"parents": [{"run_id": run_id, "generation": 0, "index": 0}, {"text": KICKER}], "seed": 1}
+    assert ben.post("/api/breed", json=breeding).status_code == 404
+    assert ada.post("/api/breed", json=breeding).status_code == 200
 
 
 def test_a_students_run_is_bounded_with_a_message_naming_the_bound(room):

@@ -16,7 +16,7 @@ from fuzzy.export import rulebase_from_json
 from fuzzy.parser import parse_rulebase
 from fuzzy.vocabulary import Vocabulary
 from ga.codec import ChromosomeCodec
-from ga.statistics import GenerationStats
+from ga.statistics import NOT_MEASURED, GenerationStats
 from soccer.config import GameConfig
 from soccer.demo import demo_rulebase
 from soccer.engine import play_game
@@ -84,6 +84,17 @@ def test_same_seed_same_run(evolved, tmp_path):
     assert (tmp_path / "again" / "best.rules").read_text() == (folder / "best.rules").read_text()
 
 
+def test_evolve_with_rule_wise_uniform_crossover(evolved, tmp_path):
+    folder, _ = evolved
+    result = run("evolve", *TINY, "--crossover", "uniform", "--out", tmp_path / "uniform")
+    assert result.exit_code == 0, result.output
+    assert json.loads((tmp_path / "uniform" / "run.json").read_text())["ga"]["crossover"] == "uniform"
+    rows = statistics(tmp_path / "uniform")
+    assert [int(r["evaluations"]) for r in rows] == [8, 16, 24]
+    assert rows[0] == statistics(folder)[0]  # the same initial population, then other children
+    assert rows[1:] != statistics(folder)[1:]
+
+
 def read_recording(path: Path) -> dict[str, dict]:
     """entity path -> {timelines (of its temporal data), static (has static data), columns as python lists},
     read with rerun's own RRD reader."""
@@ -116,6 +127,10 @@ def test_recording_reads_back_with_every_statistic_and_each_generations_replay(e
         if name == "generation":
             continue
         entity = "/" + recording.statistic_entity(name)
+        if name == "distinct_behaviours":  # a run without behaviour seeds measures none: no series is drawn
+            assert all(int(row[name]) == NOT_MEASURED for row in rows)
+            assert "Scalars:scalars" not in entities.get(entity, {}).get("columns", {})
+            continue
         assert entities[entity]["timelines"] == {"generation"}, entity
         assert entities[entity]["columns"]["generation"] == [0, 1, 2]
         if name != "wall_time":

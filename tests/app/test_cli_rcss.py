@@ -118,8 +118,8 @@ def test_rcss_without_a_server_or_an_executable_says_how_to_give_one(tmp_path, m
     monkeypatch.delenv("RCSSSERVER", raising=False)
     monkeypatch.setenv("PATH", str(tmp_path))
     result = run("evolve", "--env", "rcss", *ONE_GENERATION, "--out", tmp_path / "run")
-    assert_one_line_error(result, "no rcssserver: 'rcssserver' is not on PATH: give --rcssserver PATH (see README), "
-                                  "or --server HOST:PORT for a server you run")
+    assert_one_line_error(result, "no rcssserver: 'rcssserver' is not on PATH: give --rcssserver PATH "
+                                  "(see docs/robocup/index.md), or --server HOST:PORT for a server you run")
     assert not (tmp_path / "run").exists()
 
 
@@ -128,8 +128,12 @@ def test_rcss_without_a_server_or_an_executable_says_how_to_give_one(tmp_path, m
     (["--env", "rcss", "--server", "127.0.0.1:70000"], "--server: bad server address '127.0.0.1:70000'"),
     (["--env", "rcss", "--server", "127.0.0.1:6000", "--server", "127.0.0.1:6000"], "a server is listed twice"),
     (["--env", "rcss", "--workers", "2"], "--workers: with env rcss the GA runs 1 worker"),
-    (["--env", "rcss", "--noise"], "--noise: SimpleSoccer only"),
     (["--env", "rcss", "--count-touches"], "--count-touches: SimpleSoccer only"),
+    (["--executor", "ray"], "--executor: for --env rcss only"),
+    (["--env", "rcss", "--executor", "slurm"], "--executor: unknown executor 'slurm'"),
+    (["--env", "rcss", "--address", "127.0.0.1:6379"], "--address needs --executor ray"),
+    (["--env", "rcss", "--executor", "ray", "--server", "127.0.0.1:6000"], "--server names servers you run; with "
+                                                                            "--executor ray every node starts its own"),
     (["--env", "rcss", "--games-per-evaluation", "3"], "--games-per-evaluation: SimpleSoccer only"),
     (["--env", "rcss", "--fitness", "style"], "--fitness: Input should be"),
     (["--env", "rcss", "--max-ticks", "0"], "--max-ticks: Input should be greater than 0"),

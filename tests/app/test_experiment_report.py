@@ -6,10 +6,10 @@ import numpy as np
 import pytest
 
 from app.experiment.presets import ExperimentOptions, preset
-from app.experiment.report import AGREES, DISAGREES, INCONCLUSIVE, NOT_RUN, REPORT_HTML, REPORT_MD, write_report
+from app.experiment.report import AGREES, DISAGREES, NOT_RUN, REPORT_HTML, REPORT_MD, TOO_SMALL, write_report
 from app.experiment.table import COLUMNS, StatisticsTable
 
-OPTIONS = ExperimentOptions(trials=10, population=20, generations=10)
+OPTIONS = ExperimentOptions(trials=10)  # the chapter's size: its findings can be judged
 
 
 def fabricated(preset_name: str, curves: dict[str, dict[str, np.ndarray]]) -> list[dict]:
@@ -86,13 +86,53 @@ def test_a_real_difference_between_settings_contradicts_a_no_difference_claim(tm
     assert verdict(report, "One-point and two-point crossover") == AGREES
 
 
-def test_too_few_trials_leave_a_no_difference_claim_inconclusive(tmp_path):
+def test_too_few_trials_are_too_small_to_judge_and_say_what_they_need(tmp_path):
     rng = np.random.default_rng(4)
     crossover = preset("crossover", OPTIONS)
     alike = {s: {"mean": falling(0.9, 0.7, rng, trials=2), "best": falling(0.6, 0.4, rng, trials=2)}
              for s in ("one-point", "two-point")}
     report = write_report(StatisticsTable(fabricated("crossover", alike)), [crossover], tmp_path)
-    assert verdict(report, "One-point and two-point crossover") == INCONCLUSIVE
+    (assessment,) = [a for f, a in report.findings if f.preset == "crossover"]
+    assert assessment.verdict == TOO_SMALL and assessment.needs == "5 trials per setting (here 2)"
+    assert "| too small to judge (needs 5 trials per setting (here 2)) |" in (tmp_path / REPORT_MD).read_text()
+
+
+@pytest.mark.parametrize("shrunk, needs", [
+    ({"population": 20}, "population 200 (here 20)"),
+    ({"generations": 3}, "generations 25 (here 3)"),
+    ({"max_ticks": 300}, "game length 1000 (here 300)"),
+    ({"trials": 3, "population": 50, "generations": 10},
+     "5 trials per setting (here 3), population 200 (here 50), generations 25 (here 10)"),
+])
+def test_a_shrunk_run_never_disagrees_it_is_too_small_with_the_size_it_needs(tmp_path, shrunk, needs):
+    """Data that would contradict the chapter at its size is "too small to judge" in a smaller run, the
+    measured value still shown, and the report's header states the run's size against the chapter's."""
+    rng = np.random.default_rng(7)
+    trials = shrunk.get("trials", 10)
+    scoring = {"Table 2": {"mean": falling(0.95, 0.45, rng, trials=trials),
+                           "best": falling(0.6, 0.3, rng, trials=trials)}}
+    table = StatisticsTable(fabricated("initial", scoring))
+    if trials >= 5:
+        assert verdict(write_report(table, [preset("initial", OPTIONS)], tmp_path),
+                       "The average fitness plateaus around 0.75") == DISAGREES  # at the chapter's size
+    small = preset("initial", ExperimentOptions(**{"trials": 10, **shrunk}))
+    report = write_report(table, [small], tmp_path)
+    assessments = [a for f, a in report.findings if f.preset == "initial"]
+    assert {a.verdict for a in assessments} == {TOO_SMALL} and {a.needs for a in assessments} == {needs}
+    assert report.verdicts()[TOO_SMALL] == 5 and report.verdicts()[DISAGREES] == 0
+    markdown = (tmp_path / REPORT_MD).read_text()
+    assert "final average fitness 0.4" in markdown  # what was measured is still shown
+    assert "(the chapter's: 200, 25, 1000)" in markdown and f"Smaller than the chapter's ({needs})" in markdown
+
+
+def test_a_run_at_the_chapters_size_says_so_in_its_header(tmp_path):
+    rng = np.random.default_rng(8)
+    kicking = {"Table 2": {"mean": falling(0.95, 0.76, rng), "best": falling(0.6, 0.3, rng)}}
+    write_report(StatisticsTable(fabricated("initial", kicking)), [preset("initial", OPTIONS)], tmp_path)
+    markdown = (tmp_path / REPORT_MD).read_text()
+    assert ("Size: Table 2's control at population 200, 25 generations, games of 1000 ticks (the chapter's: 200, "
+            "25, 1000); 10 trials per setting") in markdown
+    assert "Smaller than the chapter's" not in markdown and TOO_SMALL not in markdown.split("Each verdict")[0]
 
 
 def test_the_average_fitness_plateau_level_is_measured(tmp_path):
@@ -153,3 +193,25 @@ def test_a_flat_curve_has_no_trend_and_says_so_without_warnings(tmp_path):
     rising = {"100 generations": {"rules_mean": np.tile(np.linspace(10, 20, 10), (10, 1))}}
     assessment = trend("rules_mean", "rules", rising=True)(StatisticsTable(fabricated("long", rising)), long)
     assert assessment.verdict == AGREES
+
+
+def test_generation_axes_tick_whole_generations_and_histogram_bars_sit_on_them():
+    """A 3-generation run used to tick 0.25, 0.5, ... with the goal histogram's bars beside the ticks."""
+    from app.experiment.figures import draw_figure
+
+    rng = np.random.default_rng(9)
+    initial = preset("initial", ExperimentOptions(trials=2, generations=3))
+    table = StatisticsTable(fabricated("initial", {"Table 2": {
+        "mean": falling(0.9, 0.8, rng, trials=2, generations=3),
+        "best": falling(0.6, 0.5, rng, trials=2, generations=3),
+        "goals_0": np.full((2, 3), 0.7), "goals_1": np.full((2, 3), 0.3)}}))
+    for kind in ("mean_fitness", "best_fitness", "goal_histogram", "composition", "gene_pools"):
+        figure, _ = draw_figure(kind, table, initial)
+        (axes,) = figure.axes
+        figure.canvas.draw()
+        ticks = [t for t in axes.get_xticks() if axes.get_xlim()[0] <= t <= axes.get_xlim()[1]]
+        assert ticks and all(float(t).is_integer() for t in ticks), (kind, ticks)
+    figure, _ = draw_figure("goal_histogram", table, initial)
+    bars = figure.axes[0].patches
+    assert sorted({round(bar.get_x() + bar.get_width() / 2, 9) for bar in bars}) == [0, 1, 2]  # centred on each
+    assert max(bar.get_y() + bar.get_height() for bar in bars) == pytest.approx(100)  # stacked to the whole population

@@ -17,11 +17,11 @@ from app.experiment.report import AGREES, DISAGREES, NOT_RUN, REPORT_MD, write_r
 from app.experiment.runner import STATISTICS_FILE
 from app.experiment.table import StatisticsTable
 from ga.checkpoint import load_checkpoint
-from soccer.rcss.evaluate import RcssEvaluator
 from tests.app.test_experiment_report import fabricated, falling, verdict
 
 # 2 trials of Table 2 shrunk to 4 x 5 (5 generations: the fewest a trend test takes), 60-cycle trials.
-SHRUNK = ["--trials", "2", "--population", "4", "--generations", "5", "--max-ticks", "60", "--seed", "1"]
+SHRUNK = ["--trials", "2", "--population", "4", "--generations", "5", "--max-ticks", "60", "--seed", "1",
+          "--replays", "2"]
 
 
 def run(*args: object):
@@ -35,7 +35,7 @@ def test_the_preset_is_table_2_on_rcssserver_at_the_chapters_size():
     assert setting.ga == preset("initial", ExperimentOptions()).settings[0].ga  # Table 2
     assert (setting.trial.max_ticks, setting.trial.idle_ticks, setting.trial.fitness) == (1200, 100, "robocup-composite")
     assert setting.key != preset("initial", ExperimentOptions()).settings[0].key  # never shared with SimpleSoccer
-    assert robocup.figures == ("mean_fitness", "best_fitness", "goal_histogram")
+    assert robocup.figures == ("mean_fitness", "best_fitness", "goal_histogram", "true_quality")
     assert "robocup" not in [p.name for p in presets("all", ExperimentOptions())]
     assert preset("robocup", ExperimentOptions(max_ticks=300)).settings[0].trial.max_ticks == 300
 
@@ -58,7 +58,7 @@ def robocup_rows(rng, *, final_mean: float, most_goals_column: str) -> list[dict
 
 def test_the_robocup_findings_follow_the_data(tmp_path):
     rng = np.random.default_rng(3)
-    robocup = preset("robocup", ExperimentOptions(trials=10, population=20, generations=10))
+    robocup = preset("robocup", ExperimentOptions(trials=10))
     like_the_chapter = robocup_rows(rng, final_mean=0.55, most_goals_column="goals_3")
     report = write_report(StatisticsTable(like_the_chapter), [robocup], tmp_path)
     for claim in ("On rcssserver the population average", "On rcssserver the average fitness plateaus",
@@ -73,9 +73,11 @@ def test_the_robocup_findings_follow_the_data(tmp_path):
 
 @pytest.mark.parametrize("arguments, message", [
     (["robocup", "--workers", "2"], "--workers: robocup plays its trials on rcssservers"),
-    (["robocup", "--executor", "ray"], "--executor: robocup plays its trials on rcssservers"),
+    (["robocup", "--executor", "ray", "--server", "127.0.0.1:6000"], "--server names servers you run"),
+    (["robocup", "--address", "127.0.0.1:6379"], "--address needs --executor ray"),
+    (["robocup", "--executor", "slurm"], "--executor: unknown executor 'slurm'"),
     (["robocup", "--count-touches"], "--count-touches: robocup plays its trials on rcssservers"),
-    (["initial", "--servers", "2"], "--servers: for the robocup preset only"),
+    (["initial", "--servers", "2"], "--servers: for the robocup and transfer presets only"),
     (["robocup", "--server", "127.0.0.1:6000", "--servers", "2"], "--server names servers you run"),
     (["robocup", "--rcssserver", "/no/such/rcssserver"], "no rcssserver: '/no/such/rcssserver' does not exist"),
 ])
@@ -89,17 +91,18 @@ def test_bad_options_are_one_line(arguments, message, tmp_path):
 def test_a_shrunken_robocup_on_two_servers_resumes_inside_a_trial(rcssserver, tmp_path, monkeypatch):
     folder = tmp_path / "robocup"
     trials = folder / "trials"
-    evaluate = RcssEvaluator.__call__
+    import ga.algorithms
 
-    def interrupted_after_two_generations(self, rulebases, seeds):
-        checkpoints = list(trials.glob("*.checkpoint"))
-        if checkpoints and len(load_checkpoint(checkpoints[0]).history) == 2:
+    save = ga.algorithms.save_checkpoint
+
+    def interrupted_after_two_generations(path, state):  # Ctrl+C once a trial's second generation is kept
+        save(path, state)
+        if len(state.history) == 2:
             raise KeyboardInterrupt
-        return evaluate(self, rulebases, seeds)
 
     command = ["experiment", "robocup", *SHRUNK, "--rcssserver", rcssserver, "--servers", "2", "--out", folder,
                "--no-library"]
-    monkeypatch.setattr(RcssEvaluator, "__call__", interrupted_after_two_generations)
+    monkeypatch.setattr(ga.algorithms, "save_checkpoint", interrupted_after_two_generations)
     stopped = run(*command)
     assert stopped.exit_code == 130, stopped.output
     assert "started 2 rcssservers: 127.0.0.1:" in stopped.output
@@ -107,7 +110,7 @@ def test_a_shrunken_robocup_on_two_servers_resumes_inside_a_trial(rcssserver, tm
     assert not list(trials.glob("*.csv"))
     kept = [stats.to_dict() for stats in load_checkpoint(checkpoint).history]
 
-    monkeypatch.setattr(RcssEvaluator, "__call__", evaluate)
+    monkeypatch.setattr(ga.algorithms, "save_checkpoint", save)
     result = run(*command)
     assert result.exit_code == 0, result.output
     assert not checkpoint.exists()

@@ -69,7 +69,7 @@ def test_without_a_server_or_an_executable_says_how_to_give_one(striker, monkeyp
     result = run("play", striker, "--env", "rcss")
     assert result.exit_code == 2
     assert result.output.strip() == ("error: no rcssserver: 'rcssserver' is not on PATH: give --rcssserver PATH "
-                                     "(see README), or --server HOST:PORT for a server you run")
+                                     "(see docs/robocup/index.md), or --server HOST:PORT for a server you run")
 
 
 def test_play_on_two_servers_the_user_runs(start_servers, striker):

@@ -11,8 +11,8 @@ import numpy as np
 import pytest
 from rerun.chunk import RrdReader
 
-from app.recording import (COMPOSITION_SERIES, FITNESS_SERIES, GENE_POOL_SERIES, GOAL_BINS, GOAL_HISTOGRAM_ENTITY,
-                           GOAL_SERIES, VIEW_CONE_LENGTH, RunRecorder, goal_outline, log_replay, open_stream,
+from app.recording import (COMPOSITION_SERIES, DISTANCE_SERIES, DIVERSITY_SERIES, FITNESS_SERIES, GENE_POOL_SERIES,
+                           GOAL_BINS, GOAL_HISTOGRAM_ENTITY, GOAL_SERIES, VIEW_CONE_LENGTH, RunRecorder, goal_outline, log_replay, open_stream,
                            spread_entity, statistic_entity, view_cone)
 from app.run_outputs import RunFolder, RunFolderError, StatisticsFile, default_run_dir
 from fuzzy.vocabulary import Vocabulary
@@ -59,6 +59,21 @@ def test_run_recorder_logs_history_then_new_generations(tmp_path):
     histogram = columns(path, "/" + GOAL_HISTOGRAM_ENTITY)["BarChart:values"]
     assert histogram[2][0]["buffer"] == [0.5, 0.0, 0.25, 0.0, 0.0, 0.25]
     assert len(GOAL_BINS) == 6
+
+
+def test_diversity_is_logged_and_unmeasured_behaviours_are_not(tmp_path):
+    path = tmp_path / "run.rrd"
+    recorder = RunRecorder(path)
+    recorder.on_generation(GenerationStats.from_dict({**stats(0, 0.9).to_dict(), "distinct_chromosomes": 40,
+                                                      "rule_set_distance": 0.75, "distinct_behaviours": 0}))
+    recorder.on_generation(GenerationStats.from_dict({**stats(1, 0.8).to_dict(), "distinct_chromosomes": 31,
+                                                      "rule_set_distance": 0.5, "distinct_behaviours": 7}))
+    recorder.close()
+    assert statistic_entity("distinct_rules") == "statistics/diversity/distinct_rules"
+    assert [v[0] for v in columns(path, "/statistics/diversity/distinct_chromosomes")["Scalars:scalars"]] == [40, 31]
+    assert [v[0] for v in columns(path, "/statistics/diversity/rule_set_distance")["Scalars:scalars"]] == [0.75, 0.5]
+    behaviours = columns(path, "/statistics/diversity/distinct_behaviours")
+    assert behaviours["generation"] == [1] and [v[0] for v in behaviours["Scalars:scalars"]] == [7]  # 0: not measured
 
 
 def test_best_so_far_never_rises_where_the_generation_s_best_does(tmp_path):
@@ -174,10 +189,13 @@ def test_the_blueprint_lays_a_run_out_like_the_chapters_figures_with_a_tab_per_r
     assert composition == ("TimeSeries", series(f"{c}_mean" for c in COMPOSITION_SERIES)
                            + [f"+ /{spread_entity(c)}" for c in COMPOSITION_SERIES])
     assert shown["Gene pool: unique premise, consequent and all genes (Fig. 29)"] == ("TimeSeries", series(GENE_POOL_SERIES))
+    assert shown["Diversity: distinct chromosomes, rules, behaviours"] == ("TimeSeries", series(DIVERSITY_SERIES))
+    assert shown["Mean distance between two players' rule sets (1: no rule shared)"] == (
+        "TimeSeries", series(DISTANCE_SERIES))
     for generation, game in enumerate(games):
         tab = shown[f"generation {generation} ({game.goals} goals)"]
         assert tab == ("2D", ["+ $origin/pitch/**", "+ $origin/goal/**", f"+ /replay/generation_{generation}/**"])
-    assert len(shown) == 5 + len(games)  # nothing else: no automatic views either
+    assert len(shown) == 7 + len(games)  # nothing else: no automatic views either
     viewport = latest["/viewport"]
     assert viewport["ViewportBlueprint:auto_views"] == [False] and viewport["ViewportBlueprint:auto_layout"] == [False]
     tabs = next(row for row in latest.values() if row.get("ContainerBlueprint:active_tab"))

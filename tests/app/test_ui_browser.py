@@ -113,8 +113,18 @@ def session_of(ui):
 def field(page, label: str, kind: str):
     """A viser input by its label (viser's labels are not linked to their inputs for get_by_label)."""
     return page.locator(
-        f"xpath=//label[normalize-space(text())='{label}']/ancestor::div[contains(@class,'mantine-Flex-root')][1]//{kind}"
+        f"xpath=//label[normalize-space(text())={xpath_literal(label)}]"
+        f"/ancestor::div[contains(@class,'mantine-Flex-root')][1]//{kind}"
     ).first
+
+
+def xpath_literal(text: str) -> str:
+    """`text` as an XPath string literal: a label may hold an apostrophe ("Parents' generation")."""
+    if "'" not in text:
+        return f"'{text}'"
+    if '"' not in text:
+        return f'"{text}"'
+    return "concat(" + ", \"'\", ".join(f"'{part}'" for part in text.split("'")) + ")"
 
 
 def choose(page, label: str, option: str, *, exact: bool = False, attempts: int = 3) -> None:
@@ -365,7 +375,8 @@ def test_after_a_run_every_view_numbers_its_generations_alike_and_says_it_ended(
     assert f"Run #{run_id} finished after generation 1" in status
     legend = page.locator(".u-legend").first
     assert "after generation 1" in page.locator(".u-title").first.inner_text()
-    assert f"best {last['best']:.3f}" in legend.inner_text() and f"mean {last['mean']:.3f}" in legend.inner_text()
+    assert (f"best of the generation {last['best']:.3f}" in legend.inner_text()
+            and f"mean {last['mean']:.3f}" in legend.inner_text())
     assert "--" not in legend.inner_text()
     page.get_by_role("tab", name="Population").click()
     caption = page.locator(".population-caption")
@@ -458,6 +469,7 @@ def test_each_tab_has_its_own_game(ui, browser, page):
         wait_until(lambda: len(ui.sessions) == 2)
         first_session, second_session = list(ui.sessions.values())
         assert first_session.game.env is not second_session.game.env
+        wait_until(lambda: first_session.ready.is_set() and second_session.ready.is_set())  # panels come after Play
         assert first_session.editor is not second_session.editor
         pause(page)  # the first tab pauses; the second, just opened, plays the demo on its own pitch
         wait_until(lambda: not first_session.playing)

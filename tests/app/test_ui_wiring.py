@@ -189,6 +189,7 @@ def test_evolve_panel_shows_best_so_far_beside_each_generation_s_best(gui, store
     from app.runs import RunEvent, RunManager
     from app.store import RunStatus
     from app.ui.panels.evolve import RCSSSERVER, SIMPLESOCCER, EvolvePanel
+    from ga.statistics import GenerationStats
 
     panel = EvolvePanel(gui, RunManager(store, tmp_path), store, on_load=lambda *_: None,
                         on_generation=lambda *_: None, on_run_ended=lambda *_: None, on_runs_changed=lambda: None)
@@ -200,8 +201,9 @@ def test_evolve_panel_shows_best_so_far_beside_each_generation_s_best(gui, store
     assert not panel.servers.visible
     panel.run_id, panel.total_generations = 7, 4
     for generation, best in enumerate((0.25, 0.5, 0.167, 0.3)):
-        panel._on_event(RunEvent(7, RunStatus.RUNNING, {"generation": generation, "best": best, "mean": 0.8,
-                                                          "evaluations": 10 * (generation + 1)}, best))
+        stats = {**dict.fromkeys(GenerationStats.field_names(), 0), "generation": generation, "best": best,
+                 "mean": 0.8, "evaluations": 10 * (generation + 1)}  # a generation's whole statistics
+        panel._on_event(RunEvent(7, RunStatus.RUNNING, stats, best))
     generations, best, best_so_far, mean = (list(series) for series in panel.plot.data)
     assert best == [0.25, 0.5, 0.167, 0.3] and best_so_far == [0.25, 0.25, 0.167, 0.167]
     labels = [series["label"] for series in panel.plot.series]

@@ -1,4 +1,4 @@
-"""The batched numba kernels equal the scalar reference engine bit for bit (README, The fuzzy player)."""
+"""The batched numba kernels equal the scalar reference engine bit for bit (docs/reference/rules.md)."""
 
 import numpy as np
 from hypothesis import given

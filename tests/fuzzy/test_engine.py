@@ -1,4 +1,4 @@
-"""The scalar reference engine against hand-computed examples (README, The fuzzy player)."""
+"""The scalar reference engine against hand-computed examples (docs/reference/rules.md)."""
 
 import pytest
 

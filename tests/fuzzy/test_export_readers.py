@@ -43,7 +43,7 @@ VALUE_TOLERANCE = 1e-6
 # engine's maximum takes only the larger, a reader comparing within a tolerance takes both.
 ROUNDING = 1e-9
 MAX_INDETERMINATE_SHARE = 0.01
-# What the seeded cases give (README.md, Export): ties broken by a later rule, point maxima and, in
+# What the seeded cases give (docs/inspecting/index.md, "Exports"): ties broken by a later rule, point maxima and, in
 # fuzzylite 6, maxima in pieces make up the rest.
 MIN_AGREEING_DECISIONS = 0.9
 MIN_AGREEING_PARAMETERS = 0.9

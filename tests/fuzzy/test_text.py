@@ -1,4 +1,4 @@
-"""Rule text (README, Rule text): parsing, printing with explicit grouping, errors with line and column."""
+"""Rule text (docs/reference/rules.md): parsing, printing with explicit grouping, errors with line and column."""
 
 import pytest
 from hypothesis import given

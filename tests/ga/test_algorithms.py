@@ -111,3 +111,21 @@ def test_random_search_spends_the_same_evaluations_on_fresh_individuals():
     assert all(i.evaluations == 1 for i in result.population)
     assert comparable(result) == comparable(random_search(SMALL, SyntheticEvaluator(), VOCABULARY))
     assert result.best.fitness == min(s.best for s in result.history)
+
+
+def test_an_initial_population_is_generation_0_and_the_run_goes_on_from_it():
+    """A population evolved elsewhere (the transfer study seeds RoboCup runs with SimpleSoccer's) is played
+    as generation 0, unevaluated; the run from it is as reproducible as any, and starts where it left off."""
+    evolved = evolve(SMALL, SyntheticEvaluator(), VOCABULARY)
+    chromosomes = [individual.chromosome for individual in evolved.population]
+    recorder = RecordingEvaluator([])
+    config = SMALL.model_copy(update={"seed": 11, "max_generations": 2})
+    seeded = evolve(config, recorder, VOCABULARY, initial_population=chromosomes)
+    codec = ChromosomeCodec(VOCABULARY)
+    assert recorder.played[:30] == [codec.decode(chromosome) for chromosome in chromosomes]
+    assert seeded.history[0].mean == pytest.approx(evolved.history[-1].mean, abs=0.1)  # not a random start's
+    assert seeded.history[0].mean < evolve(config, SyntheticEvaluator(), VOCABULARY).history[0].mean - 0.1
+    again = evolve(config, SyntheticEvaluator(), VOCABULARY, initial_population=chromosomes)
+    assert comparable(again) == comparable(seeded)
+    with pytest.raises(ValueError, match="an initial population of 29 for a population size of 30"):
+        evolve(config, SyntheticEvaluator(), VOCABULARY, initial_population=chromosomes[:29])

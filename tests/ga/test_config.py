@@ -25,7 +25,7 @@ def test_elite_count_is_five_percent_for_elitist_selection_only():
 
 
 @pytest.mark.parametrize("values", [
-    {"population_size": 1}, {"mutation_rate": 1.5}, {"crossover": "uniform"}, {"workers": 0}, {"popsize": 10},
+    {"population_size": 1}, {"mutation_rate": 1.5}, {"crossover": "three-point"}, {"workers": 0}, {"popsize": 10},
     {"selection": "elitist", "population_size": 4, "elite_fraction": 0.9},
 ])
 def test_out_of_range_values_are_refused(values):

@@ -5,6 +5,7 @@ from fuzzy.vocabulary import Vocabulary
 from ga.config import GAConfig
 from ga.genes import GeneSpace
 from ga.individual import Individual
+from ga.provenance import Birth
 from ga.initialisation import random_population
 from ga.reproduction import next_generation
 from ga.selection import elite, roulette, tournament
@@ -82,9 +83,12 @@ def test_elitism_copies_the_best_five_percent_unchanged_with_their_running_means
     config = GAConfig(population_size=40, selection="elitist", crossover_probability=1.0, mutation_probability=1.0)
     population = evaluated_population(40, seed=3)
     following = next_generation(population, config, GeneSpace.from_vocabulary(VOCABULARY), np.random.default_rng(0))
-    best_two = sorted(population, key=lambda i: i.fitness)[:2]
+    best_two = sorted(range(40), key=lambda i: population[i].fitness)[:2]
     assert len(following) == 40
-    assert following[:2] == best_two  # the same Individual objects: evaluations and running mean kept
+    for copy, parent in zip(following[:2], best_two):  # the same genes, evaluations and running mean
+        assert copy.birth == Birth((parent,), elite=True)
+        assert copy.chromosome is population[parent].chromosome
+        assert (copy.evaluations, copy.fitness_sum) == (population[parent].evaluations, population[parent].fitness_sum)
     assert all(child.evaluations == 0 for child in following[2:])  # every other child was crossed
 
 
@@ -93,4 +97,7 @@ def test_children_untouched_by_crossover_and_mutation_are_their_parents():
     population = evaluated_population(41, seed=4)
     following = next_generation(population, config, GeneSpace.from_vocabulary(VOCABULARY), np.random.default_rng(0))
     assert len(following) == 41
-    assert all(any(child is parent for parent in population) for child in following)
+    for child in following:
+        (parent,) = child.birth.parents
+        assert child.birth.kind == "copy" and child.chromosome is population[parent].chromosome
+        assert child.to_dict() | {"birth": None} == population[parent].to_dict()  # running mean and all

@@ -10,7 +10,7 @@ import pytest
 
 from fuzzy.parser import parse_rulebase
 from fuzzy.vocabulary import Vocabulary
-from tests.rcss.replay import Line, read_transcript
+from tests.rcss.replay import Line, read_transcript, with_fresh_start
 
 VOCABULARY = Vocabulary.default()
 
@@ -50,12 +50,13 @@ def transcripts_available() -> None:
 
 @pytest.fixture
 def goals_lines(transcripts_available) -> list[Line]:
-    return without_error_probes(read_transcript(GOALS))
+    """The goals recording, as our client (starting each trial fresh) meets it."""
+    return with_fresh_start(without_error_probes(read_transcript(GOALS)))
 
 
 @pytest.fixture
 def out_of_play_lines(transcripts_available) -> list[Line]:
-    return without_error_probes(read_transcript(OUT_OF_PLAY))
+    return with_fresh_start(without_error_probes(read_transcript(OUT_OF_PLAY)))
 
 
 @pytest.fixture(scope="session")

@@ -41,6 +41,29 @@ def read_transcript(path: str | Path) -> list[Line]:
     return lines
 
 
+def with_fresh_start(lines: list[Line]) -> list[Line]:
+    """The recording as a client that starts each trial fresh (soccer/rcss/trial.py, Trial.fresh_start) meets
+    it: the recorded client placed ball and player in its first cycle, ours first sends (recover), a change
+    to before_kick_off and the ball to the centre spot, and places them one cycle later. So after the first
+    cycle's (done)s comes a cycle the recording lacks, as a real server answers it: the acknowledgements
+    (and the referee's announcement), the clock still at 0, no see (the placing cycle has none). The
+    recorded acknowledgements that follow answer commands our client has sent by then or never sends
+    (it ignores an ok it did not ask for). Inserted lines carry the number of the (done) they follow."""
+    first_sense_body = next(l.text for l in lines if not l.sent and l.role == PLAYER and l.text.startswith("(sense_body"))
+    team = next((l.text.split("(init ", 1)[1].split(" ", 1)[0] for l in lines
+                 if l.sent and l.role == PLAYER and l.text.startswith("(init ")), "LabTeam")
+    done = next(i for i, l in enumerate(lines) if l.sent and l.role == TRAINER and l.text == "(done)")
+    number = lines[done].number
+    received = [(TRAINER, "(ok eye on)"), (TRAINER, "(ok ear on)"), (TRAINER, "(ok recover)"),
+                (TRAINER, "(hear referee 0 before_kick_off)"), (PLAYER, "(hear 0 referee before_kick_off)"),
+                (TRAINER, "(ok change_mode)"), (TRAINER, "(ok move)"), (PLAYER, first_sense_body),
+                (TRAINER, f'(see_global 0 ((g r) 52.5 0) ((g l) -52.5 0) ((b) 0 0 0 0) ((p "{team}" 1) -15 0 0 0 0 0))'),
+                (PLAYER, "(think)"), (TRAINER, "(think)")]
+    inserted = [Line(number, False, role, text) for role, text in received]
+    inserted += [Line(number, True, PLAYER, "(done)"), Line(number, True, TRAINER, "(done)")]
+    return lines[:done + 1] + inserted + lines[done + 1:]
+
+
 @dataclass
 class ReplayLog:
     """What the client did: per role, the commands sent in each cycle (cycle = anchors so far)."""

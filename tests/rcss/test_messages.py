@@ -166,3 +166,10 @@ def test_replies():
 def test_malformed_known_message_names_its_kind():
     with pytest.raises(RcssParseError, match="sense_body"):
         parse_message("(sense_body 5 (speed 0.3))")
+
+
+def test_a_see_of_nothing_has_its_time_and_no_objects():
+    """A player facing off the pitch sees nothing: rcssserver sends the time alone (seen in a full-size run)."""
+    see = parse_message("(see 870522)")
+    assert see.time == 870522 and see.objects == () and see.ball is None and see.near_ball is None
+    assert see.landmarks() == []

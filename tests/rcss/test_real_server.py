@@ -17,7 +17,8 @@ from soccer.config import MAX_TICKS, WorldConfig
 from soccer.rcss.client import Session
 from soccer.rcss.errors import RcssConfigError, RcssError
 from soccer.rcss.evaluate import RcssEvaluator
-from soccer.rcss.player import RcssPlayer
+from soccer.rcss.player import RcssPlayer, load_compiled_skills
+from soccer.rcss.servers import NOISELESS_OPTIONS
 from soccer.rcss.trial import TrialConfig, run_trial, start_position
 
 from .conftest import VOCABULARY
@@ -159,3 +160,40 @@ def test_a_traced_trial_is_where_the_server_put_player_and_ball_cycle_by_cycle(s
         chosen = {VOCABULARY.action_names[a] for a in trace.action if a >= 0}
         assert chosen and chosen <= {rule.consequent.action for rule in chaser}
     assert not RcssEvaluator(pool.addresses, SHORT).trace  # untraced unless asked: results carry no trace
+
+
+QUIET = TrialConfig(max_ticks=300, skills="assisted", noise=False)
+
+
+def test_without_noise_a_trial_plays_the_same_on_a_new_server_and_a_used_one(start_servers, chaser):
+    """Each trial starts fresh (stamina recovered, the referees' counters reset, the see in phase), so with the
+    server's noise off the same rulebase and seed play the same trial cycle by cycle on a new server and on
+    one whose player has dashed for a thousand cycles before (its stamina spent, the ball stuck somewhere)."""
+    pool = start_servers(2, NOISELESS_OPTIONS)
+    dasher = parse_rulebase("if Ball is not At then GoToBall VeryHigh\nif Ball is At then DoNothing", VOCABULARY)
+    load_compiled_skills()  # as the evaluator does: loading them mid-trial would miss a cycle
+    with Session(pool.addresses[0]) as new, Session(pool.addresses[1]) as used:
+        new.open()
+        used.open()
+        for seed in range(4):
+            run_trial(used, dasher, 10 + seed, QUIET)
+        for seed in (1, 2):
+            fresh, after = (run_trial(session, chaser, seed, QUIET, trace=True) for session in (new, used))
+            assert (fresh.goals, fresh.kicks, fresh.ticks, fresh.end, fresh.fitness) == (
+                after.goals, after.kicks, after.ticks, after.end, after.fitness)
+            for column in ("player_x", "player_y", "facing", "ball_x", "ball_y", "action", "goals"):
+                assert np.array_equal(getattr(fresh.trace, column), getattr(after.trace, column)), column
+            assert fresh.goals >= 1 and fresh.late_cycles == after.late_cycles == 0
+
+
+def test_a_server_whose_noise_is_not_the_trials_is_refused(start_servers, chaser):
+    noisy, quiet = start_servers(1), start_servers(1, NOISELESS_OPTIONS)
+    with Session(noisy.addresses[0]) as session:
+        session.open()
+        with pytest.raises(RcssConfigError, match="adds noise, but the trials want none: start it with "
+                                                  "server::player_rand=0 server::ball_rand=0 server::kick_rand=0"):
+            run_trial(session, chaser, 1, QUIET)
+    with Session(quiet.addresses[0]) as session:
+        session.open()
+        with pytest.raises(RcssConfigError, match="runs without noise, but the trials want the server's noise"):
+            run_trial(session, chaser, 1, SHORT)

@@ -14,7 +14,7 @@ from soccer.rcss.errors import (
 )
 from soccer.rcss.evaluate import RcssEvaluator
 from soccer.rcss.player import load_compiled_skills
-from tests.rcss.replay import TRAINER, Line, ReplayServer, read_transcript
+from tests.rcss.replay import TRAINER, Line, ReplayServer, read_transcript, with_fresh_start
 from soccer.rcss.trial import TrialConfig, run_trial
 
 from .conftest import GOALS, player_thinks
@@ -40,21 +40,23 @@ def replaced(lines, old, new):
 
 
 def test_goals_transcript_counts_three_goals_and_six_kicks(goals_lines, chaser):
-    trial_cycles = player_thinks(goals_lines) - 1  # the first (think) comes at connection, before the trial
+    trial_cycles = player_thinks(goals_lines) - 2  # before the trial: the connection's (think), the fresh start's
     result, log = play(goals_lines, chaser, TrialConfig(max_ticks=trial_cycles))
     assert log.error is None and log.finished and not log.init_port_misuse
     assert (result.goals, result.kicks, result.ticks, result.end) == (3, 6, trial_cycles, "time")
     assert result.fitness == pytest.approx(1 / 6)
-    setup = log.commands["T"][0]
-    assert setup[:2] == ["(eye on)", "(ear on)"] and setup[2].startswith("(move (ball) 0.0000 0.0000")
-    assert setup[3].startswith("(move (player LabTeam 1) -") and setup[-1] == "(change_mode play_on)"
+    fresh_start, setup = log.commands["T"][:2]
+    assert fresh_start == ["(eye on)", "(ear on)", "(recover)", "(change_mode before_kick_off)",
+                           "(move (ball) 0.0000 0.0000)"]
+    assert setup[0].startswith("(move (ball) 0.0000 0.0000") and setup[1].startswith("(move (player LabTeam 1) -")
+    assert setup[-1] == "(change_mode play_on)"
     # After each goal the trainer restarted play in the very cycle the recorded trainer did (otherwise
     # the recorded (ok move) would not have arrived in time and the client would have raised).
     restarts = [cycle for cycle, sent in enumerate(log.commands["T"]) if "(change_mode play_on)" in sent]
     assert len(restarts) == 4
     assert all(sent[0].startswith("(move (ball) 0.0000 ") for sent in (log.commands["T"][c] for c in restarts[1:]))
     # First decision: the ball is seen 51 degrees to the left at rest, so the player turns by -51.
-    assert log.commands["P"][1] == ["(turn -51.00)"]
+    assert log.commands["P"][2] == ["(turn -51.00)"]  # after the fresh start's cycle and the placing one
     assert any(c.startswith("(kick ") for sent in log.commands["P"] for c in sent)
 
 
@@ -98,7 +100,7 @@ def test_trainer_refused(goals_lines, chaser):
 
 
 def test_error_reply_to_a_command(transcripts_available, chaser):
-    lines = read_transcript(GOALS)  # with the recording's deliberate bad commands and their errors
+    lines = with_fresh_start(read_transcript(GOALS))  # with the recording's deliberate bad commands and errors
     with pytest.raises(RcssCommandError, match="trainer: rcssserver rejected .*: unknown_command"):
         play(lines, chaser, TrialConfig())  # the trainer's cycle is read first: its error is the first met
     player_errors_only = [l for l in lines if not (l.role == TRAINER and l.text.startswith("(error"))]
@@ -115,7 +117,7 @@ def test_server_silent_mid_trial(goals_lines, chaser):
 
 
 def test_evaluator_runs_servers_in_parallel_and_keeps_order(goals_lines, out_of_play_lines, chaser):
-    config = TrialConfig(max_ticks=player_thinks(goals_lines) - 1)
+    config = TrialConfig(max_ticks=player_thinks(goals_lines) - 2)
     with ReplayServer(goals_lines) as first, ReplayServer(out_of_play_lines) as second:
         with RcssEvaluator(
             [first.server, second.server], config, team=RECORDED_TEAM, timeouts=FAST, trainer_ports=[first.trainer_port, second.trainer_port]
@@ -142,7 +144,9 @@ def test_bad_server_address():
 def test_server_silent_before_acknowledging_a_trainer_command(goals_lines, chaser):
     """A server that quits between the trainer's command and its (ok ...): one line naming the server and
     the command, as every other timeout names the server (a killed server's error says where it was)."""
-    quit_at = next(l.number for l in goals_lines if l.role == TRAINER and l.text.startswith("(ok move"))
+    first_done = next(l.number for l in goals_lines if l.sent and l.role == TRAINER and l.text == "(done)")
+    quit_at = next(l.number for l in goals_lines  # the recorded ok, after the fresh start's inserted one
+                   if l.role == TRAINER and l.text.startswith("(ok move") and l.number > first_done)
     with pytest.raises(RcssCommandError) as raised:
         play(goals_lines, chaser, TrialConfig(), stop_before_line=quit_at)
     message = str(raised.value)

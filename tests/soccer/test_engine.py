@@ -1,4 +1,4 @@
-"""The batched engine: world geometry, goals, restarts, end conditions, determinism (README, SimpleSoccer)."""
+"""The batched engine: world geometry, goals, restarts, end conditions, determinism (docs/research/index.md, "The model")."""
 
 import sys
 

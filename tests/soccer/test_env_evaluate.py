@@ -71,3 +71,25 @@ def test_evaluator_means_over_several_games():
     assert mean.fitness == fmean(g.fitness for g in games)  # exactly rounded, whatever the order of the sum
     assert mean.min_ball_goal_distance == min(g.min_ball_goal_distance for g in games)
     assert len(set(game_seeds(5, 3))) == 3 and game_seeds(5, 1) == [5]
+
+
+def test_the_ball_trail_is_the_last_six_seconds_of_its_path_not_its_last_moves():
+    """A shot long past leaves the pitch: once the ball has rested TRAIL_LENGTH ticks its trail is one point."""
+    from soccer.env import TRAIL_LENGTH
+
+    spinning = parse_rulebase("if Goal is not At then Turn Right", VOCABULARY)  # the ball is never touched
+    env = SoccerEnv(spinning)
+    env.reset(seed=3)
+    for _ in range(TRAIL_LENGTH + 5):
+        state = env.step()
+    assert len(state.ball_trail) == TRAIL_LENGTH and len(set(state.ball_trail)) == 1
+
+
+def test_new_rules_forget_what_the_old_ones_did_in_the_world():
+    """The outcome shown under a decision is that decision's: after new rules, none until the next tick."""
+    env = SoccerEnv(demo_rulebase())
+    env.reset(seed=3)
+    assert env.step().outcome is not None
+    state = env.set_rulebase(parse_rulebase("if Goal is not At then Turn Right", VOCABULARY))
+    assert state.outcome is None
+    assert env.step().outcome is not None

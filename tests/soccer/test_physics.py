@@ -1,4 +1,4 @@
-"""rcssserver formulas against hand-computed values (README, SimpleSoccer)."""
+"""rcssserver formulas against hand-computed values (docs/research/index.md, "The model")."""
 
 import math
 

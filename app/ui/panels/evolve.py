@@ -16,6 +16,7 @@ from app.runs import RunEvent, RunStateError, SampledPlayer
 from app.store import NotFound, RunStatus
 from app.ui import style
 from app.ui.number_field import FieldError, NumberField
+from app.ui.panels.diversity import DiversityPlot
 from app.ui.panels.svg import escape
 from app.ui.panels.viewer_link import run_viewer_link
 from app.validation import describe_problem, dotted
@@ -44,11 +45,11 @@ LABELS = {  # what a teacher reads next to each field; fields missing here show 
     "target_fitness": "Target fitness (stop at or below)",
     "seed": "Run seed",  # not the pitch's Seed (Play tab)
     "workers": "Worker processes",
+    "behaviour_seeds": "Behaviour seeds (count distinct behaviours; 0: off)",
     "skills": "Skills (strict: kicks only within reach; sighted: and sees the goal)",
     "noise": "Movement noise",
     "count_touches": "Body pushes count as kicks",
 }
-PLOT_PADDING = (14, 14, 0, 0)  # px above and right of the plot: the top tick's label (1) is not cut off
 # The GameConfig choices the chapter leaves open; the rest are its rules.
 GAME_FIELDS = ("skills", "noise", "count_touches")
 
@@ -123,8 +124,9 @@ class EvolvePanel:
             legend=viser.uplot.Legend(live=False),
             title=self._plot_title(),
             aspect=1.4,
-            padding=PLOT_PADDING,
+            padding=style.PLOT_PADDING,
         )
+        self.diversity = DiversityPlot(gui)
         self.load_best = gui.add_button("Load best so far onto the pitch", disabled=True)
         self._remove_listener = self.runs.add_listener(self._on_event)
 
@@ -183,6 +185,7 @@ class EvolvePanel:
         self.run_id = record.id
         self.total_generations = int(ga["max_generations"])
         self.generations, self.best, self.best_so_far, self.mean = [], [], [], []
+        self.diversity.reset(int(ga["population_size"]), int(ga["max_generations"]), int(ga["behaviour_seeds"]))
         self.progress.value = 0.0
         self.progress.animated = True
         self.plot.scales = self._plot_scales()
@@ -233,6 +236,7 @@ class EvolvePanel:
             self.best_so_far.append(min(self.best_so_far[-1:] + [float(stats["best"])]))
             self.mean.append(float(stats["mean"]))
             self._redraw_plot()
+            self.diversity.add(stats)
             self.on_generation(event.run_id, generation, event.players)
             self.progress.value = min(100.0, 100.0 * (generation + 1) / total)
             self.load_best.disabled = False

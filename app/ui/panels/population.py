@@ -29,10 +29,9 @@ EMPTY_TEXT = ("Start an evolution in the Evolve tab: the best players of each ge
 
 def population_html(
     geometry: PitchGeometry, observation: Observation, goals: Sequence[int], done: Sequence[bool],
-    labels: Sequence[str],
+    labels: Sequence[str], columns: int = style.POPULATION_GRID[0],
 ) -> str:
-    """Small pitches in a grid, game g where observation[g] saw it."""
-    columns = style.POPULATION_GRID[0]
+    """Small pitches in a grid of `columns`, game g where observation[g] saw it."""
     cells = "".join(
         _mini_pitch(geometry, observation, g, goals[g], done[g], labels[g]) for g in range(len(labels))
     )
@@ -103,8 +102,13 @@ class PopulationPanel:
         self._ended: tuple[int, str] | None = None
         self._pending_lock = threading.Lock()
         self._shown: tuple[int, int, int, int] | None = None  # run id, generation, players, seed
+        self._players: Sequence["SampledPlayer"] = ()
         self._caption_key: tuple | None = None
         self._last_render = 0.0
+
+    def shown_players(self) -> tuple[int, int, Sequence["SampledPlayer"]] | None:
+        """The run, generation and players (by rank) the small pitches show; None before the first."""
+        return None if self._shown is None else (self._shown[0], self._shown[1], self._players)
 
     def generation_finished(self, run_id: int, generation: int, players: Sequence["SampledPlayer"]) -> None:
         """Called from the run's thread: the next frame plays this generation's players."""
@@ -144,6 +148,7 @@ class PopulationPanel:
         self.batch = GameBatch([p.rulebase for p in shown], [seed] * len(shown), self.game, self.vocabulary)
         self.labels = [f"#{rank} · {player.fitness:.2f}" for rank, player in enumerate(shown, start=1)]
         self._shown = (run_id, generation, len(shown), seed)
+        self._players = shown
 
     def _show_caption(self, ended: tuple[int, str] | None) -> None:
         run_id, generation, count, seed = self._shown

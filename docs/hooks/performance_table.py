@@ -1,0 +1,47 @@
+"""mkdocs hook: `<!-- generated: performance -->` in a page becomes one table of today's figures, read from
+docs/results/*.json, the files the benchmarks write with `--record` (benchmarks/results.py). A figure lives
+in its file only; earlier figures are in CHANGELOG.md."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+MARKER = "<!-- generated: performance -->"
+RESULTS = Path(__file__).resolve().parents[1] / "results"
+SHOWN_ELSEWHERE = {"examples"}  # results that are not speeds, each in its guide's own table (docs/hooks/*_table.py)
+
+
+def shown(value: object, unit: str) -> str:
+    if isinstance(value, float):
+        value = f"{value:,.3g}" if abs(value) < 1000 else f"{value:,.0f}"
+    elif isinstance(value, int):
+        value = f"{value:,}"
+    return f"{value} {unit}".strip()
+
+
+def load(average: list[float] | None) -> str:
+    return "/".join(f"{x:g}" for x in average) if average else "?"
+
+
+def performance_table(results: Path = RESULTS) -> str:
+    documents = [json.loads(path.read_text(encoding="utf-8")) for path in sorted(results.glob("*.json"))
+                 if path.stem not in SHOWN_ELSEWHERE]
+    if not documents:
+        return "No figures recorded yet: run a benchmark with `--record`."
+    lines = ["| figure | measured | target | command | when, load average before/after |",
+             "|---|---|---|---|---|"]
+    for document in documents:
+        when = (f"{document['measured']}, {load(document.get('load_average_before'))} / "
+                f"{load(document.get('load_average_after'))}")
+        for figure in document["figures"]:
+            note = f" ({figure['note']})" if figure.get("note") else ""
+            lines.append(f"| {figure['name']}{note} | **{shown(figure['value'], figure.get('unit', ''))}** | "
+                         f"{figure.get('target', '')} | `{document['command']}` | {when} |")
+    machines = {(d["machine"]["cores"], d["machine"]["python"]) for d in documents if d.get("machine")}
+    described = "; ".join(f"{cores} cores, Python {python}" for cores, python in sorted(machines))
+    return "\n".join(lines) + f"\n\nMeasured on: {described}. Load average: the 1-, 5- and 15-minute figures."
+
+
+def on_page_markdown(markdown: str, **_: object) -> str:
+    return markdown.replace(MARKER, performance_table()) if MARKER in markdown else markdown
