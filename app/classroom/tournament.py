@@ -4,7 +4,9 @@ teacher may enter the GA's best or a library rulebase, and a round plays every e
 A round is one GameBatch: entries x starts games, the k-th start of every entry from the same seed (derived
 from the round's seed as an evaluation's games are, soccer/evaluate.py), so every entry meets the same
 positions and a game is the same whatever else is in the batch (docs/design.md, "A game does not depend on
-its batch"). The table ranks entries by goals, then the chapter's fitness (the mean over the starts; lower
+its batch"). The batch plays in a process of its own: the server's threads (every pupil's tab, the API) share
+one interpreter lock, and a round played among 30 tabs' threads took a minute instead of seconds
+(benchmarks/classroom.py). The table ranks entries by goals, then the chapter's fitness (the mean over the starts; lower
 is better), then kicks. A round is stored when its table is complete (the store's `class_rounds`), so it
 survives restarts; each game can be played again on a pitch from its entry's rules and its seed.
 """
@@ -14,7 +16,10 @@ from __future__ import annotations
 import csv
 import io
 import logging
+import multiprocessing
+import os
 import threading
+from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass
 from statistics import fmean
 from typing import Any, Callable
@@ -26,6 +31,7 @@ from app.store import EntryRecord, NotFound, RoundRecord, Store, StoreError, nam
 from fuzzy.parser import parse_rulebase
 from fuzzy.rule import Rulebase
 from fuzzy.vocabulary import Vocabulary
+from ga.evaluation import start_worker
 from soccer.config import GameConfig
 from soccer.engine import play_games
 from soccer.evaluate import game_seeds
@@ -153,7 +159,7 @@ class Tournament:
 
     def _play_round(self, entries: list[EntryRecord], starts: int, seed: int, game: GameConfig) -> None:
         try:
-            results = play_round(entries, starts, seed, game, self.vocabulary)
+            results = play_round_apart(entries, starts, seed, game, self.vocabulary)
             record = self.store.record_round(seed, starts, game.model_dump(), results)
         except Exception as exc:  # the app goes on; the teacher hears why
             log.exception("class round failed")
@@ -189,6 +195,14 @@ def rulebase_of_entry(text: object, vocabulary: Vocabulary) -> Rulebase:
 def start_seeds(seed: int, starts: int) -> list[int]:
     """The round's starts: the same for every entry."""
     return game_seeds(seed, starts)
+
+
+def play_round_apart(entries: list[EntryRecord], starts: int, seed: int, game: GameConfig,
+                     vocabulary: Vocabulary) -> list[dict[str, Any]]:
+    """play_round in a process of its own (it dies with the server, ga/evaluation.start_worker)."""
+    context = multiprocessing.get_context("spawn")
+    with ProcessPoolExecutor(1, mp_context=context, initializer=start_worker, initargs=(os.getpid(),)) as worker:
+        return worker.submit(play_round, entries, starts, seed, game, vocabulary).result()
 
 
 def play_round(entries: list[EntryRecord], starts: int, seed: int, game: GameConfig,

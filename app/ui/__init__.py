@@ -197,6 +197,7 @@ def start_ui(
     def close_session(client_id: int) -> None:
         with handle.lock:
             session = handle.sessions.pop(client_id, None)
+            context.frames.tabs = len(handle.sessions)
         if session is not None:
             session.close()
 
@@ -212,6 +213,7 @@ def start_ui(
                           tournament=tournament)
         with handle.lock:
             handle.sessions[client.client_id] = session
+            context.frames.tabs = len(handle.sessions)
         if client.client_id not in server.get_clients():  # the tab closed while its session was built
             close_session(client.client_id)
 

@@ -2,13 +2,14 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 from fuzzy.parser import parse_rulebase
 from fuzzy.rule import Rulebase
 from fuzzy.vocabulary import Vocabulary
 from soccer.config import GameConfig
+from app.ui.frame_share import FrameShare
 from soccer.demo import demo_rules_text
 
 if TYPE_CHECKING:
@@ -27,6 +28,7 @@ class UiContext:
 
     demo_name: str = DEMO_NAME
     api_url: str | None = None  # the JSON API, for links to files it serves (experiment reports)
+    frames: FrameShare = field(default_factory=FrameShare)  # each tab's share of the server's drawing
 
     def demo_rulebase(self) -> Rulebase:
         return parse_rulebase(demo_rules_text(), self.vocabulary)

@@ -1,5 +1,6 @@
 """One browser tab: its own pitch, game, rulebase and editor, and the loop that plays the game in real
-time (times the speed), sending each tick as it is played, at most FRAME_RATE times a second.
+time (times the speed), sending each tick as it is played, at most FRAME_RATE times a second (fewer when many
+tabs share the server: frame_share.py).
 
 Every control callback and the play loop take the session's lock, so a click never sees a half-made
 tick. Evolution runs elsewhere (the RunManager's threads); the session only listens.
@@ -347,7 +348,8 @@ class Session:
                 with self.lock:
                     if self._closed.is_set():
                         break
-                    self._advance(min(now - last, MAX_CATCH_UP))
+                    # a tab drawing few frames (many tabs open) plays a frame's ticks at each
+                    self._advance(min(now - last, max(MAX_CATCH_UP, 2.0 / self.context.frames.rate)))
             except Exception:  # a broken frame must not kill the tab's loop
                 if not self._connected():  # the tab closed under us: viser removed its panels first
                     break
@@ -380,9 +382,9 @@ class Session:
         if self.game.done:
             self._restart_after_pause()
             return
-        # Up to FRAME_RATE ticks a second, every tick goes to the browser (a late wake-up sends two in a
-        # row); faster, each frame's last.
-        each = self._tick_rate() <= style.FRAME_RATE
+        # Up to the tab's frame rate (FRAME_RATE, less with many tabs open: frame_share.py), every tick goes
+        # to the browser (a late wake-up sends two in a row); faster, each frame's last.
+        each = self._tick_rate() <= self.context.frames.rate
         for _ in range(ticks):
             if self.game.done:
                 break
@@ -404,12 +406,13 @@ class Session:
 
     def _until_next_tick(self) -> float:
         """Seconds to sleep: until the next tick is due, so each tick is sent (and drawn) on its own;
-        never less than a frame (faster games send several ticks a frame), never more than IDLE_WAKE."""
-        frame = 1.0 / style.FRAME_RATE
+        never less than a frame (faster games send several ticks a frame), never more than IDLE_WAKE or a
+        frame."""
+        frame = 1.0 / self.context.frames.rate
         if not self.playing:
             return IDLE_WAKE
         due_in = (1.0 - DUE_EARLY - self._tick_budget) / self._tick_rate()
-        return min(max(due_in, frame), IDLE_WAKE)
+        return min(max(due_in, frame), max(IDLE_WAKE, frame))
 
     def _restart_after_pause(self) -> None:
         """Leave the final position on screen for a moment, then start the next game (the next seed)."""

@@ -6,6 +6,7 @@ Sizes are chosen for a projector: large type, thick lines, strong contrast.
 from __future__ import annotations
 
 FRAME_RATE = 30.0  # at most this many frames a second go to the browser (faster games skip ticks)
+ALL_TABS_FRAME_RATE = 100.0  # frames a second all tabs together: past it each tab draws fewer (frame_share.py)
 DEFAULT_SPEED = 2.0  # times real time (WorldConfig.tick_seconds per tick at 1x): lively yet watchable
 SPEED_RANGE = (0.25, 20.0)
 DEFAULT_SEED = 1
