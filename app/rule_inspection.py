@@ -21,18 +21,36 @@ if TYPE_CHECKING:  # these compile the game kernels: imported when games are pla
 DEFAULT_USAGE_GAMES = 100
 # The API's and UI's limits: a request plays its games while the client waits (docs/reference/limits.md)
 MAX_GAMES = 1000
-MAX_GAME_TICKS = 1_000_000  # games x max ticks (a few seconds)
 MAX_RULES = 1000  # rules in a rulebase to play or simplify (an evolved one has at most max_length / 2)
-MAX_RULE_TICKS = 20_000_000  # rules x games x max ticks: about 5 s of usage or simplification, memory flat
+# A request's work: (rules + TICK_COST_RULES) x games x max_ticks x plays. A game tick costs the world's part
+# (physics, observation, skills) and each rule's inference; the world's part is worth TICK_COST_RULES rules.
+# Simplification plays its games twice (the original recorded, then the candidate compared tick for tick).
+# Both measured by benchmarks/request_cost.py: MAX_WORK is about 2 s here, well under 5 s on a slower
+# machine, and it bounds the rows simplification keeps (one per game tick of each play).
+TICK_COST_RULES = 60
+MAX_WORK = 60_000_000
+USAGE_PLAYS, SIMPLIFY_PLAYS = 1, 2
 
 
-def checked_cost(rules: int, games: int, max_ticks: int) -> None:
+def request_work(rules: int, games: int, max_ticks: int, plays: int) -> int:
+    return (rules + TICK_COST_RULES) * games * max_ticks * plays
+
+
+def affordable_games(rules: int, max_ticks: int, plays: int) -> int:
+    """The most games of `max_ticks` a request with `rules` rules may play (`plays` times each)."""
+    return min(MAX_GAMES, MAX_WORK // request_work(rules, 1, max_ticks, plays))
+
+
+def checked_cost(rules: int, games: int, max_ticks: int, plays: int = USAGE_PLAYS) -> None:
     """ValueError naming the limit when playing `games` games of `max_ticks` with `rules` rules costs too much."""
     if rules > MAX_RULES:
         raise ValueError(f"the rulebase has {rules:,} rules; at most {MAX_RULES:,} are played or simplified")
-    if rules * games * max_ticks > MAX_RULE_TICKS:
-        raise ValueError(f"rules x games x game.max_ticks is {rules * games * max_ticks:,}; it must be at most "
-                         f"{MAX_RULE_TICKS:,} (the request plays them while you wait): fewer games or ticks")
+    if request_work(rules, games, max_ticks, plays) > MAX_WORK:
+        most = affordable_games(rules, max_ticks, plays)
+        doing = "simplified on" if plays == SIMPLIFY_PLAYS else "played"
+        allowed = f"at most {most:,} such games can be {doing}" if most else "not one such game fits: fewer ticks"
+        raise ValueError(f"{games:,} games of {max_ticks:,} ticks with {rules:,} rules are more than a request plays "
+                         f"while you wait (docs/reference/limits.md): {allowed}")
 
 
 def seeds_from(seed: int, games: int) -> list[int]:

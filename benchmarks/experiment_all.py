@@ -42,7 +42,7 @@ def main() -> None:
           f"estimated {everything / rate / 60:.1f} min at this rate")
     if arguments.record:
         record("experiment_all", [
-            Figure(f"`{arguments.preset}` preset, {len(outcome.plan.specs)} trials, {evaluations:,} evaluations, "
+            Figure(f"`{arguments.preset}` preset, {len(outcome.plan.specs)} trials, {games:,} evaluations, "
                    f"{arguments.workers} workers", round(seconds, 1), "s", note=f"{rate:.0f} evaluations/s"),
             Figure("`experiment all` at full size, estimated from that rate", round(everything / rate / 60, 1), "min",
                    target="< 30 min", note=f"{everything:,} evaluations"),

@@ -4,8 +4,8 @@ across 100 generations of runs (5 runs x 20 generations, one after another).
 
     python benchmarks/server_memory.py [--runs 5] [--generations 20] [--record]
 
-The heaviest requests: rule usage and simplification at the limits (docs/reference/limits.md: 1,000 rules;
-rules x games x max_ticks = 20,000,000 in two shapes), the longest rule text parsed, evaluated and saved,
+The heaviest requests: rule usage and simplification at the limits (docs/reference/limits.md: the most
+games of 1,000 ticks the work bound allows with 20 and with 1,000 rules), the longest rule text parsed, evaluated and saved,
 and a run of the largest population started and stopped in its generation 0.
 """
 
@@ -60,7 +60,7 @@ def main() -> None:
     parser.add_argument("--generations", type=int, default=20)
     add_record_option(parser)
     args = parser.parse_args()
-    from app.rule_inspection import MAX_RULE_TICKS, MAX_RULES
+    from app.rule_inspection import MAX_RULES, SIMPLIFY_PLAYS, USAGE_PLAYS, affordable_games
     from ga.config import MAX_POPULATION
 
     load_before = load_average()
@@ -87,15 +87,13 @@ def main() -> None:
         twenty = rule_text(20)
         longest = (many + "\n") * max(1, 190_000 // (len(many) + 1))  # near the 200,000-character text limit
         no_end = {"max_ticks": 1000, "goal_cap": 1000, "idle_ticks": 1000}  # every game plays its 1000 ticks
-        heavy = [
-            ("usage, 20 rules x 1,000 games x 1,000 ticks", "POST", "/rules/usage",
-             {"text": twenty, "games": MAX_RULE_TICKS // (20 * 1000), "game": no_end}),
-            ("usage, 1,000 rules x 20 games x 1,000 ticks", "POST", "/rules/usage",
-             {"text": many, "games": MAX_RULE_TICKS // (MAX_RULES * 1000), "game": no_end}),
-            ("simplify, 20 rules x 1,000 games x 1,000 ticks", "POST", "/rules/simplify",
-             {"text": twenty, "games": MAX_RULE_TICKS // (20 * 1000), "game": no_end}),
-            ("simplify, 1,000 rules x 20 games x 1,000 ticks", "POST", "/rules/simplify",
-             {"text": many, "games": MAX_RULE_TICKS // (MAX_RULES * 1000), "game": no_end}),
+        heavy = []
+        for route, plays in (("usage", USAGE_PLAYS), ("simplify", SIMPLIFY_PLAYS)):
+            for rules, text in ((20, twenty), (MAX_RULES, many)):
+                games = affordable_games(rules, 1000, plays)  # the most the bound allows
+                heavy.append((f"{route}, {rules:,} rules x {games:,} games x 1,000 ticks", "POST", f"/rules/{route}",
+                              {"text": text, "games": games, "game": no_end}))
+        heavy += [
             ("parse, the longest text", "POST", "/rules/parse", {"text": longest}),
             ("evaluate, 1,000 rules", "POST", "/rules/evaluate", {"text": many}),
             ("save a rulebase of 1,000 rules", "POST", "/rulebases", {"name": "big", "text": many}),

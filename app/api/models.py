@@ -8,7 +8,7 @@ from typing import Annotated, Any
 from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 
 from app.environments import SIMPLE, EnvName
-from app.rule_inspection import DEFAULT_USAGE_GAMES, MAX_GAME_TICKS, MAX_GAMES
+from app.rule_inspection import DEFAULT_USAGE_GAMES, MAX_GAMES
 from app.run import AlgorithmName
 from app.store import NAME_MAX_LENGTH, BestIndividual, RulebaseRecord, RunRecord
 from ga.config import GAConfig
@@ -125,13 +125,6 @@ class GamesRequest(RulebaseSource):
     games: int = Field(DEFAULT_USAGE_GAMES, ge=1, le=MAX_GAMES)
     seed: int = Field(0, ge=0, le=2**62)
     game: GameConfig = GameConfig()
-
-    @model_validator(mode="after")
-    def within_budget(self) -> "GamesRequest":
-        if self.games * self.game.max_ticks > MAX_GAME_TICKS:
-            raise ValueError(f"games x game.max_ticks must be at most {MAX_GAME_TICKS:,} (the request plays them "
-                             "while you wait)")
-        return self
 
 
 class UsageRequest(GamesRequest):

@@ -18,7 +18,7 @@ import viser
 
 from app.access import LOCAL, ScopedRuns, ScopedStore, Visitor
 from app.pitch_link import LINK_PARAMETER, LinkError, PitchLink, decode_link
-from app.rule_inspection import checked_cost, rule_usage, simplification
+from app.rule_inspection import SIMPLIFY_PLAYS, checked_cost, rule_usage, simplification
 from app.ui import style
 from app.ui.context import UiContext
 from app.ui.game import Game
@@ -310,7 +310,7 @@ class Session:
         """The rules simplified: exact steps, then checked on `games` games from the pitch's seed."""
         with self.lock:
             seed, config = self.game.seed, self.game.config
-        checked_cost(len(rulebase), max(games, 1), config.max_ticks)  # ValueError naming the limit
+        checked_cost(len(rulebase), games, config.max_ticks, SIMPLIFY_PLAYS)  # ValueError naming the limit
         return simplification(rulebase, self.context.vocabulary, games, seed, config)
 
     def refresh(self) -> None:

@@ -87,4 +87,6 @@ MINI_PITCH_DONE = "#607d8b"  # grey grass: the game is over
 MINI_PITCH_PLAYER = "#64b5f6"  # lighter than PLAYER, to read on the small dark pitch
 BALL_HEX = "#ffc107"  # BALL as a hex string for SVG
 PLOT_PADDING = (14, 14, 0, 0)  # px above and right of a plot: the top tick's label (1) is not cut off
+# The steps uPlot may put between a plot's generation ticks: whole generations only (never "0.2")
+GENERATION_STEPS = (1, 2, 5, 10, 20, 50, 100, 200, 500, 1_000, 2_000, 5_000, 10_000, 20_000, 50_000, 100_000)
 SCROLLBAR_ROOM = "padding-right:12px"  # a panel's scrollbar lies over its content's right edge

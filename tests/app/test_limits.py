@@ -8,7 +8,8 @@ import pytest
 from typer.testing import CliRunner
 
 from app.cli import app
-from app.rule_inspection import MAX_RULE_TICKS, MAX_RULES
+from app.rule_inspection import (MAX_RULES, MAX_WORK, SIMPLIFY_PLAYS, USAGE_PLAYS, affordable_games,
+                                 request_work)
 from app.ui.panels.evolve import ga_fields
 from ga.config import MAX_POPULATION, MAX_WORKERS
 from soccer.config import MAX_GAMES_PER_EVALUATION, MAX_TICKS
@@ -41,7 +42,7 @@ def test_the_api_refuses_a_run_past_each_limit_naming_it(client, body, where, li
     assert client.get("/api/runs").json() == []
 
 
-def test_usage_and_simplify_refuse_too_many_rules_or_rule_ticks(client):
+def test_usage_and_simplify_refuse_too_many_rules_or_too_much_work(client):
     many = "\n".join([RULE] * (MAX_RULES + 1))
     for route in ("usage", "simplify"):
         response = client.post(f"/api/rules/{route}", json={"text": many, "games": 1, "game": {"max_ticks": 10}})
@@ -50,19 +51,32 @@ def test_usage_and_simplify_refuse_too_many_rules_or_rule_ticks(client):
         probe = {"text": "\n".join([RULE] * 5000), "games": 1,
                  "game": {"max_ticks": 20_000, "goal_cap": 10**9, "idle_ticks": 10**9}}
         assert client.post(f"/api/rules/{route}", json=probe).status_code == 422
-    thirty = "\n".join([RULE] * 30)  # 30 x 1,000 games x 1,000 ticks: within games x ticks, past rules x ...
-    over = {"text": thirty, "games": 1000, "game": {"max_ticks": 1000}}
-    response = client.post("/api/rules/usage", json=over)
-    assert response.status_code == 422 and f"{MAX_RULE_TICKS:,}" in response.json()["detail"]
-
-
-def test_the_heaviest_allowed_usage_request_answers(client):
-    """rules x games x max_ticks exactly at the limit (games end early here: the cost is the bound's)."""
+    # 30 rules x 1,000 games of 1,000 ticks: refused, saying how many games would be played
+    thirty = "\n".join([RULE] * 30)
+    response = client.post("/api/rules/usage", json={"text": thirty, "games": 1000, "game": {"max_ticks": 1000}})
+    most = affordable_games(30, 1000, USAGE_PLAYS)
+    assert response.status_code == 422 and f"at most {most:,} such games can be played" in response.json()["detail"]
+    # Simplification plays each game twice: the most games usage may play is too many to simplify on
     twenty = "\n".join([RULE] * 20)
-    body = {"text": twenty, "games": 1000, "game": {"max_ticks": 1000}}
-    assert 20 * body["games"] * body["game"]["max_ticks"] == MAX_RULE_TICKS
-    response = client.post("/api/rules/usage", json=body)
-    assert response.status_code == 200 and response.json()["games"] == 1000
+    usage_most = affordable_games(20, 1000, USAGE_PLAYS)
+    body = {"text": twenty, "games": usage_most, "game": {"max_ticks": 1000}}
+    response = client.post("/api/rules/simplify", json=body)
+    assert response.status_code == 422 and "can be simplified on" in response.json()["detail"]
+    # Not one game fits: the message says to play fewer ticks
+    thousand = "\n".join([RULE] * MAX_RULES)
+    response = client.post("/api/rules/usage", json={"text": thousand, "games": 1, "game": {"max_ticks": 10_000}})
+    if request_work(MAX_RULES, 1, 10_000, USAGE_PLAYS) > MAX_WORK:
+        assert response.status_code == 422 and "fewer ticks" in response.json()["detail"]
+
+
+@pytest.mark.parametrize("route, plays", [("usage", USAGE_PLAYS), ("simplify", SIMPLIFY_PLAYS)])
+def test_the_heaviest_allowed_request_answers(client, route, plays):
+    """The most games the work bound allows (games end early here: the cost is the bound's)."""
+    twenty = "\n".join([RULE] * 20)
+    games = affordable_games(20, 1000, plays)
+    assert request_work(20, games, 1000, plays) <= MAX_WORK < request_work(20, games + 1, 1000, plays)
+    response = client.post(f"/api/rules/{route}", json={"text": twenty, "games": games, "game": {"max_ticks": 1000}})
+    assert response.status_code == 200, response.text
 
 
 @pytest.mark.parametrize("option, value, limit", [

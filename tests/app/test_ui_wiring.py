@@ -208,6 +208,9 @@ def test_evolve_panel_shows_best_so_far_beside_each_generation_s_best(gui, store
     assert best == [0.25, 0.5, 0.167, 0.3] and best_so_far == [0.25, 0.25, 0.167, 0.167]
     labels = [series["label"] for series in panel.plot.series]
     assert labels[1:] == ["best of the generation 0.300", "best so far 0.167", "mean 0.800"]
+    for plot in (panel.plot, panel.diversity.plot):  # generation ticks are whole numbers (a class saw "0.2")
+        steps = plot.axes[0]["incrs"]
+        assert steps[0] == 1 and all(float(step).is_integer() for step in steps)
     assert "best so far 0.167; this generation: best 0.300" in panel.status.content
     panel._on_event(RunEvent(7, RunStatus.FINISHED))
     assert ("finished after generation 3 — best so far 0.167 (generation 2); the last generation&#x27;s best 0.300"

@@ -21,8 +21,8 @@ from app.api.models import (
 )
 from app.api.routes.dependencies import StoreDependency
 from app.api.rule_text import VOCABULARY, parse, playable, rule_out
-from app.rule_inspection import (checked_cost, rule_usage, simplification, simplification_document,
-                                 usage_document)
+from app.rule_inspection import (SIMPLIFY_PLAYS, USAGE_PLAYS, checked_cost, rule_usage, simplification,
+                                 simplification_document, usage_document)
 from fuzzy.engine import ActionOutput, Engine
 from fuzzy.rule import Rulebase
 from fuzzy.printer import format_rule, format_rulebase
@@ -67,7 +67,7 @@ def _fired(output: ActionOutput) -> FiredAction:
     responses={404: {"model": ErrorBody}},
 )
 def usage(body: UsageRequest, store: StoreDependency) -> UsageResponse:
-    rulebase = _affordable(playable(_rulebase(body, store)), body.games, body.game.max_ticks)
+    rulebase = _affordable(playable(_rulebase(body, store)), body.games, body.game.max_ticks, USAGE_PLAYS)
     return UsageResponse(**usage_document(rule_usage(rulebase, VOCABULARY, body.games, body.seed, body.game),
                                           VOCABULARY))
 
@@ -79,7 +79,7 @@ def usage(body: UsageRequest, store: StoreDependency) -> UsageResponse:
     responses={404: {"model": ErrorBody}},
 )
 def simplify(body: SimplifyRequest, store: StoreDependency) -> SimplifyResponse:
-    rulebase = _affordable(_rulebase(body, store), max(body.games, 1), body.game.max_ticks)
+    rulebase = _affordable(_rulebase(body, store), body.games, body.game.max_ticks, SIMPLIFY_PLAYS)
     if body.games:
         playable(rulebase)
     result = simplification(rulebase, VOCABULARY, body.games, body.seed, body.game, body.drop_unused_fields)
@@ -91,9 +91,9 @@ def _rulebase(body: RulebaseSource, store) -> Rulebase:
 
 
 
-def _affordable(rulebase: Rulebase, games: int, max_ticks: int) -> Rulebase:
+def _affordable(rulebase: Rulebase, games: int, max_ticks: int, plays: int) -> Rulebase:
     try:
-        checked_cost(len(rulebase), games, max_ticks)
+        checked_cost(len(rulebase), games, max_ticks, plays)
     except ValueError as exc:
         raise RequestValidationError([{"type": "value_error", "loc": ("body", "games"), "input": games,
                                        "msg": str(exc)}]) from None

@@ -27,7 +27,8 @@ class DiversityPlot:
         self.rows: list[Mapping[str, Any]] = []
         self.plot = gui.add_uplot(data=self._data(), series=self._series(), scales=self._scales(),
                                   legend=viser.uplot.Legend(live=False), title=self._title(), aspect=1.6,
-                                  padding=style.PLOT_PADDING)
+                                  padding=style.PLOT_PADDING,
+                                  axes=(viser.uplot.Axis(incrs=style.GENERATION_STEPS), viser.uplot.Axis()))
 
     def reset(self, population_size: int, max_generations: int, behaviour_seeds: int) -> None:
         """A new run: shares of `population_size`, generations 0 .. max_generations - 1."""

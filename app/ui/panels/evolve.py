@@ -125,6 +125,7 @@ class EvolvePanel:
             title=self._plot_title(),
             aspect=1.4,
             padding=style.PLOT_PADDING,
+            axes=(viser.uplot.Axis(incrs=style.GENERATION_STEPS), viser.uplot.Axis()),
         )
         self.diversity = DiversityPlot(gui)
         self.load_best = gui.add_button("Load best so far onto the pitch", disabled=True)

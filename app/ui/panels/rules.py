@@ -43,7 +43,7 @@ def decision_html(vocabulary: Vocabulary, inference: Inference, outcome: str | N
         f"</span></div>"
     )
     others = "".join(
-        f'<span style="margin-right:12px; color:{style.SELECTED if a is selected else style.INK}">'
+        f'<span style="margin-right:12px; white-space:nowrap; color:{style.SELECTED if a is selected else style.INK}">'
         f"{escape(vocabulary.display(a.action))} {a.support:.2f}</span>"
         for a in inference.fired
     )

@@ -1,0 +1,114 @@
+"""What a rule usage or simplification request costs, and so where app/rule_inspection.py's bound lies.
+
+A request plays its games while the client waits, so its bound is in seconds: at most REQUEST_SECONDS.
+The seconds grow with the game ticks played and, per tick, with the rules: a tick costs the world's part
+(physics, the observation, the skills) plus each rule's inference. This script times rule usage and
+checked simplification (the worst case: random rules that never win, so the candidate is replayed) over
+full-length games for several rulebase sizes, fits seconds = game ticks x (world + rules x rule), and
+prints the constants the bound uses:
+
+- TICK_COST_RULES: a game tick's world part, in rules (world / rule);
+- the seconds MAX_WORK, the bound on (rules + TICK_COST_RULES) x games x max_ticks x plays, stands for (a
+  usage request plays its games once, a simplification twice: the original recorded, the candidate
+  compared). It is set well under REQUEST_SECONDS: a school's laptop is slower than this machine, and a
+  simplification keeps a row per game tick of both plays in memory (benchmarks/server_memory.py).
+
+Then it times the heaviest request the bound allows at each size, the figures docs/reference/limits.md
+points to (`--record` writes docs/results/request_cost.json).
+
+    python benchmarks/request_cost.py [--games 40] [--rules 1 20 100 300 1000] [--repeats 3] [--record]
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+
+import numpy as np
+
+from app.rule_inspection import MAX_WORK, TICK_COST_RULES, affordable_games
+from fuzzy.random_rulebase import random_rulebase
+from fuzzy.rule import Rulebase
+from fuzzy.vocabulary import Vocabulary
+from soccer.config import GameConfig
+from soccer.demo import demo_rulebase
+from soccer.simplify import simplify_rulebase
+from soccer.usage import measure_usage
+from results import Figure, add_record_option, load_average, record, this_command  # benchmarks/results.py
+
+VOCABULARY = Vocabulary.default()
+REQUEST_SECONDS = 5.0
+TICKS = GameConfig().max_ticks
+NO_END = GameConfig(goal_cap=TICKS, idle_ticks=TICKS)  # every game lasts its full length: the worst case
+
+
+def rulebase_of(rules: int, seed: int = 1) -> Rulebase:
+    """The demo striker's rules, then random ones (seeded) up to `rules`."""
+    striker = demo_rulebase(VOCABULARY)
+    if rules <= len(striker):
+        return Rulebase(striker.rules[:rules])
+    extra = random_rulebase(np.random.default_rng(seed), VOCABULARY, rules=rules - len(striker))
+    return Rulebase(striker.rules + extra.rules)
+
+
+def seconds(work) -> float:
+    start = time.perf_counter()
+    work()
+    return time.perf_counter() - start
+
+
+def usage(rulebase: Rulebase, games: int) -> float:
+    return seconds(lambda: measure_usage(rulebase, list(range(games)), NO_END, VOCABULARY))
+
+
+def simplify(rulebase: Rulebase, games: int) -> float:
+    return seconds(lambda: simplify_rulebase(rulebase, VOCABULARY, list(range(games)), NO_END))
+
+
+def fit(sizes: list[int], per_tick: list[float]) -> tuple[float, float]:
+    """(world, rule): seconds per game tick = world + rules x rule, least squares."""
+    rule, world = np.polyfit(np.array(sizes, dtype=float), np.array(per_tick), 1)
+    return float(world), float(rule)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--games", type=int, default=40, help="full-length games per measurement")
+    parser.add_argument("--rules", type=int, nargs="+", default=[1, 20, 100, 300, 1000])
+    parser.add_argument("--repeats", type=int, default=3)
+    add_record_option(parser)
+    args = parser.parse_args()
+    load_before = load_average()
+    usage(rulebase_of(2), 2)  # compile / load the numba cache, not timed
+
+    # the best of --repeats, so another job's moment on the machine does not bend the fit
+    per_tick = [min(usage(rulebase_of(rules), args.games) for _ in range(args.repeats)) / (args.games * TICKS)
+                for rules in args.rules]
+    world, rule = fit(args.rules, per_tick)
+    print(f"usage: seconds per game tick = {world * 1e6:.2f} us + rules x {rule * 1e6:.4f} us "
+          f"(games of {TICKS} ticks, {args.games} per size)")
+    print(f"  TICK_COST_RULES = world / rule = {world / rule:.0f}   (app/rule_inspection.py has {TICK_COST_RULES})")
+    print(f"  MAX_WORK = {MAX_WORK:,} stands for {MAX_WORK * rule:.1f} s (at most {REQUEST_SECONDS:.0f} s)")
+
+    figures = [Figure("a game tick's world part, in rules' inference", round(world / rule), "rules",
+                      note=f"world {world * 1e6:.2f} us, a rule {rule * 1e6:.4f} us per game tick; "
+                           f"app/rule_inspection.py TICK_COST_RULES = {TICK_COST_RULES}"),
+               Figure(f"MAX_WORK ({MAX_WORK:,}) in seconds, by the fit", round(MAX_WORK * rule, 1), "s",
+                      target=f"<= {REQUEST_SECONDS:.0f} s")]
+    print(f"the heaviest request the bound allows (games of {TICKS} ticks; at most {REQUEST_SECONDS:.0f} s):")
+    for rules in args.rules:
+        rulebase = rulebase_of(rules)
+        for route, plays, timed in (("usage", 1, usage), ("simplify", 2, simplify)):
+            games = affordable_games(rules, TICKS, plays)
+            if games == 0:
+                continue
+            took = timed(rulebase, games)
+            print(f"  {route:<8} {rules:>5} rules x {games:>4} games: {took:6.2f} s")
+            figures.append(Figure(f"{route}, {rules:,} rules x {games:,} games x {TICKS:,} ticks (the most allowed)",
+                                  round(took, 2), "s", target=f"<= {REQUEST_SECONDS:.0f} s"))
+    if args.record:
+        record("request_cost", figures, command=this_command(), load_before=load_before)
+
+
+if __name__ == "__main__":
+    main()
