@@ -173,13 +173,15 @@ class ClassPanel:
         head = "".join(f'<th style="text-align:{align}; padding:2px 6px">{title}</th>'
                        for title, align in (("#", "right"), ("Name", "left"), ("Goals", "right"),
                                             ("Fitness", "right"), ("Kicks", "right")))
+        cell, number = 'style="padding:2px 6px"', 'style="padding:2px 6px; text-align:right"'
         body = "".join(
-            f'<tr data-entry="{row["entry_id"]}"><td style="text-align:right">{row["rank"]}</td>'
-            f"<td>{escape(row['name'])}</td><td style=\"text-align:right\">{row['goals']}</td>"
-            f"<td style=\"text-align:right\">{row['fitness']:.3f}</td><td style=\"text-align:right\">{row['kicks']}</td>"
+            f'<tr data-entry="{row["entry_id"]}"><td {number}>{row["rank"]}</td>'
+            f"<td {cell}>{escape(row['name'])}</td><td {number}>{row['goals']}</td>"
+            f"<td {number}>{row['fitness']:.3f}</td><td {number}>{row['kicks']}</td>"
             "</tr>" for row in record.results)
         self.table.content = (
-            f'<div class="class-table" data-round="{record.id}" style="{style.FONT}; font-size:{style.FONT_SIZE}px">'
+            f'<div class="class-table" data-round="{record.id}" style="{style.FONT}; font-size:{style.FONT_SIZE}px; '
+            'margin-bottom:10px">'
             f"<div>Round {record.id}: {len(record.results)} entries × {record.starts} starts, seed {record.seed}, "
             f"{escape(record.game.get('skills', ''))} skills. Fitness: the chapter's (lower is better), mean over "
             f'the starts. <a href="/api/class/rounds/{record.id}/table.csv">CSV</a></div>'
