@@ -164,8 +164,8 @@ class Setting:
     def key(self) -> str:
         """A stable, readable file-name stem identifying the configuration (shared across presets)."""
         identity: list[Any] = [self.algorithm, self.ga.model_dump(exclude={"seed", "workers"})]
-        if self.trial is not None:
-            identity.append(self.trial.model_dump())
+        if self.trial is not None:  # its options added since the first studies only when set, as below
+            identity.append(self.trial.model_dump(exclude=self.trial.unset_later_options()))
         # only when set, so the chapter's settings keep the keys (and trial files) they always had
         identity += [{"games_per_evaluation": self.games_per_evaluation}] if self.games_per_evaluation != 1 else []
         identity += [{"restarts": self.restarts}] if self.restarts != 1 else []
