@@ -46,7 +46,11 @@ def test_trial_options_added_later_keep_the_studies_trial_files_named_as_they_we
     from dataclasses import replace
 
     (setting,) = preset("robocup", ExperimentOptions()).settings
-    assert setting.key == "ga-rcss-p200-g25-7ce1e4f75b"  # as before restart and the answer delays existed
+    # the full study's trial files (docs/robocup/full-study.md), named before behaviour seeds, the restart
+    # and the answer delays existed
+    assert setting.key == "ga-rcss-p200-g25-28cb37aa54"
+    counting = replace(setting, ga=setting.ga.model_copy(update={"behaviour_seeds": 2}))
+    assert counting.key == setting.key  # counting behaviours does not change the evolution
     changed = [replace(setting, trial=setting.trial.model_copy(update=change)).key
                for change in ({"restart": "server"}, {"answer_delay": 1}, {"answer_delay_spread": 2})]
     assert len({setting.key, *changed}) == 4
