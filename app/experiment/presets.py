@@ -163,9 +163,11 @@ class Setting:
     @property
     def key(self) -> str:
         """A stable, readable file-name stem identifying the configuration (shared across presets)."""
-        identity: list[Any] = [self.algorithm, self.ga.model_dump(exclude={"seed", "workers"})]
-        if self.trial is not None:
-            identity.append(self.trial.model_dump())
+        # what does not change the evolution is no part of it: the seed (each trial has its own), the workers,
+        # and counting behaviours (added after the first studies: their trial files keep their names)
+        identity: list[Any] = [self.algorithm, self.ga.model_dump(exclude={"seed", "workers", "behaviour_seeds"})]
+        if self.trial is not None:  # its options added since the first studies only when set, as below
+            identity.append(self.trial.model_dump(exclude=self.trial.unset_later_options()))
         # only when set, so the chapter's settings keep the keys (and trial files) they always had
         identity += [{"games_per_evaluation": self.games_per_evaluation}] if self.games_per_evaluation != 1 else []
         identity += [{"restarts": self.restarts}] if self.restarts != 1 else []

@@ -9,6 +9,14 @@ waits `restart_wait_cycles` cycles, then puts the ball on a random point of the 
 play_on again, as the recorded trainer did (tests/rcss/transcripts/trial_goals.txt). Kicks are the server's
 own count of kicks that reached the ball (sense_body's kick counter).
 
+Two options change how a trial is played, to measure what the chapter's real-time games did differently
+(docs/robocup/full-study.md, "When a finding disagrees"); both default to the trials above. `restart="server"`
+leaves the restart after a goal to rcssserver, as a game without a trainer: 50 cycles with its clock stopped,
+the kick-off to the other side (the player moved into its own half and kept from the ball), which nobody takes,
+and a drop ball `drop_ball_time` (100) cycles later. `answer_delay` and `answer_delay_spread` make the player's
+answers late, as a real-time client's can be: each decision reaches the server some cycles after the one it was
+made for, drawn from the trial's seed.
+
 A server plays thousands of trials in its life, so each trial first puts back what earlier ones changed
 (`Trial.fresh_start`): the player's stamina (a server never restores it: a player that dashes used up its
 stamina capacity within 6 trials of 1200 cycles and crept along at stamina 0 for the rest of the run),
@@ -21,11 +29,12 @@ So a trial's course depends only on its rulebase, its seed and the server's nois
 from __future__ import annotations
 
 import math
+from collections import deque
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, Literal
 
 import numpy as np
-from pydantic import PositiveInt, model_validator
+from pydantic import Field, PositiveInt, model_validator
 
 from fuzzy.rule import Rulebase
 from fuzzy.vocabulary import Vocabulary
@@ -41,6 +50,10 @@ PLAY_ON = "play_on"
 BEFORE_KICK_OFF = "before_kick_off"  # the mode a new server starts in: the clock stands still, nothing moves
 CONTINUING_MODES = frozenset({PLAY_ON, "drop_ball"})  # the ball stays in play
 OUR_SIDE = "l"  # the player is the left team's only player: it attacks (g r)
+THEIR_KICK_OFF = "kick_off_r"  # the server's restart after our goal, left alone
+MAX_ANSWER_DELAY = 50  # cycles: 5 s of real time
+DELAY_STREAM = 1  # SeedSequence spawn key of the answer delays' draws, apart from the placements' stream
+LATER_OPTIONS = ("restart", "answer_delay", "answer_delay_spread")  # added after the first studies ran
 RENAMED_FIELDS = {"max_cycles": "max_ticks", "idle_cycles": "idle_ticks"}
 
 
@@ -51,10 +64,25 @@ class TrialConfig(EvaluationRules):
     max_ticks: PositiveInt = 1200  # 120 s of server time at 100 ms per cycle, as the chapter
     fitness: FitnessName = "robocup-composite"
     restart_wait_cycles: PositiveInt = 5  # after a goal, cycles before the trainer restarts play
+    # Who restarts play after a goal: the trainer (after restart_wait_cycles), or nobody ("server"): rcssserver's
+    # own restart, 50 frozen cycles, the other side's kick-off, a drop ball 100 cycles later. The player plays on
+    # throughout (the chapter's player ignores what it hears), and its idleness is not counted till play_on.
+    restart: Literal["trainer", "server"] = "trainer"
+    # Late answers: each decision reaches the server answer_delay cycles after the cycle it was made for, plus 0 to
+    # answer_delay_spread more (uniform, drawn per decision from the trial's seed). Answers keep their order; of
+    # several arriving in one cycle only the first is sent (rcssserver executes one body command a cycle, the
+    # first), and a cycle in which none arrives has none. 0 and 0: the answer in the same cycle.
+    answer_delay: int = Field(0, ge=0, le=MAX_ANSWER_DELAY)
+    answer_delay_spread: int = Field(0, ge=0, le=MAX_ANSWER_DELAY)
     # The server's own noise (movement, turns, kicks), on as in the chapter. Off, a trial plays the same every
     # time (rcssserver seeds its noise from the clock): servers soccer-lab starts get NOISELESS_OPTIONS
     # (soccer/rcss/servers.py), and a server you run must match (its server_param says).
     noise: bool = True
+
+    def unset_later_options(self) -> set[str]:
+        """The options added after the first studies ran that keep their defaults: left out of a setting's key
+        (app/experiment/presets.py, Setting.key), so those studies' trial files keep their names."""
+        return {name for name in LATER_OPTIONS if getattr(self, name) == type(self).model_fields[name].default}
 
     @model_validator(mode="before")
     @classmethod
@@ -129,6 +157,11 @@ class Trial:
         # with `trace`: per cycle player x, y, body angle, ball x, y (see_global), action, goals before, and the
         # latest decision's command (kind, value, direction, outcome)
         self.rows: list[tuple] | None = [] if trace else None
+        # late answers: (cycle due, commands) in the order decided, and the due cycle of the latest
+        self.late = config.answer_delay > 0 or config.answer_delay_spread > 0
+        self.delay_rng = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(DELAY_STREAM,)))
+        self.in_flight: deque[tuple[int, list[str]]] = deque()
+        self.last_due = 0
 
     def run(self) -> TrialResult:
         """Start fresh, place ball and player, then play until the trial ends."""
@@ -146,6 +179,8 @@ class Trial:
             self.ticks += 1
             self.observe(player_cycle, trainer_cycle)
             commands = self.respond(player_cycle) if self.end is None else []
+            if self.late:
+                commands = self.arriving(commands)
             if self.rows is not None:
                 self._note_row(trainer_cycle, goals_before)
         return TrialResult(self.score(), self.goals, self.kicks, self.ticks, self.end, self.seed, self._trace(),
@@ -198,6 +233,11 @@ class Trial:
             if goal is not None and goal[0] == OUR_SIDE:
                 self.goals += 1
                 self.cycles_since_goal = 0
+            elif self.config.restart == "server" and self.cycles_since_goal is not None:
+                if hear.message in CONTINUING_MODES:  # the server's drop ball: the ball is in play again
+                    self.cycles_since_goal = None
+                elif hear.message != THEIR_KICK_OFF:
+                    self.end = f"out of play ({hear.message})"
             elif hear.message not in CONTINUING_MODES:
                 self.end = f"out of play ({hear.message})"
         kick_count = player_cycle.sense_body.kick_count
@@ -219,13 +259,17 @@ class Trial:
         me = seen.player(self.session.player.team, self.session.player.unum) if seen else None
         if me is None:
             return
+        if self.config.restart == "server" and self.cycles_since_goal is not None:  # the ball out of play
+            self.idle, self.position = 0, (me.x, me.y)
+            return
         moved = self.position is None or math.dist(self.position, (me.x, me.y)) > self.config.idle_distance
         self.idle = 0 if (moved or kicked) else self.idle + 1
         self.position = (me.x, me.y)
 
     def respond(self, player_cycle: PlayerCycle) -> list[str]:
-        """The player's commands for this cycle; during a goal freeze the trainer restarts play instead."""
-        if self.cycles_since_goal is None:
+        """The player's commands for this cycle; during a goal freeze the trainer restarts play instead (unless
+        the restart is left to the server: then the player plays on)."""
+        if self.cycles_since_goal is None or self.config.restart == "server":
             return self.player.decide(player_cycle)
         self.cycles_since_goal += 1
         if self.cycles_since_goal >= self.config.restart_wait_cycles:
@@ -233,6 +277,20 @@ class Trial:
             self.session.trainer.change_mode(PLAY_ON)
             self.cycles_since_goal = None
         return []
+
+    def arriving(self, commands: list[str]) -> list[str]:
+        """Late answers: this cycle's decision joins those in flight, due some cycles on; returns what arrives
+        now (the first of what is due: the server would execute only that)."""
+        config = self.config
+        if commands:
+            spread = int(self.delay_rng.integers(0, config.answer_delay_spread + 1)) if config.answer_delay_spread else 0
+            self.last_due = max(self.ticks + config.answer_delay + spread, self.last_due)  # answers keep their order
+            self.in_flight.append((self.last_due, commands))
+        arrived: list[str] = []
+        while self.in_flight and self.in_flight[0][0] <= self.ticks:
+            due = self.in_flight.popleft()[1]
+            arrived = arrived or due
+        return arrived
 
     def score(self) -> float:
         return fitness_of(self.config.fitness, self.goals, self.kicks, max(self.ticks, 1), math.inf, 2 * PITCH_HALF_LENGTH)

@@ -40,6 +40,22 @@ def test_the_preset_is_table_2_on_rcssserver_at_the_chapters_size():
     assert preset("robocup", ExperimentOptions(max_ticks=300)).settings[0].trial.max_ticks == 300
 
 
+def test_trial_options_added_later_keep_the_studies_trial_files_named_as_they_were():
+    """A setting's key names its trial files: options added to TrialConfig after a study ran leave it out while
+    they keep their defaults (so the study still finds its trials), and change it when set."""
+    from dataclasses import replace
+
+    (setting,) = preset("robocup", ExperimentOptions()).settings
+    # the full study's trial files (docs/robocup/full-study.md), named before behaviour seeds, the restart
+    # and the answer delays existed
+    assert setting.key == "ga-rcss-p200-g25-28cb37aa54"
+    counting = replace(setting, ga=setting.ga.model_copy(update={"behaviour_seeds": 2}))
+    assert counting.key == setting.key  # counting behaviours does not change the evolution
+    changed = [replace(setting, trial=setting.trial.model_copy(update=change)).key
+               for change in ({"restart": "server"}, {"answer_delay": 1}, {"answer_delay_spread": 2})]
+    assert len({setting.key, *changed}) == 4
+
+
 def robocup_rows(rng, *, final_mean: float, most_goals_column: str) -> list[dict]:
     """Fabricated robocup statistics: 10 trials x 10 generations, the average falling to `final_mean`, a
     scorer from generation 1, the share scoring none falling and the share scoring 2+ rising, and some

@@ -197,3 +197,53 @@ def test_a_server_whose_noise_is_not_the_trials_is_refused(start_servers, chaser
         session.open()
         with pytest.raises(RcssConfigError, match="runs without noise, but the trials want the server's noise"):
             run_trial(session, chaser, 1, SHORT)
+
+
+def first_change(trace) -> int:
+    """The first cycle at which the player has moved or turned since the trial's first cycle."""
+    moved = (np.hypot(trace.player_x - trace.player_x[0], trace.player_y - trace.player_y[0]) > 0.01) | (
+        trace.facing != trace.facing[0])
+    return int(np.flatnonzero(moved)[0])
+
+
+def test_late_answers_reach_the_server_as_many_cycles_later_and_play_the_same_under_a_seed(start_servers, chaser):
+    """TrialConfig.answer_delay: each decision reaches the server that many cycles after the one it was made for
+    (the player's first move comes as much later); answer_delay_spread adds random delays drawn from the trial's
+    seed, so a trial plays the same twice (the server's noise off), and unlike one answered in time."""
+    pool = start_servers(1, NOISELESS_OPTIONS)
+    load_compiled_skills()
+    short = QUIET.model_copy(update={"max_ticks": 150})
+    with Session(pool.addresses[0]) as session:
+        session.open()
+        on_time, late = (run_trial(session, chaser, 4, short.model_copy(update={"answer_delay": delay}), trace=True)
+                         for delay in (0, 2))
+        spread = short.model_copy(update={"answer_delay_spread": 3})
+        first, second = (run_trial(session, chaser, 4, spread, trace=True) for _ in range(2))
+    assert first_change(late.trace) == first_change(on_time.trace) + 2
+    for column in ("player_x", "player_y", "facing", "ball_x", "ball_y"):
+        assert np.array_equal(getattr(first.trace, column), getattr(second.trace, column)), column
+    assert not np.array_equal(first.trace.player_x, on_time.trace.player_x)
+    assert {r.late_cycles for r in (on_time, late, first, second)} == {0}  # the delays are the trial's, not the machine's
+
+
+def test_left_to_rcssserver_play_restarts_after_its_pause_and_the_other_sides_kick_off(start_servers, chaser):
+    """TrialConfig.restart = "server": after a goal nobody restarts play. rcssserver keeps the ball where it went in
+    for 50 cycles, then gives the other side the kick-off (the ball on the centre spot), which nobody takes, and
+    drops the ball there 100 cycles later. The trial plays on through it: the kick-off does not end it."""
+    pool = start_servers(1, NOISELESS_OPTIONS)
+    load_compiled_skills()
+    trainer = QUIET.model_copy(update={"max_ticks": 400})
+    with Session(pool.addresses[0]) as session:
+        session.open()
+        restarted, left = (run_trial(session, chaser, 3, config, trace=True)
+                           for config in (trainer, trainer.model_copy(update={"restart": "server"})))
+    goal = int(np.argmax(left.trace.goals > 0))  # the first cycle after the first goal
+    assert goal > 0 and goal == int(np.argmax(restarted.trace.goals > 0))  # the same play up to the first goal
+    assert left.end == "time" and left.goals >= 1
+    def stretch(inside: np.ndarray) -> int:  # consecutive cycles from the first
+        return int(np.argmin(inside)) if not inside.all() else len(inside)
+
+    in_goal = stretch(left.trace.ball_x[goal:] > 52.5)  # rcssserver's pause; then the kick-off and the drop ball
+    on_spot = stretch(np.hypot(left.trace.ball_x, left.trace.ball_y)[goal + in_goal:] < 0.01)  # till the player comes
+    assert 48 <= in_goal <= 52 and 100 <= on_spot <= 130, (in_goal, on_spot)
+    assert stretch(restarted.trace.ball_x[goal:] > 52.5) <= 6  # the trainer's restart, 5 cycles after the goal
