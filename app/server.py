@@ -128,7 +128,7 @@ def serve(options: ServeOptions, echo: Callable[[str], None] = print) -> None:
             # The UI's page is served from the API's address (no other site can frame it there), and only
             # that page may open the UI's websocket (docs/design.md, "Security")
             ui = start_ui(store, runs, options.host, options.ui_port, api_url=api_url, page_port=options.port,
-                          site=site, classroom=classroom, tournament=tournament)
+                          site=site, classroom=classroom, tournament=tournament, viewer_problem=viewer_problem)
         except PortBusyError as exc:  # a port taken between the check and now
             raise ServeError(str(exc)) from exc
         ui_url = f"{api_url}{UI_PATH}"

@@ -160,6 +160,7 @@ def start_ui(
     game: GameConfig | None = None,
     vocabulary: Vocabulary = Vocabulary.default(),
     api_url: str | None = None,
+    viewer_problem: str | None = None,
     page_port: int | None = None,
     site: SiteAddresses | None = None,
     classroom: Classroom | None = None,
@@ -175,7 +176,7 @@ def start_ui(
     from app.ui.session import Session
 
     warnings.filterwarnings("ignore", message=CLOSED_TAB_WARNING, category=UserWarning)
-    context = UiContext(store, runs, vocabulary, game or GameConfig(), api_url=api_url)
+    context = UiContext(store, runs, vocabulary, game or GameConfig(), api_url=api_url, viewer_problem=viewer_problem)
     server = viser.ViserServer(host=host, port=port, label=TITLE, verbose=False)
     if server.get_port() != port:
         server.stop()

@@ -28,6 +28,7 @@ class UiContext:
 
     demo_name: str = DEMO_NAME
     api_url: str | None = None  # the JSON API, for links to files it serves (experiment reports)
+    viewer_problem: str | None = None  # why the app serves no rerun viewer (None: it does, at /viewer/)
     frames: FrameShare = field(default_factory=FrameShare)  # each tab's share of the server's drawing
 
     def demo_rulebase(self) -> Rulebase:

@@ -170,10 +170,11 @@ class Session:
                 on_generation=lambda *finished: self.population.generation_finished(*finished),
                 on_run_ended=lambda run_id, status: self.population.run_ended(run_id, status),
                 on_runs_changed=self._runs_changed, api_url=context.api_url,
+                viewer_problem=context.viewer_problem,
             )
         with tabs.add_tab("Library"):
             self.library = LibraryPanel(gui, self.store, self.runs, context.vocabulary, context.api_url,
-                                        on_load=self.play_player)
+                                        on_load=self.play_player, viewer_problem=context.viewer_problem)
         if self.tournament is not None:
             with tabs.add_tab("Class"):
                 self.classroom = ClassPanel(gui, self.tournament, self.visitor, context.vocabulary,

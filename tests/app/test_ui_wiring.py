@@ -249,3 +249,15 @@ def test_evolve_shows_the_progress_within_a_generation_and_stops_it(gui, store, 
     finally:
         panel.close()
         runs.shutdown()
+
+
+def test_the_viewer_link_says_why_when_the_app_has_no_viewer():
+    """serve starts without rerun's viewer when it cannot set it up (and prints why): the UI then says why
+    instead of linking to a page that would answer 404."""
+    from app.ui.panels.viewer_link import run_viewer_link
+
+    link = run_viewer_link("http://127.0.0.1:8000", 3)
+    assert 'href="http://127.0.0.1:8000/viewer/' in link and "Open run #3" in link
+    problem = run_viewer_link("http://127.0.0.1:8000", 3, "no <rerun> CLI found")
+    assert "<a " not in problem and "not available here: no &lt;rerun&gt; CLI found" in problem
+    assert run_viewer_link(None, 3) == ""

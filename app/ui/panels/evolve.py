@@ -82,9 +82,11 @@ class EvolvePanel:
         on_run_ended: Callable[[int, RunStatus], None],
         on_runs_changed: Callable[[], None],
         api_url: str | None = None,
+        viewer_problem: str | None = None,
     ):
         self.runs = runs
         self.api_url = api_url
+        self.viewer_problem = viewer_problem  # why there is no rerun viewer to link to (None: there is)
         self.store = store
         self.on_load = on_load
         self.on_generation = on_generation
@@ -192,7 +194,7 @@ class EvolvePanel:
         self.plot.scales = self._plot_scales()
         self._redraw_plot()
         self.status.content = self._status_html(f"Run #{record.id} started: evaluating generation 0 …")
-        self.viewer.content = run_viewer_link(self.api_url, record.id)
+        self.viewer.content = run_viewer_link(self.api_url, record.id, self.viewer_problem)
         self.on_runs_changed()
 
     def stop(self) -> None:

@@ -46,11 +46,13 @@ class LibraryPanel:
         api_url: str | None,
         *,
         on_load: Callable[[Rulebase, str, int | None], None],
+        viewer_problem: str | None = None,
     ):
         self.store = store
         self.run_manager = runs
         self.vocabulary = vocabulary
         self.api_url = api_url
+        self.viewer_problem = viewer_problem  # why there is no rerun viewer to link to (None: there is)
         self.on_load = on_load
         gui.add_markdown("**Saved rulebases**")
         self.rulebases = gui.add_dropdown("Rulebase", (NONE,))
@@ -212,7 +214,7 @@ class LibraryPanel:
         name = f"run #{record_id} best (gen {best.generation}, fitness {best.fitness:.3f})"
         self.on_load(rulebase, name, record_id)
         self._say(f"Watching {name}.")
-        self.message.content += run_viewer_link(self.api_url, record_id)
+        self.message.content += run_viewer_link(self.api_url, record_id, self.viewer_problem)
 
     def rename_run(self) -> None:
         record_id, name = self._selected(self.runs, "run"), self._new_name()

@@ -7,10 +7,14 @@ from app.ui import style
 from app.ui.panels.svg import escape
 
 
-def run_viewer_link(api_url: str | None, run_id: int) -> str:
-    """HTML: "Open run #N in the rerun viewer" (a new browser tab); empty when the app serves no API here."""
+def run_viewer_link(api_url: str | None, run_id: int, problem: str | None = None) -> str:
+    """HTML: "Open run #N in the rerun viewer" (a new browser tab); empty when the app serves no API here;
+    why not when the app could not set the viewer up (`problem`, as serve printed it)."""
     if api_url is None:
         return ""
+    if problem is not None:
+        return (f'<div class="viewer-link" style="{style.FONT}; font-size:{style.FONT_SIZE}px; color:{style.MUTED}">'
+                f"rerun's viewer is not available here: {escape(problem)}</div>")
     href = recording_link(api_url, f"{api_url.rstrip('/')}/api/runs/{run_id}/recording.rrd")
     return (f'<div class="viewer-link" style="{style.FONT}; font-size:{style.FONT_SIZE}px">'
             f'<a href="{escape(href)}" target="_blank" rel="noopener">Open run #{run_id} in the rerun viewer</a> '
