@@ -18,6 +18,7 @@ ROWS = 36  # ball distance samples
 WIDTH = 520
 MAP_HEIGHT = 200
 PAD_LEFT = 40
+PAD_RIGHT = 18  # half of the last tick's label ("180°") lies right of the map's edge
 PAD_BOTTOM = 22
 PAD_TOP = 20
 RAMP_STEPS = 20  # colour levels of the parameter map
@@ -121,7 +122,7 @@ def policy_map_html(
         f"{_map_svg(vocabulary, ACTION_MAP, current)}"
         f'<div style="margin:4px 0 10px 0">{legend}</div>'
         f'<div style="font-weight:600">{escape(output)} ({variable.minimum:g} '
-        f'<span style="background:linear-gradient(90deg,{_ramp(0)},{_ramp(1)}); padding:0 30px"></span> '
+        f'<span style="background:linear-gradient(90deg,{_ramp(0)},{_ramp(1)}); padding:0 30px; margin:0 6px"></span>'
         f"{variable.maximum:g}; grey: not used)</div>"
         f"{_map_svg(vocabulary, VALUE_MAP, current)}</div>"
     )
@@ -141,12 +142,12 @@ def _ramp(t: float) -> str:
 
 def _axes(vocabulary: Vocabulary) -> tuple[Axis, Axis]:
     distance_axis = Axis(vocabulary.variables[vocabulary.inputs[DISTANCE_INPUT]], PAD_TOP + MAP_HEIGHT, PAD_TOP)
-    direction_axis = Axis(vocabulary.variables[vocabulary.inputs[DIRECTION_INPUT]], PAD_LEFT, WIDTH - 8)
+    direction_axis = Axis(vocabulary.variables[vocabulary.inputs[DIRECTION_INPUT]], PAD_LEFT, WIDTH - PAD_RIGHT)
     return distance_axis, direction_axis
 
 
 def _cells(vocabulary: Vocabulary, colours: list[str]) -> str:
-    cell_w = (WIDTH - PAD_LEFT - 8) / COLUMNS
+    cell_w = (WIDTH - PAD_LEFT - PAD_RIGHT) / COLUMNS
     cell_h = MAP_HEIGHT / ROWS
     parts = []
     for i in range(ROWS):
