@@ -11,7 +11,9 @@ Full size is the chapter's: `initial` (20 Table 2 trials: Figs. 11-13, 16-17 at 
 31). `--also selection long ...` adds other presets of the study, for their verdicts. The trials run
 through the experiment machinery (app/experiment/), into --out when given, so a second call with the
 same options reuses them; a table of every setting's outcome and the report's own verdicts on the
-presets run follow.
+presets run follow. `--record` also writes them to docs/results/calibration/<candidate>.json, the file
+the docs' Calibration page reads (docs/hooks/calibration_tables.py); point `--out` at a study's replicate
+(`--out runs/all-x3/seed-0 --also ...`) to judge the default from the trials the study already ran.
 """
 
 from __future__ import annotations
@@ -32,6 +34,9 @@ from app.experiment.runner import Plan, assemble, plan, prepare_folder, run_tria
 from app.experiment.table import StatisticsTable
 from ga.config import GAConfig
 from soccer.config import SKILL_SET_NAMES
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from results import RESULTS_DIR, load_average, record_document, this_command  # noqa: E402
 
 INITIAL, RANDOM = "initial", "random"
 GOAL_CAP_FITNESS = GAConfig().target_fitness  # 10 goals (Table 1): a run would stop here (section 5.3)
@@ -67,20 +72,33 @@ def main() -> None:
                         help="other presets of the study to run, for their verdicts (e.g. selection long)")
     parser.add_argument("--workers", type=int, default=os.cpu_count() or 1)
     parser.add_argument("--out", type=Path, help="experiment folder to keep (and reuse) the trials in")
+    parser.add_argument("--record", action="store_true",
+                        help="write the tables to docs/results/calibration/ for the docs' Calibration page")
     arguments = parser.parse_args()
     options = ExperimentOptions(trials=arguments.trials, population=arguments.population,
                                 generations=arguments.generations, seed=arguments.seed, skills=arguments.skills,
                                 noise=arguments.noise, count_touches=arguments.count_touches,
                                 roulette_weighting=arguments.roulette_weighting)
     names = ([INITIAL] if arguments.no_random else [INITIAL, RANDOM]) + arguments.also
+    load_before = load_average()
     if arguments.out is None:
         with tempfile.TemporaryDirectory() as folder:
-            calibrate(options, names, Path(folder), arguments.workers)
+            document = calibrate(options, names, Path(folder), arguments.workers)
     else:
-        calibrate(options, names, arguments.out, arguments.workers)
+        document = calibrate(options, names, arguments.out, arguments.workers)
+    if arguments.record:
+        record_document(RESULTS_DIR / "calibration" / f"{candidate_name(options)}.json", document,
+                        command=this_command(), load_before=load_before)
 
 
-def calibrate(options: ExperimentOptions, names: list[str], folder: Path, workers: int) -> None:
+def candidate_name(options: ExperimentOptions) -> str:
+    """The candidate's file name: its skills, weighting, noise and kicks, e.g. sighted-linear-quiet-kicks."""
+    return "-".join([options.skills, options.roulette_weighting, "noise" if options.noise else "quiet",
+                     "touches" if options.count_touches else "kicks"])
+
+
+def calibrate(options: ExperimentOptions, names: list[str], folder: Path, workers: int) -> dict:
+    """Run (or reuse) the candidate's trials, print its tables and return them for --record."""
     plans = [plan(name, options) for name in names]
     experiment = Plan([p for each in plans for p in each.presets], [m for each in plans for m in each.memberships])
     prepare_folder(folder, options)
@@ -112,23 +130,81 @@ def calibrate(options: ExperimentOptions, names: list[str], folder: Path, worker
     print()
     print("| report finding | verdict | measured |")
     print("|---|---|---|")
-    for finding, assessment in assess_findings(table, experiment.presets):
-        if finding.preset in names:
-            print(f"| {finding.where}: {finding.claim} | {assessment.shown} | {assessment.measured} |")
+    verdicts = [(finding, assessment) for finding, assessment in assess_findings(table, experiment.presets)
+                if finding.preset in names]
+    for finding, assessment in verdicts:
+        print(f"| {finding.where}: {finding.claim} | {assessment.shown} | {assessment.measured} |")
+    defaults = ExperimentOptions()
+    return {
+        "candidate": {"skills": game.skills, "roulette_weighting": options.roulette_weighting,
+                      "noise": game.noise, "count_touches": game.count_touches},
+        "default": all(getattr(options, k) == getattr(defaults, k)
+                       for k in ("skills", "roulette_weighting", "noise", "count_touches")),
+        "size": {"population": options.population, "generations": options.generations,
+                 "max_ticks": options.max_ticks, "seed": options.seed,
+                 "trials": {p.name: len(table.final(p.name, p.settings[0].label, "mean")) for p in experiment.presets}},
+        "wall_seconds": round(seconds, 1), "trials_run": ran, "trials_reused": skipped, "workers": workers,
+        "initial": initial_summary(table, experiment),
+        "figures": [dict(zip(("figure", "chapter", "ours"), row)) for row in rows],
+        "outcomes": outcome_records(table, experiment),
+        "verdicts": [{"preset": f.preset, "where": f.where, "claim": f.claim, "verdict": a.shown,
+                      "measured": a.measured} for f, a in verdicts],
+    }
 
 
-def outcome_rows(table: StatisticsTable, experiment: Plan) -> list[list[str]]:
+def initial_summary(table: StatisticsTable, experiment: Plan) -> dict:
+    """The `initial` trials at CHECKPOINTS of the run: the figures the Calibration page compares."""
+    setting = next(p for p in experiment.presets if p.name == INITIAL).settings[0]
+    mean = table.curves(INITIAL, setting.label, "mean")
+    best = table.curves(INITIAL, setting.label, "best")
+    scorers = 1.0 - table.curves(INITIAL, setting.label, "goals_0")
+    genes = table.curves(INITIAL, setting.label, "genes_mean") / setting.ga.max_length
+    valid = table.curves(INITIAL, setting.label, "valid_rules_mean")
+    points = _checkpoints(mean.shape[1])
+    first_scorer = [int(np.argmax(curve <= GOAL_SCORING)) for curve in best if np.any(curve <= GOAL_SCORING)]
+    first_cap = [int(np.argmax(curve <= GOAL_CAP_FITNESS)) for curve in best if np.any(curve <= GOAL_CAP_FITNESS)]
+    low, high = np.nanpercentile(mean[:, -1], [25, 75])
+
+    def at(curve: np.ndarray) -> list[float]:
+        return [round(float(curve[g]), 4) for g in points]
+
+    return {
+        "trials": len(mean), "generations": points,
+        "average_median": at(np.nanmedian(mean, axis=0)),
+        "last_average_quartiles": [round(float(low), 4), round(float(high), 4)],
+        "first_scorer_median": float(np.median(first_scorer)) if first_scorer else None,
+        "trials_with_scorer": len(first_scorer),
+        "trials_at_cap": len(first_cap), "first_at_cap": min(first_cap) if first_cap else None,
+        "share_scoring": at(np.nanmean(scorers, axis=0)),
+        "over_4_goals_last": round(float(np.nanmean(table.curves(INITIAL, setting.label, "goals_more")[:, -1])), 4),
+        "length_share": at(np.nanmedian(genes, axis=0)),
+        "valid_rules": at(np.nanmedian(valid, axis=0)),
+        "valid_rules_rose": int(np.sum(valid[:, -1] > valid[:, 0])),
+    }
+
+
+def outcome_records(table: StatisticsTable, experiment: Plan) -> list[dict]:
     """Each setting of each preset run: where its trials ended (the report's outcome columns)."""
-    rows = []
+    records = []
     for preset in experiment.presets:
         for setting in table.settings(preset.name):
             final = table.final(preset.name, setting, "mean")
             best = table.best_so_far(preset.name, setting)
             low, high = np.percentile(final, [25, 75])
-            rows.append([preset.name, setting, str(len(final)), f"{np.median(final):.3f} ({low:.3f}-{high:.3f})",
-                         f"{np.median(best):.3f} ({np.std(best):.3f})", str(int(np.sum(final >= NEVER_KICKING))),
-                         str(int(np.sum(final <= SCORERS_SPREAD)))])
-    return rows
+            records.append({"preset": preset.name, "setting": setting, "trials": len(final),
+                            "final_average_median": round(float(np.median(final)), 4),
+                            "final_average_quartiles": [round(float(low), 4), round(float(high), 4)],
+                            "best_median": round(float(np.median(best)), 4), "best_std": round(float(np.std(best)), 4),
+                            "never_spread": int(np.sum(final >= NEVER_KICKING)),
+                            "taken_over": int(np.sum(final <= SCORERS_SPREAD))})
+    return records
+
+
+def outcome_rows(table: StatisticsTable, experiment: Plan) -> list[list[str]]:
+    return [[r["preset"], r["setting"], str(r["trials"]),
+             f"{r['final_average_median']:.3f} ({r['final_average_quartiles'][0]:.3f}-"
+             f"{r['final_average_quartiles'][1]:.3f})", f"{r['best_median']:.3f} ({r['best_std']:.3f})",
+             str(r["never_spread"]), str(r["taken_over"])] for r in outcome_records(table, experiment)]
 
 
 def figure_rows(table: StatisticsTable, experiment: Plan) -> list[list[str]]:
@@ -203,10 +279,14 @@ def _at(evaluations: np.ndarray, budget: float) -> int:
     return min(int(np.searchsorted(evaluations, budget)), len(evaluations) - 1)
 
 
+def _checkpoints(length: int) -> list[int]:
+    """The generations at CHECKPOINTS of a run of `length` generations (0, 6, 12, 18, 24 for 25)."""
+    return sorted({round(share * (length - 1)) for share in CHECKPOINTS})
+
+
 def _along(curve: np.ndarray, percent: bool = False) -> str:
     """The curve at CHECKPOINTS of the run: "g0 0.92 -> g6 0.80 -> ..."."""
-    last = len(curve) - 1
-    points = sorted({round(share * last) for share in CHECKPOINTS})
+    points = _checkpoints(len(curve))
     return " -> ".join(f"g{g} {curve[g]:.0%}" if percent else f"g{g} {curve[g]:.2f}" for g in points)
 
 

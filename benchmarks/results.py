@@ -54,18 +54,20 @@ def load_average() -> list[float]:
 def record(benchmark: str, figures: list[Figure], command: str, load_before: list[float] | None = None,
            directory: Path = RESULTS_DIR) -> Path:
     """Write docs/results/<benchmark>.json (replacing the previous measurement of that benchmark)."""
-    directory.mkdir(parents=True, exist_ok=True)
-    path = directory / f"{benchmark}.json"
-    document = {
-        "benchmark": benchmark,
-        "command": command,
-        "measured": datetime.date.today().isoformat(),
-        "load_average_before": load_before if load_before is not None else None,
-        "load_average_after": load_average(),
-        "machine": {"cores": os.cpu_count(), "python": platform.python_version(), "system": platform.platform(terse=True)},
-        "figures": [asdict(figure) for figure in figures],
-    }
+    return record_document(directory / f"{benchmark}.json",
+                           {"benchmark": benchmark, "figures": [asdict(figure) for figure in figures]},
+                           command=command, load_before=load_before)
+
+
+def record_document(path: Path, document: dict, command: str, load_before: list[float] | None = None) -> Path:
+    """Write `document` to `path` with what every recorded measurement carries: the command, the day, the
+    load average before and after, the machine (a script whose results are tables, not figures, uses this)."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    document = {**document, "command": command, "measured": datetime.date.today().isoformat(),
+                "load_average_before": load_before, "load_average_after": load_average(),
+                "machine": {"cores": os.cpu_count(), "python": platform.python_version(),
+                            "system": platform.platform(terse=True)}}
     path.write_text(json.dumps(document, indent=2) + "\n", encoding="utf-8")
-    print(f"recorded in {path.relative_to(directory.parent.parent) if directory == RESULTS_DIR else path}",
-          file=sys.stderr)
+    shown = path.relative_to(RESULTS_DIR.parent.parent) if path.is_relative_to(RESULTS_DIR) else path
+    print(f"recorded in {shown}", file=sys.stderr)
     return path

@@ -282,7 +282,8 @@ def _length_share(table: StatisticsTable, preset: Preset) -> Assessment:
 def _roulette_unstable(table: StatisticsTable, preset: Preset) -> Assessment:
     def wobble(setting: str) -> np.ndarray:  # generation-to-generation movement of the best, second half
         curves = table.curves(preset.name, setting, "best")
-        return np.nanmean(np.abs(np.diff(curves[:, curves.shape[1] // 2:], axis=1)), axis=1)
+        half = max(0, min(curves.shape[1] // 2, curves.shape[1] - 2))  # a shrunk run keeps one change at least
+        return np.nanmean(np.abs(np.diff(curves[:, half:], axis=1)), axis=1)
 
     groups = {s: wobble(s) for s in table.settings(preset.name)}
     others = np.concatenate([v for s, v in groups.items() if s != "roulette"])

@@ -2,7 +2,8 @@
 what it prints, where it listens, every page and the UI's websocket refused without the join code (and with
 a wrong one, or from another site), a student's tabs bounded, and in Chromium: the join page, the home
 page's QR code, the Class tab where a name typed as HTML stays text, a round's table for everyone, and a
-link to a pitch opened by another browser. Screenshots go to docs/images/ (the teaching guide shows them)."""
+link to a pitch opened by another browser. Screenshots go to artifacts/screenshots/ to look at; the teaching
+guide's pictures come from scripts/screenshots, with pupils' names a class would type."""
 
 from __future__ import annotations
 
@@ -29,7 +30,7 @@ CODE = "K7PQ2M"
 CHROMIUM = "/usr/bin/chromium"
 CHROMIUM_ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
                  "--disable-component-update", "--disable-sync", "--no-first-run"]
-IMAGES = Path(__file__).resolve().parents[2] / "docs" / "images"
+SCREENSHOTS = Path(__file__).resolve().parents[2] / "artifacts" / "screenshots"
 TIMEOUT_MS = 180_000  # a shared, busy machine (serve took minutes to start under a load average of 50)
 INJECTED = "<img src=x onerror=window.pwned=1>"
 
@@ -229,7 +230,7 @@ def open_class_tab(page) -> None:
 def test_a_class_in_the_browser(served, browser):
     from playwright.sync_api import expect
 
-    IMAGES.mkdir(parents=True, exist_ok=True)
+    SCREENSHOTS.mkdir(parents=True, exist_ok=True)
     # The teacher signs in with the printed link (the token in the fragment, never sent to a server)
     desk = new_page(browser, 1280, 800)
     desk.goto(f"{served.url}/join.html#teacher={served.teacher_token}")
@@ -241,7 +242,7 @@ def test_a_class_in_the_browser(served, browser):
     qr = desk.locator("#class-qr")
     expect(qr).to_be_visible()
     assert qr.evaluate("image => image.naturalWidth") > 100  # the SVG drawn by the app, not a broken image
-    desk.screenshot(path=str(IMAGES / "classroom-home.png"))
+    desk.screenshot(path=str(SCREENSHOTS / "classroom-home.png"))
 
     # A pupil: a wrong code says so in one line; the right one lands on the home page, the name as text
     pupil = new_page(browser, 1280, 800)
@@ -251,7 +252,7 @@ def test_a_class_in_the_browser(served, browser):
     pupil.fill("#name", INJECTED)
     pupil.click("#join button")
     expect(pupil.locator("#join-refusal")).to_contain_text("not this class's join code")
-    pupil.screenshot(path=str(IMAGES / "classroom-join.png"))
+    pupil.screenshot(path=str(SCREENSHOTS / "classroom-join.png"))
     pupil.fill("#code", CODE)
     pupil.click("#join button")
     pupil.wait_for_url(f"{served.url}/")
@@ -277,7 +278,7 @@ def test_a_class_in_the_browser(served, browser):
     assert pupil.locator(".class-table img").count() == 0  # the name stayed text
     pupil.get_by_role("button", name="Watch this game").click()
     expect(pupil.locator(".class-message")).to_contain_text("Watching")
-    pupil.screenshot(path=str(IMAGES / "classroom-round.png"))
+    pupil.screenshot(path=str(SCREENSHOTS / "classroom-round.png"))
 
     # A link to the pitch, opened by another pupil's browser: the same rules and seed
     pupil.get_by_role("tab", name="Play").click()
