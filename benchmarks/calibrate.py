@@ -34,9 +34,7 @@ from app.experiment.runner import Plan, assemble, plan, prepare_folder, run_tria
 from app.experiment.table import StatisticsTable
 from ga.config import GAConfig
 from soccer.config import SKILL_SET_NAMES
-
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-from results import RESULTS_DIR, load_average, record_document, this_command  # noqa: E402
+from results import RESULTS_DIR, load_average, record_document, this_command  # benchmarks/results.py
 
 INITIAL, RANDOM = "initial", "random"
 GOAL_CAP_FITNESS = GAConfig().target_fitness  # 10 goals (Table 1): a run would stop here (section 5.3)
