@@ -4,6 +4,7 @@ saw it and re-played on fresh starts (bests.csv). Generation axes tick whole gen
 
 from __future__ import annotations
 
+import textwrap
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -17,6 +18,7 @@ from app.experiment.table import BestsTable, StatisticsTable
 FIGURES_FOLDER = "figures"
 SIZE_INCHES = (7.5, 4.2)
 DPI = 110
+TITLE_CHARACTERS = 95  # what fits across SIZE_INCHES at the title's 10 pt
 GOAL_COLUMNS = ("goals_0", "goals_1", "goals_2", "goals_3", "goals_4", "goals_more")
 GOAL_LABELS = ("0", "1", "2", "3", "4", ">4")
 COMPOSITION = (("genes", "genes"), ("premises", "premises"), ("rules", "rules"), ("valid_rules", "valid rules"))
@@ -71,7 +73,8 @@ def draw_figure(kind: str, table: StatisticsTable, preset: Preset,
         axes.xaxis.set_major_locator(MaxNLocator(integer=True))
     chapter = CHAPTER_FIGURES.get((preset.name, kind))
     caption = f"{preset.title}: {title}" + (f" (chapter Fig. {chapter})" if chapter else "")
-    axes.set_title(caption, fontsize=10)
+    # over the whole figure (a legend beside the axes moves them), wrapped so that a long caption is never cut
+    figure.suptitle(textwrap.fill(caption, TITLE_CHARACTERS, break_on_hyphens=False), fontsize=10)
     return figure, caption
 
 
@@ -182,7 +185,7 @@ def _rules_and_bound(axes, table: StatisticsTable, preset: Preset) -> None:
         axes.plot(bound, linestyle="--", color=line.get_color(), label=f"{setting}: bound (genes / 2)")
     axes.set_xlabel("generation")
     axes.set_ylabel("per chromosome (mean over trials)")
-    axes.legend(title=preset.varied, fontsize=7, ncols=2)
+    axes.legend(title=preset.varied, fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))  # beside the lines
     axes.grid(alpha=0.3)
 
 

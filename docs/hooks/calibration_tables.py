@@ -114,16 +114,16 @@ def verdicts_section(documents: list[dict]) -> str:
     presets: dict[str, list[dict]] = {}
     for verdict in default["verdicts"]:
         presets.setdefault(verdict["preset"], []).append(verdict)
-    counts = {word: sum(v["verdict"].startswith(word) for v in default["verdicts"])
+    counts = {word: sum(v["verdict"].lower().startswith(word) for v in default["verdicts"])
               for word in ("agrees", "disagrees", "inconclusive", "too small")}
     rows = []
     for preset, verdicts in presets.items():
-        agreeing = sum(v["verdict"].startswith("agrees") for v in verdicts)
-        others = [v for v in verdicts if not v["verdict"].startswith("agrees")] or [None]
+        agreeing = sum(v["verdict"].lower().startswith("agrees") for v in verdicts)
+        others = [v for v in verdicts if not v["verdict"].lower().startswith("agrees")] or [None]
         for index, other in enumerate(others):
             shown = ["", "", ""] if other is None else [f"{other['where']}: {other['claim']}", other["verdict"],
                                                          other["measured"]]
-            rows.append([f"`{preset}`", f"{agreeing} of {len(verdicts)}"] if index == 0 else ["", ""])
+            rows.append([preset, f"{agreeing} of {len(verdicts)}"] if index == 0 else ["", ""])
             rows[-1] += shown
     size = default["size"]
     summary = (f"The default at population {size['population']} × {size['generations']} generations, seed "
@@ -139,7 +139,7 @@ def outcomes_section(documents: list[dict]) -> str:
         return NOT_RECORDED
     return _table(["preset", "setting", "trials", "final average: median (quartiles)", "run's best: median (std)",
                    "kicking never spread (final average ≥ 0.95)", "taken over by goal scorers (≤ 0.60)"],
-                  [[f"`{r['preset']}`", r["setting"], r["trials"],
+                  [[r["preset"], r["setting"], r["trials"],
                     f"{r['final_average_median']:.3f} ({r['final_average_quartiles'][0]:.3f}–"
                     f"{r['final_average_quartiles'][1]:.3f})", f"{r['best_median']:.3f} ({r['best_std']:.3f})",
                     r["never_spread"], r["taken_over"]] for r in default["outcomes"]])
@@ -152,7 +152,9 @@ def _load(average: list[float] | None) -> str:
 def runs_section(documents: list[dict]) -> str:
     return _table(["candidate", "command", "trials per preset", "run / reused", "wall time", "measured, load before/after"],
                   [[_label(d), f"`{d['command']}`", ", ".join(f"{k} {v}" for k, v in d["size"]["trials"].items()),
-                    f"{d['trials_run']} / {d['trials_reused']}", f"{d['wall_seconds']:.0f} s on {d['workers']} workers",
+                    f"{d['trials_run']} / {d['trials_reused']}",
+                    f"{d['wall_seconds']:.0f} s on {d['workers']} workers" if d["trials_run"]
+                    else "none: every trial reused (its wall time is the study's, [Replicates](replicates.md))",
                     f"{d['measured']}, {_load(d['load_average_before'])} / {_load(d['load_average_after'])}"]
                    for d in documents])
 

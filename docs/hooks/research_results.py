@@ -73,7 +73,15 @@ def verdicts_section(study: dict) -> str:
     if not rows:
         return "No verdicts yet: the run above has not finished."
     columns = list(rows[0])
-    return _table(columns, [[row[c] for c in columns] for row in rows])
+    from app.experiment.presets import BEYOND_NAMES
+
+    chapter = [row for row in rows if row["preset"] not in BEYOND_NAMES]
+    counts: dict[str, int] = {}
+    for row in chapter:
+        counts[row["robust"]] = counts.get(row["robust"], 0) + 1
+    summary = "" if not chapter else (f"The chapter's {len(chapter)} findings at {len(study['seeds'])} seeds: "
+               + ", ".join(f"**{n}** {verdict}" for verdict, n in sorted(counts.items(), key=lambda c: -c[1])) + ".")
+    return (summary + "\n\n" if summary else "") + _table(columns, [[row[c] for c in columns] for row in rows])
 
 
 def answers_section(study: dict) -> str:

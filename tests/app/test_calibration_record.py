@@ -76,10 +76,21 @@ def test_the_page_shows_every_candidate_the_default_first(recorded):
     assert any(row.startswith("| sighted, linear, no noise, touches counted |") for row in rows)
     assert "| candidate | roulette | tournament | elitist | `initial` plateau |" in page
     assert "**0 of 8 findings agree, 0 disagree, 0 inconclusive**, 8 too small to judge" in page
-    assert "| `selection` | 0 of 3 | 6.4.3, Fig. 20:" in page
+    assert "| selection | 0 of 3 | 6.4.3, Fig. 20:" in page
     assert "`python benchmarks/calibrate.py --trials 2`" in page and "0.1/0.2/0.3" in page
 
 
 def test_a_page_without_recorded_candidates_says_how_to_record_them(tmp_path):
     page = hook.render(PAGE, results=tmp_path)
     assert page.count(hook.NOT_RECORDED) == len(hook.MARKERS)
+
+
+def test_the_verdict_summary_counts_each_verdict_as_the_report_writes_it(recorded, tmp_path):
+    document = json.loads((recorded / "results" / "sighted-linear-quiet-kicks.json").read_text())
+    shown = ["agrees", "DISAGREES", "inconclusive", "DISAGREES", "agrees", "agrees", "agrees", "agrees"]
+    for verdict, word in zip(document["verdicts"], shown):
+        verdict["verdict"] = word
+    (tmp_path / "default.json").write_text(json.dumps(document))
+    page = hook.render(hook.MARKERS["verdicts"], results=tmp_path)
+    assert "**5 of 8 findings agree, 2 disagree, 1 inconclusive**" in page
+    assert "| initial | 2 of 5 |" in page and "| selection | 3 of 3 |  |" in page

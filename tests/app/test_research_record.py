@@ -98,3 +98,13 @@ def test_nothing_recorded_says_how_to_record_it(tmp_path):
     page = hook.render(PAGE, tmp_path / "missing.json")
     assert page.count(hook.NOT_RECORDED) == 3
     assert hook.render("# no markers", tmp_path / "missing.json") == "# no markers"
+
+
+def test_the_verdicts_open_with_the_chapters_findings_counted_by_robust_verdict(tmp_path):
+    row = {"preset": "initial", "chapter": "6.2", "claim": "c", "seed 0": "agrees", "seed 1": "agrees",
+           "summary": "agrees in 2 of 2"}
+    rows = [{**row, "robust": "agrees"}, {**row, "robust": "agrees"}, {**row, "robust": "varies with the seed"},
+            {**row, "preset": "restarts", "robust": "no significant difference"}]  # a question, not a finding
+    page = hook.verdicts_section({"verdicts": rows, "seeds": [0, 1]})
+    assert page.startswith("The chapter's 3 findings at 2 seeds: **2** agrees, **1** varies with the seed.\n\n|")
+    assert not hook.verdicts_section({"verdicts": rows[3:], "seeds": [0, 1]}).startswith("The chapter's")
