@@ -27,7 +27,7 @@ from typing import Any
 from app.experiment.figures import write_figures
 from app.experiment.presets import ROBOCUP, ExperimentOptions
 from app.experiment.report import assess_findings
-from app.experiment.runner import MANIFEST, TrialFolder, plan
+from app.experiment.runner import MANIFEST, TrialFolder, plan, read_runs
 from app.experiment.table import PRESET, SETTING, TRIAL, SEED, ALGORITHM, StatisticsTable
 
 DOCS = Path(__file__).resolve().parent.parent / "docs"
@@ -131,6 +131,9 @@ def transfer_record(folder: Path, images: Path = IMAGES, command: str | None = N
         "load_average": [round(x, 2) for x in os.getloadavg()],
         "sources": experiment.trials,
         "starts": transfer.STARTS,
+        "size": {"population": options.population, "generations": options.generations},
+        "wall_time_seconds": sum(run["seconds"] for run in read_runs(folder) if run["preset"] == transfer.TRANSFER)
+                             or None,
         "findings": [dict(zip(("question", "measured", "verdict", "test"), row))
                      for row in transfer.assess(experiment, table, players)],
         "figures": [f"images/robocup/{figure.name}" for figure in figures],
@@ -150,7 +153,17 @@ def main() -> None:
     parser.add_argument("--command", help="the command that ran the robocup study, as the docs should show it "
                                           "(default: `soccer-lab experiment robocup --out FOLDER`)")
     parser.add_argument("--transfer-command", help="the same for the transfer study")
+    parser.add_argument("--transfer-only", action="store_true",
+                        help="write transfer.json only: the folder's robocup trials are not the study to record "
+                             "(a transfer study run apart from it, e.g. smaller)")
     args = parser.parse_args()
+    if args.transfer_only:
+        transferred = transfer_record(args.folder.resolve(), command=args.transfer_command)
+        if transferred is None:
+            print(f"error: {args.folder} holds no finished transfer study (no transfer report)", file=sys.stderr)
+            raise SystemExit(2)
+        print(f"wrote {write(transferred, 'transfer')}")
+        return
     try:
         study = study_record(args.folder.resolve(), command=args.command)
     except NoStudy as exc:

@@ -13,6 +13,7 @@ from typing import Any
 
 STUDY_MARKER = "<!-- generated: robocup-study -->"
 TRANSFER_MARKER = "<!-- generated: robocup-transfer -->"
+CHAPTER_SIZE = (200, 25)  # Table 2's population and generations
 DISAGREEMENT_MARKER = "<!-- generated: robocup-disagreement -->"
 RESULTS = Path(__file__).resolve().parents[1] / "results" / "robocup"
 NOT_RECORDED = ("Not recorded yet: run the study, then `python scripts/robocup_results.py FOLDER` "
@@ -68,7 +69,14 @@ def study_markdown(record: dict[str, Any], page_depth: int = 1) -> str:
 def transfer_markdown(record: dict[str, Any], page_depth: int = 1) -> str:
     up = "../" * page_depth
     lines = [f"Recorded {record['recorded']} from `{record['folder']}` (`{record['command']}`: {record['sources']} "
-             f"sources, {record['starts']} starts each; load average {_load(record['load_average'])}).", ""]
+             f"sources, {record['starts']} starts each; load average {_load(record['load_average'])}"
+             + (f"; wall time {record['wall_time_seconds'] / 60:.0f} min" if record.get("wall_time_seconds") else "")
+             + ").", ""]
+    size = record.get("size")
+    if size and (size["population"], size["generations"]) != CHAPTER_SIZE:
+        lines[:0] = [f"**Shrunk:** population {size['population']} × {size['generations']} generations in every "
+                     f"part, against the chapter's {CHAPTER_SIZE[0]} × {CHAPTER_SIZE[1]}: a first look at the "
+                     "questions, not their answer at the chapter's size.", ""]
     lines += _findings([[f["question"], f["measured"], f["verdict"], f["test"]] for f in record["findings"]],
                        ["question", "measured", "verdict", "test"])
     lines.append("")

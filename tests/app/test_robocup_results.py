@@ -104,3 +104,22 @@ def test_a_folder_without_a_finished_trial_is_one_line(tmp_path):
         assert done.returncode == 2, done.stderr
         (line,) = done.stderr.strip().splitlines()
         assert line.startswith("error: ") and str(folder) in line
+
+
+def test_a_shrunk_transfer_study_says_so_above_its_findings():
+    record = {"recorded": "2026-12-04", "folder": "transfer-small", "command": "soccer-lab experiment transfer",
+              "sources": 5, "starts": 20, "load_average": [1.0, 1.5, 2.0], "size": {"population": 50,
+              "generations": 10}, "wall_time_seconds": 900.0, "findings": [], "figures": []}
+    shown = pages.transfer_markdown(record)
+    assert shown.startswith("**Shrunk:** population 50 × 10 generations in every part, against the chapter's "
+                            "200 × 25")
+    assert "; wall time 15 min)." in shown
+    full = pages.transfer_markdown({**record, "size": {"population": 200, "generations": 25}})
+    assert not full.startswith("**Shrunk")
+
+
+def test_transfer_only_refuses_a_folder_without_a_finished_transfer_study(tmp_path):
+    stopped_study(tmp_path / "study", finished=2)
+    done = subprocess.run([sys.executable, str(SCRIPT), str(tmp_path / "study"), "--transfer-only"],
+                          capture_output=True, text=True, cwd=ROOT)
+    assert done.returncode == 2 and "no finished transfer study" in done.stderr
