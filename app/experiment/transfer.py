@@ -23,7 +23,6 @@ from __future__ import annotations
 
 import csv
 import json
-import time
 from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any, Callable, Sequence
@@ -36,7 +35,7 @@ from app.experiment.figures import DPI, FIGURES_FOLDER, SIZE_INCHES, Figure, wri
 from app.experiment.presets import TRANSFER, TRANSFER_TRIALS as DEFAULT_TRIALS
 from app.experiment.presets import ExperimentOptions, Preset, Setting, preset, trial_seed
 from app.experiment.report import ALPHA, AGREES, DISAGREES, INCONCLUSIVE, MIN_TRIALS, _html, _markdown
-from app.experiment.runner import (Progress, TrialFolder, TrialResult, TrialSpec, best_record, prepare_folder,
+from app.experiment.runner import (Progress, RunClock, TrialFolder, TrialResult, TrialSpec, best_record, prepare_folder,
                                    run_trial)
 from app.experiment.table import ALGORITHM, PRESET, SEED, SETTING, TRIAL, StatisticsTable
 from ga.config import SEED_BOUND
@@ -202,8 +201,8 @@ class TransferOutcome:
 def run_transfer(options: ExperimentOptions, folder: Path, executor: Any,
                  progress: Progress | None = None) -> TransferOutcome:
     """The whole study into `folder` (resuming what is there); `executor` plays rcssserver trials (an
-    RcssExecutor, local or on a Ray cluster)."""
-    started = time.perf_counter()
+    RcssExecutor, local or on a Ray cluster). The invocation's wall time and load go to runs.jsonl."""
+    clock = RunClock()
     plan = transfer_plan(options)
     prepare_folder(folder, options)
     sources = Sources(folder, plan)
@@ -226,7 +225,8 @@ def run_transfer(options: ExperimentOptions, folder: Path, executor: Any,
                 progress.update(completed, total, skipped=len(plan.specs) - len(pending))
     table = _assemble(plan, trials, folder)
     outcome = write_transfer_report(plan, table, players, folder)
-    return replace(outcome, ran=len(pending), seconds=time.perf_counter() - started)
+    seconds = clock.log(folder, TRANSFER, options, [options.seed], len(pending), len(plan.specs) - len(pending))
+    return replace(outcome, ran=len(pending), seconds=seconds)
 
 
 def _assemble(plan: TransferPlan, trials: TrialFolder, folder: Path) -> StatisticsTable:

@@ -16,6 +16,7 @@ from app.cli import app
 from app.experiment.presets import ExperimentOptions, preset, trial_seed
 from app.experiment.report import AGREES, DISAGREES
 from app.experiment.table import StatisticsTable
+from app.experiment.runner import read_runs
 from app.experiment.transfer import (FOLDER, PLAYERS_FILE, RANDOM_START, RCSS, REPORT_MD, SEEDED, SIMPLE, STARTS,
                                      STATISTICS_FILE, TRANSFER, assess, start_seeds, transfer_plan)
 from tests.app.test_experiment_report import fabricated, falling
@@ -101,3 +102,6 @@ def test_a_shrunken_transfer_on_two_servers_reuses_robocup_runs_and_resumes(rcss
     again = run("experiment", TRANSFER, *SHRUNK, *servers)
     assert again.exit_code == 0 and "(0 run now)" in again.output
     assert (folder / FOLDER / PLAYERS_FILE).read_bytes() == kept  # finished players are not played again
+    transfers = [entry for entry in read_runs(folder) if entry["preset"] == TRANSFER]  # each invocation timed
+    assert [(entry["ran"], entry["skipped"]) for entry in transfers] == [(2, 2), (0, 4)]
+    assert transfers[0]["seconds"] > 0 and len(transfers[0]["load_average_before"]) == 3
