@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import csv
 import json
+from collections import Counter
 from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any, Callable, Sequence
@@ -318,10 +319,14 @@ def _players_figure(players: Sequence[dict], folder: Path) -> Figure:
     figure = MatplotlibFigure(figsize=SIZE_INCHES, dpi=DPI, layout="constrained")
     axes = figure.subplots()
     axes.scatter(goals[SIMPLE], goals[RCSS], s=24)
+    # players that score the same in both draw one point: it says how many (often several at 0, 0)
+    for (x, y), count in Counter(zip(goals[SIMPLE], goals[RCSS])).items():
+        if count > 1:
+            axes.annotate(f"×{count}", (x, y), xytext=(5, 5), textcoords="offset points", fontsize=8)
     top = max([1.0, *goals[SIMPLE], *goals[RCSS]]) * 1.05
     axes.plot([0, top], [0, top], color="grey", linewidth=0.8, linestyle="--", label="the same in both")
-    axes.set_xlim(0, top)
-    axes.set_ylim(0, top)
+    axes.set_xlim(-0.03 * top, top)  # a point at 0 shown whole, not cut by the axes
+    axes.set_ylim(-0.03 * top, top)
     axes.set_xlabel(f"mean goals per game in SimpleSoccer ({STARTS} starts)")
     axes.set_ylabel(f"mean goals per trial on rcssserver ({STARTS} starts)")
     axes.legend(fontsize=8)
