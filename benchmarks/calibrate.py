@@ -123,7 +123,8 @@ def calibrate(options: ExperimentOptions, names: list[str], folder: Path, worker
     print(f"| preset | setting | trials | final average: median (quartiles) | run's best: median (std) | kicking never "
           f"spread (final average >= {NEVER_KICKING}) | taken over by goal scorers (<= {SCORERS_SPREAD}) |")
     print("|---|---|---|---|---|---|---|")
-    for row in outcome_rows(table, experiment):
+    outcomes = outcome_records(table, experiment)
+    for row in outcome_rows(outcomes):
         print("| " + " | ".join(row) + " |")
     print()
     print("| report finding | verdict | measured |")
@@ -144,7 +145,7 @@ def calibrate(options: ExperimentOptions, names: list[str], folder: Path, worker
         "wall_seconds": round(seconds, 1), "trials_run": ran, "trials_reused": skipped, "workers": workers,
         "initial": initial_summary(table, experiment),
         "figures": [dict(zip(("figure", "chapter", "ours"), row)) for row in rows],
-        "outcomes": outcome_records(table, experiment),
+        "outcomes": outcomes,
         "verdicts": [{"preset": f.preset, "where": f.where, "claim": f.claim, "verdict": a.shown,
                       "measured": a.measured} for f, a in verdicts],
     }
@@ -198,11 +199,11 @@ def outcome_records(table: StatisticsTable, experiment: Plan) -> list[dict]:
     return records
 
 
-def outcome_rows(table: StatisticsTable, experiment: Plan) -> list[list[str]]:
+def outcome_rows(outcomes: list[dict]) -> list[list[str]]:
     return [[r["preset"], r["setting"], str(r["trials"]),
              f"{r['final_average_median']:.3f} ({r['final_average_quartiles'][0]:.3f}-"
              f"{r['final_average_quartiles'][1]:.3f})", f"{r['best_median']:.3f} ({r['best_std']:.3f})",
-             str(r["never_spread"]), str(r["taken_over"])] for r in outcome_records(table, experiment)]
+             str(r["never_spread"]), str(r["taken_over"])] for r in outcomes]
 
 
 def figure_rows(table: StatisticsTable, experiment: Plan) -> list[list[str]]:

@@ -1,6 +1,9 @@
 """Suite-wide settings: hypothesis runs derandomised so every CI run draws the same examples; the real
 rcssserver fixtures (tests/rcss/real_server.py) are available to every test."""
 
+import sys
+from pathlib import Path
+
 import pytest
 from hypothesis import settings
 
@@ -8,6 +11,10 @@ from tests.rcss.real_server import rcssserver, start_servers  # noqa: F401  (fix
 
 settings.register_profile("soccer-lab", derandomize=True, deadline=None, max_examples=150)
 settings.load_profile("soccer-lab")
+
+# The docs hooks import their shared helpers (docs/hooks/markdown_table.py) as mkdocs lets them: with their
+# folder on sys.path. Tests load the hooks from their files, so the folder is put there for them too.
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "docs" / "hooks"))
 
 
 @pytest.fixture(scope="session")

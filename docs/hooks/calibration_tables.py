@@ -17,6 +17,8 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+from markdown_table import load_average, table
+
 RESULTS = Path(__file__).resolve().parents[1] / "results" / "calibration"
 MARKERS = {name: f"<!-- generated: calibration-{name} -->"
            for name in ("candidates", "selection", "verdicts", "outcomes", "runs")}
@@ -25,15 +27,6 @@ CHAPTER_ROW = ["**the chapter**", "20", "improves, plateaus around 0.75, tightly
                "\"very few generations\"", "never (\"early stopping did not occur\")", "grows; most score none",
                "some (the best scored 10)", "rises, settles near 2/3", "rise"]
 SELECTION = ("roulette", "tournament", "elitist")
-
-
-def _cell(text: object) -> str:
-    return str(text).replace("|", "\\|").replace("\n", " ")
-
-
-def _table(columns: list[str], rows: list[list[object]]) -> str:
-    lines = ["| " + " | ".join(columns) + " |", "|" + "---|" * len(columns)]
-    return "\n".join(lines + ["| " + " | ".join(_cell(c) for c in row) + " |" for row in rows])
 
 
 def _label(document: dict) -> str:
@@ -71,7 +64,7 @@ def candidates_section(documents: list[dict]) -> str:
                      f"{s['over_4_goals_last']:.1%}", _ends(s["length_share"]), _ends(s["valid_rules"])])
     last = documents[0]["initial"]["generations"]
     marks = " → ".join(str(last[i]) for i in _quarter_half_end(last))
-    return _table(["candidate (skills, weighting, noise, kicks)", "trials",
+    return table(["candidate (skills, weighting, noise, kicks)", "trials",
                    f"Fig. 11: average, median at generation {marks}", "last generation's average, quartiles",
                    "Fig. 12: first generation with best ≤ 0.5 (median; trials)", "10-goal cap reached",
                    f"Fig. 13: share scoring, generation {last[1]} → {last[-1]}", f"> 4 goals, generation {last[-1]}",
@@ -100,7 +93,7 @@ def selection_section(documents: list[dict]) -> str:
                      f"{initial['final_average_median']:.3f} ({initial['trials']} trials)"])
     if not rows:
         return "No candidate recorded with the selection comparison yet (`--also selection`)."
-    return _table(["candidate", *SELECTION, "`initial` plateau"], rows)
+    return table(["candidate", *SELECTION, "`initial` plateau"], rows)
 
 
 def _default(documents: list[dict]) -> dict | None:
@@ -130,14 +123,14 @@ def verdicts_section(documents: list[dict]) -> str:
                f"{size['seed']} (measured {default['measured']}): **{counts['agrees']} of {len(default['verdicts'])} "
                f"findings agree, {counts['disagrees']} disagree, {counts['inconclusive']} inconclusive**"
                + (f", {counts['too small']} too small to judge" if counts["too small"] else "") + ".")
-    return summary + "\n\n" + _table(["preset", "agrees", "finding that does not agree", "verdict", "measured (the report's figures)"], rows)
+    return summary + "\n\n" + table(["preset", "agrees", "finding that does not agree", "verdict", "measured (the report's figures)"], rows)
 
 
 def outcomes_section(documents: list[dict]) -> str:
     default = _default(documents)
     if default is None:
         return NOT_RECORDED
-    return _table(["preset", "setting", "trials", "final average: median (quartiles)", "run's best: median (std)",
+    return table(["preset", "setting", "trials", "final average: median (quartiles)", "run's best: median (std)",
                    "kicking never spread (final average ≥ 0.95)", "taken over by goal scorers (≤ 0.60)"],
                   [[r["preset"], r["setting"], r["trials"],
                     f"{r['final_average_median']:.3f} ({r['final_average_quartiles'][0]:.3f}–"
@@ -145,17 +138,13 @@ def outcomes_section(documents: list[dict]) -> str:
                     r["never_spread"], r["taken_over"]] for r in default["outcomes"]])
 
 
-def _load(average: list[float] | None) -> str:
-    return "/".join(f"{x:g}" for x in average) if average else "?"
-
-
 def runs_section(documents: list[dict]) -> str:
-    return _table(["candidate", "command", "trials per preset", "run / reused", "wall time", "measured, load before/after"],
+    return table(["candidate", "command", "trials per preset", "run / reused", "wall time", "measured, load before/after"],
                   [[_label(d), f"`{d['command']}`", ", ".join(f"{k} {v}" for k, v in d["size"]["trials"].items()),
                     f"{d['trials_run']} / {d['trials_reused']}",
                     f"{d['wall_seconds']:.0f} s on {d['workers']} workers" if d["trials_run"]
                     else "none: every trial reused (its wall time is the study's, [Replicates](replicates.md))",
-                    f"{d['measured']}, {_load(d['load_average_before'])} / {_load(d['load_average_after'])}"]
+                    f"{d['measured']}, {load_average(d['load_average_before'])} / {load_average(d['load_average_after'])}"]
                    for d in documents])
 
 

@@ -7,6 +7,8 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+from markdown_table import load_average
+
 MARKER = "<!-- generated: performance -->"
 RESULTS = Path(__file__).resolve().parents[1] / "results"
 SHOWN_ELSEWHERE = {"examples"}  # results that are not speeds, each in its guide's own table (docs/hooks/*_table.py)
@@ -20,10 +22,6 @@ def shown(value: object, unit: str) -> str:
     return f"{value} {unit}".strip()
 
 
-def load(average: list[float] | None) -> str:
-    return "/".join(f"{x:g}" for x in average) if average else "?"
-
-
 def performance_table(results: Path = RESULTS) -> str:
     documents = [json.loads(path.read_text(encoding="utf-8")) for path in sorted(results.glob("*.json"))
                  if path.stem not in SHOWN_ELSEWHERE]
@@ -32,8 +30,8 @@ def performance_table(results: Path = RESULTS) -> str:
     lines = ["| figure | measured | target | command | when, load average before/after |",
              "|---|---|---|---|---|"]
     for document in documents:
-        when = (f"{document['measured']}, {load(document.get('load_average_before'))} / "
-                f"{load(document.get('load_average_after'))}")
+        when = (f"{document['measured']}, {load_average(document.get('load_average_before'))} / "
+                f"{load_average(document.get('load_average_after'))}")
         for figure in document["figures"]:
             note = f" ({figure['note']})" if figure.get("note") else ""
             lines.append(f"| {figure['name']}{note} | **{shown(figure['value'], figure.get('unit', ''))}** | "

@@ -17,23 +17,12 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+from markdown_table import load_average, table
+
 RESULTS = Path(__file__).resolve().parents[1] / "results" / "research" / "study.json"
 RUN, VERDICTS, ANSWERS = (f"<!-- generated: research-{name} -->" for name in ("run", "verdicts", "answers"))
 NOT_RECORDED = ("Not recorded yet: run the study, then `python scripts/research_figures.py FOLDER --record "
                 "--command \"...\"`.")
-
-
-def _cell(text: object) -> str:
-    return str(text).replace("|", "\\|").replace("\n", " ")
-
-
-def _table(columns: list[str], rows: list[list[object]]) -> str:
-    lines = ["| " + " | ".join(columns) + " |", "|" + "---|" * len(columns)]
-    return "\n".join(lines + ["| " + " | ".join(_cell(c) for c in row) + " |" for row in rows])
-
-
-def _load(average: list[float] | None) -> str:
-    return "/".join(f"{x:g}" for x in average) if average else "?"
 
 
 def _duration(seconds: float) -> str:
@@ -49,17 +38,17 @@ def run_section(study: dict) -> str:
             f"generations (Table 2's control), games of {size['max_ticks']} ticks, each trial's best re-played on "
             f"{size['replays']} fresh starts; recorded {study['recorded']}. "
             + ("Finished." if study["complete"] else "**Not finished**: the verdicts below wait for every trial.")]
-    text.append(_table(["experiment", "seed", "trials finished", "games finished"],
+    text.append(table(["experiment", "seed", "trials finished", "games finished"],
                        [[p["experiment"], p["seed"], f"{p['finished']} of {p['trials']}",
                          f"{p['games_finished']:,} of {p['games']:,} ({p['games_finished'] / p['games']:.0%})"]
                         for p in study["progress"]]))
     if study["runs"]:
         total = sum(run["seconds"] for run in study["runs"])
-        text.append(_table(["invocation", "started", "wall time", "trials run", "skipped",
+        text.append(table(["invocation", "started", "wall time", "trials run", "skipped",
                             "load average before / after", "cores"],
                            [[f"{run['preset']} seeds {','.join(map(str, run['seeds']))}", run["started"],
                              _duration(run["seconds"]), run["ran"], run["skipped"],
-                             f"{_load(run['load_average_before'])} / {_load(run['load_average_after'])}",
+                             f"{load_average(run['load_average_before'])} / {load_average(run['load_average_after'])}",
                              run["cores"]] for run in study["runs"]]))
         text.append(f"Wall time, all invocations: {_duration(total)}. Load average: the 1-, 5- and 15-minute "
                     "figures; above the core count, trials waited for a core.")
@@ -81,13 +70,13 @@ def verdicts_section(study: dict) -> str:
         counts[row["robust"]] = counts.get(row["robust"], 0) + 1
     summary = "" if not chapter else (f"The chapter's {len(chapter)} findings at {len(study['seeds'])} seeds: "
                + ", ".join(f"**{n}** {verdict}" for verdict, n in sorted(counts.items(), key=lambda c: -c[1])) + ".")
-    return (summary + "\n\n" if summary else "") + _table(columns, [[row[c] for c in columns] for row in rows])
+    return (summary + "\n\n" if summary else "") + table(columns, [[row[c] for c in columns] for row in rows])
 
 
 def answers_section(study: dict) -> str:
     if not study["answers"]:
         return "No answers yet: the run above has not finished its presets beyond the chapter."
-    return _table(["preset", "chapter", "seed", "answer", "measured", "test"],
+    return table(["preset", "chapter", "seed", "answer", "measured", "test"],
                   [[a["preset"], a["where"], a["seed"], a["answer"], a["measured"], a["test"]]
                    for a in study["answers"]])
 

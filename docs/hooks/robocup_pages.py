@@ -11,6 +11,8 @@ import json
 from pathlib import Path
 from typing import Any
 
+from markdown_table import load_average, table
+
 STUDY_MARKER = "<!-- generated: robocup-study -->"
 TRANSFER_MARKER = "<!-- generated: robocup-transfer -->"
 CHAPTER_SIZE = (200, 25)  # Table 2's population and generations
@@ -27,17 +29,8 @@ def _duration(seconds: float) -> str:
     return f"{minutes // 60} h {minutes % 60:02d} min" if minutes >= 60 else f"{minutes} min"
 
 
-def _cell(text: object) -> str:
-    return str(text).replace("|", "\\|").replace("\n", " ")
-
-
 def _findings(rows: list[list[object]], header: list[str]) -> list[str]:
-    return ["| " + " | ".join(header) + " |", "|" + "---|" * len(header),
-            *("| " + " | ".join(_cell(c) for c in row) + " |" for row in rows)]
-
-
-def _load(average: list[float]) -> str:
-    return "/".join(f"{x:g}" for x in average)
+    return table(header, rows).split("\n")
 
 
 def study_markdown(record: dict[str, Any], page_depth: int = 1) -> str:
@@ -53,7 +46,7 @@ def study_markdown(record: dict[str, Any], page_depth: int = 1) -> str:
              f"times, each {_duration(min(record['trial_wall_time_seconds']))} to "
              f"{_duration(max(record['trial_wall_time_seconds']))}).", "",
              f"Recorded {record['recorded']} from `{record['folder']}` (`{record['command']}`; load average "
-             f"{_load(record['load_average'])} when recorded).", ""]
+             f"{load_average(record['load_average'])} when recorded).", ""]
     if not finished:
         lines += [f"The findings below are those of the {record['trials_finished']} finished trials; the same "
                   "command resumes the study, and the script records it again.", ""]
@@ -69,7 +62,7 @@ def study_markdown(record: dict[str, Any], page_depth: int = 1) -> str:
 def transfer_markdown(record: dict[str, Any], page_depth: int = 1) -> str:
     up = "../" * page_depth
     lines = [f"Recorded {record['recorded']} from `{record['folder']}` (`{record['command']}`: {record['sources']} "
-             f"sources, {record['starts']} starts each; load average {_load(record['load_average'])}"
+             f"sources, {record['starts']} starts each; load average {load_average(record['load_average'])}"
              + (f"; wall time {record['wall_time_seconds'] / 60:.0f} min" if record.get("wall_time_seconds") else "")
              + ").", ""]
     size = record.get("size")
@@ -161,7 +154,7 @@ def disagreement_markdown(record: dict[str, Any], page_depth: int = 1) -> str:
               f"server's noise on: {_duration(sum(c['seconds'] for c in conditions))} of replays"
               + (f", after {_duration(found['seconds'])} finding the players" if "seconds" in found else "")
               + f"; load average "
-              f"{_load(record['load_average_before'])} before, {_load(record['load_average_after'])} after "
+              f"{load_average(record['load_average_before'])} before, {load_average(record['load_average_after'])} after "
               f"({record['cores']} cores). Cycles the busy machine answered too late: {late:,} of {cycles:,}."
               + ("" if record.get("finished", True) else " **Stopped part-way:** the conditions above only."), ""]
     return "\n".join(lines)
