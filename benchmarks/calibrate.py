@@ -99,7 +99,7 @@ def calibrate(options: ExperimentOptions, names: list[str], folder: Path, worker
     """Run (or reuse) the candidate's trials, print its tables and return them for --record."""
     plans = [plan(name, options) for name in names]
     experiment = Plan([p for each in plans for p in each.presets], [m for each in plans for m in each.memberships])
-    prepare_folder(folder, options)
+    prepare_folder(folder, options.identity())
     started = time.perf_counter()
     with LocalExecutor(workers) as executor:
         ran, skipped = run_trials(experiment, folder, executor, Printer())

@@ -40,13 +40,9 @@ class NoStudy(Exception):
 
 
 def options_of(folder: Path) -> ExperimentOptions:
-    """The folder's options as the command line gave them. The manifest records every option, defaults too,
-    but for robocup a max_ticks or noise given changes the trials (ExperimentOptions.trial): only the values
-    that differ from the defaults are taken as given (as `soccer-lab experiment` without those options)."""
+    """The folder's options as the command line gave them (its manifest read back)."""
     try:
-        recorded = json.loads((folder / MANIFEST).read_text())
-        defaults = ExperimentOptions().model_dump()
-        return ExperimentOptions(**{name: value for name, value in recorded.items() if value != defaults.get(name)})
+        return ExperimentOptions.from_identity(json.loads((folder / MANIFEST).read_text()))
     except (OSError, ValueError) as exc:
         raise NoStudy(f"{folder} holds no experiment ({MANIFEST}: {exc})") from None
 

@@ -68,6 +68,7 @@ BEYOND_CROSSOVERS = ("one-point", "two-point", "uniform")
 RULE_PRESSURE_LENGTHS = (25, 64, 128)  # the chapter's smallest maximum (rules reach their bound), Table 2's, twice it
 GAMES_PER_EVALUATION = (1, 5)  # the chapter, 5.2: "the average of five games"
 RESTARTS = 4  # runs of Table 2's 25 generations, against one of LONG_GENERATIONS (Luke's "many shorter experiments")
+RCSS_TRIAL = "rcss_trial"  # a manifest's rcssserver trial length and noise (ExperimentOptions.identity)
 DEFAULT_REPLAYS = 100  # fresh starts each trial's best is re-played on: its true quality
 
 
@@ -119,10 +120,29 @@ class ExperimentOptions(BaseModel):
         given = {name: getattr(self, name) for name in ("max_ticks", "noise") if name in self.model_fields_set}
         return TrialConfig(skills=self.skills, **given)
 
-    def identity(self) -> dict[str, Any]:
+    def identity(self, on_servers: bool = False) -> dict[str, Any]:
         """What makes two experiment folders' finished trials interchangeable (trials count excluded:
-        more trials only add files)."""
-        return self.model_dump(exclude={"trials"})
+        more trials only add files). On rcssserver (robocup, transfer) also the trials' own game length and
+        noise: a max_ticks or noise left unset there means the chapter's RoboCup values, not SimpleSoccer's."""
+        identity = self.model_dump(exclude={"trials"})
+        if on_servers:
+            trial = self.trial()
+            identity[RCSS_TRIAL] = {"max_ticks": trial.max_ticks, "noise": trial.noise}
+        return identity
+
+    @classmethod
+    def from_identity(cls, identity: dict[str, Any]) -> "ExperimentOptions":
+        """The options as the command line gave them, from a folder's manifest (`identity`): the values that
+        differ from the defaults, and the rcssserver trials' length and noise where they differ from theirs."""
+        from soccer.rcss.trial import TrialConfig
+
+        defaults = cls().model_dump()
+        given = {name: value for name, value in identity.items() if name in cls.model_fields
+                 and value != defaults.get(name)}
+        trial_defaults = TrialConfig().model_dump()
+        given |= {name: value for name, value in identity.get(RCSS_TRIAL, {}).items()
+                  if value != trial_defaults[name]}
+        return cls(**given)
 
     def size(self, robocup: bool = False) -> RunSize:
         """Table 2's control at this run's size (games: server cycles for robocup)."""

@@ -24,7 +24,7 @@ from matplotlib.figure import Figure as MatplotlibFigure
 from matplotlib.patches import Patch
 
 from app.experiment.figures import DPI, FIGURES_FOLDER, Figure
-from app.experiment.presets import ExperimentOptions
+from app.experiment.presets import ROBOCUP, ExperimentOptions
 from app.experiment.report import (AGREES, DISAGREES, INCONCLUSIVE, NOT_RUN, REPORT_HTML, REPORT_MD, STYLE, TOO_SMALL,
                                    VERDICTS, Report, _cell, run_size)
 from app.experiment.runner import (ExperimentError, ExperimentOutcome, Plan, Progress, RunClock, _write_atomically,
@@ -109,11 +109,12 @@ def run_replicates(preset_name: str, options: ExperimentOptions, seeds: list[int
     from app.experiment.report import write_report
 
     clock = RunClock()
-    prepare_folder(folder, options, identity={k: v for k, v in options.identity().items() if k != "seed"})
+    on_servers = preset_name == ROBOCUP
+    prepare_folder(folder, {k: v for k, v in options.identity(on_servers).items() if k != "seed"})
     experiments = []
     for seed in seeds:
         replicate = options.model_copy(update={"seed": seed})
-        prepare_folder(replicate_folder(folder, seed), replicate)
+        prepare_folder(replicate_folder(folder, seed), replicate.identity(on_servers))
         experiments.append((plan(preset_name, replicate), replicate_folder(folder, seed)))
     with executor:
         ran, skipped = run_trials_in(experiments, executor, progress)

@@ -30,7 +30,7 @@ from typing import Any, Iterable, Protocol
 
 import numpy as np
 
-from app.experiment.presets import ExperimentOptions, Preset, Setting, presets, trial_seed
+from app.experiment.presets import ROBOCUP, RCSS_TRIAL, ExperimentOptions, Preset, Setting, presets, trial_seed
 from app.experiment.table import ALGORITHM, PRESET, SEED, SETTING, TRIAL, BestsTable, StatisticsTable
 from ga.config import SEED_BOUND, GAConfig
 from ga.evaluation import Evaluator
@@ -42,7 +42,7 @@ TRIALS_FOLDER = "trials"
 STATISTICS_FILE = "statistics.csv"
 BESTS_FILE = "bests.csv"
 RUNS_LOG = "runs.jsonl"
-OPTIONS_ADDED_SINCE = {"replays"}  # a folder from before them holds trials all of whose other options match
+OPTIONS_ADDED_SINCE = {"replays", RCSS_TRIAL}  # a folder from before them holds trials all of whose other options match
 RESTART_KEY, REPLAY_KEY = 1, 2  # SeedSequence spawn keys: a restart's seed, the replays' seeds
 
 
@@ -233,10 +233,9 @@ class ExperimentOutcome:
         return len(self.plan.specs)
 
 
-def prepare_folder(folder: Path, options: ExperimentOptions, identity: dict[str, Any] | None = None) -> None:
-    """Create the folder, or check that the one there holds trials of the same options (or `identity`)."""
+def prepare_folder(folder: Path, identity: dict[str, Any]) -> None:
+    """Create the folder, or check that the one there holds trials of the same options (their `identity`)."""
     manifest = folder / MANIFEST
-    identity = options.identity() if identity is None else identity
     if manifest.is_file():
         try:
             recorded = json.loads(manifest.read_text())
@@ -326,7 +325,7 @@ def run_experiment(preset_name: str, options: ExperimentOptions, folder: Path, e
 
     clock = RunClock()
     experiment = plan(preset_name, options)
-    prepare_folder(folder, options)
+    prepare_folder(folder, options.identity(on_servers=preset_name == ROBOCUP))
     with executor:
         ran, skipped = run_trials(experiment, folder, executor, progress)
     table = assemble(experiment, folder)

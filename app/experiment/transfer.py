@@ -205,7 +205,7 @@ def run_transfer(options: ExperimentOptions, folder: Path, executor: Any,
     RcssExecutor, local or on a Ray cluster). The invocation's wall time and load go to runs.jsonl."""
     clock = RunClock()
     plan = transfer_plan(options)
-    prepare_folder(folder, options)
+    prepare_folder(folder, options.identity(on_servers=True))
     sources = Sources(folder, plan)
     trials = TrialFolder(folder)
     with executor:

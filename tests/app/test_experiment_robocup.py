@@ -5,6 +5,7 @@ findings in the report, and resuming within a trial."""
 from __future__ import annotations
 
 import csv
+import json
 
 import numpy as np
 import pytest
@@ -54,6 +55,34 @@ def test_trial_options_added_later_keep_the_studies_trial_files_named_as_they_we
     changed = [replace(setting, trial=setting.trial.model_copy(update=change)).key
                for change in ({"restart": "server"}, {"answer_delay": 1}, {"answer_delay_spread": 2})]
     assert len({setting.key, *changed}) == 4
+
+
+@pytest.mark.parametrize("given", [{}, {"max_ticks": 1000}, {"max_ticks": 1200}, {"noise": False},
+                                   {"noise": True}, {"max_ticks": 300, "noise": False, "population": 20}])
+def test_a_manifest_records_the_rcssserver_trials_as_they_were_played(given, tmp_path):
+    """Left unset, max_ticks and noise mean the chapter's RoboCup values (1200 cycles, the server's noise), given
+    they mean what they say: the manifest tells the two apart, and reads back as the options that were given."""
+    from app.experiment.presets import RCSS_TRIAL
+    from app.experiment.runner import ExperimentError, prepare_folder
+
+    options = ExperimentOptions(**given)
+    identity = options.identity(on_servers=True)
+    assert identity[RCSS_TRIAL] == {"max_ticks": options.trial().max_ticks, "noise": options.trial().noise}
+    read_back = ExperimentOptions.from_identity(identity)
+    assert read_back.trial() == options.trial() and read_back.game() == options.game()
+    assert read_back.identity(on_servers=True) == identity
+    prepare_folder(tmp_path, identity)
+    prepare_folder(tmp_path, read_back.identity(on_servers=True))  # the same trials: resumes
+    if options.trial().max_ticks == 1200:  # `--max-ticks 1000` is not the default's 1200 cycles, though recorded
+        with pytest.raises(ExperimentError, match=r"other options \(max_ticks, rcss_trial\)|other options \(rcss_trial\)"):
+            prepare_folder(tmp_path, options.model_copy(update={"max_ticks": 1000}).identity(on_servers=True))
+
+
+def test_a_folder_made_before_its_manifest_recorded_the_rcssserver_trials_still_resumes(tmp_path):
+    from app.experiment.runner import MANIFEST, prepare_folder
+
+    (tmp_path / MANIFEST).write_text(json.dumps(ExperimentOptions().identity()))
+    prepare_folder(tmp_path, ExperimentOptions().identity(on_servers=True))
 
 
 def robocup_rows(rng, *, final_mean: float, most_goals_column: str) -> list[dict]:
