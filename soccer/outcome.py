@@ -31,6 +31,14 @@ END_REASONS = {
     "out-of-play": "the ball went out of play",
 }
 
+# The same, in the few words a small pitch has room for (the UI's population and breeding grids).
+END_REASON_LABELS = {
+    "max-ticks": "time up",
+    "goal-cap": "goal cap reached",
+    "idle": "stood still too long",
+    "out-of-play": "ball out of play",
+}
+
 # The ball or the goal, what a TURN_FIRST turn faces, by the action being performed.
 _FACES_GOAL = {"RUNTOWARDGOAL"}
 

@@ -103,9 +103,13 @@ class Game:
             f"<div>tick {s.tick} / {config.max_ticks}</div>"
             f'<div style="color:{style.MUTED}">seed {self.seed} · playing <b style="color:{style.INK}">'
             f"{escape(self.name)}</b></div>"
-            f"{self._idle_html()}{self._end_html()}"
-            f'<div class="game-rules" style="color:{style.MUTED}">{escape(rules_summary(config))}</div></div>'
+            f"{self._idle_html()}{self._end_html()}{self._changed_rules_html()}</div>"
         )
+
+    def _changed_rules_html(self) -> str:
+        """The game's choices beyond its skill set (the Skills control below names that), when any is on."""
+        changed = rules_summary(self.config, skills=False)
+        return f'<div class="game-rules" style="color:{style.MUTED}">{escape(changed)}</div>' if changed else ""
 
     def _idle_html(self) -> str:
         """The idle countdown, once the player has stood still a tick: the game ends when it runs out."""
@@ -136,9 +140,9 @@ class Game:
         )
 
 
-def rules_summary(config: GameConfig) -> str:
+def rules_summary(config: GameConfig, skills: bool = True) -> str:
     """The open choices of a game (docs/research/calibration.md) in a line, e.g. "sighted skills · noise"."""
-    parts = [f"{config.skills} skills"]
+    parts = [f"{config.skills} skills"] if skills else []
     if config.noise:
         parts.append("noise")
     if config.count_touches:

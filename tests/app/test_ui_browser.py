@@ -341,9 +341,12 @@ def test_a_small_evolution_shows_progress_and_its_best_player_can_be_loaded(ui, 
     wait_until(lambda: load.is_enabled())
     load.click()
     wait_until(lambda: session.game.name.startswith("run #"))
-    # The run's best plays in the game it was evaluated in, and the pitch's status says which.
+    # The run's best plays in the game it was evaluated in, and the Play tab says which: the Skills control
+    # its skill set, the status line the choices beyond it.
     assert session.game.config.skills == "assisted" and session.game.config.count_touches is True
-    page.locator(".game-rules", has_text="assisted skills · body pushes count as kicks").wait_for(state="attached")
+    page.locator('.skills-note[data-skills="assisted"]').wait_for(state="attached")
+    page.locator(".game-rules", has_text="body pushes count as kicks").wait_for(state="attached")
+    assert "skills" not in page.locator(".game-rules").inner_text()  # named once, by the Skills control
     wait_until(lambda: "finished" in status.inner_text(), timeout=60)
     assert len(session.evolve.best) == 2  # generation 0 (the initial population) and generation 1
     game = session.evolve.store.get_run(session.evolve.run_id).config["game"]
@@ -406,7 +409,8 @@ def test_save_to_library_then_open_it_again(ui, page):
     wait_until(lambda: session.game.name == "my striker")
     assert "GoToBall High" in "\n".join(session.game.rule_texts)
     assert session.game.config == ui.context.game  # a saved rulebase plays in the app's game
-    page.locator(".game-rules", has_text=f"{ui.context.game.skills} skills").wait_for(state="attached")
+    page.locator(f'.skills-note[data-skills="{ui.context.game.skills}"]').wait_for(state="attached")
+    assert page.locator(".game-rules").count() == 0  # the app's game changes nothing beyond its skill set
 
 
 def test_the_rule_editor_shows_a_whole_rulebase(ui, page):

@@ -118,13 +118,20 @@ def test_pitch_is_drawn_in_scene_coordinates_with_y_flipped():
 
 
 def test_population_grid_draws_one_small_pitch_per_game():
+    from types import SimpleNamespace
+
     from app.ui.panels.population import population_html
-    from soccer.engine import Observation
+    from soccer.engine import END_REASONS, Observation
 
     geometry = PitchGeometry.from_world(WorldConfig())
     observation = Observation(player_x=np.array([-10.0, 20.0]), player_y=np.array([5.0, -4.0]),
                               facing=np.array([30.0, -90.0]), ball_x=np.array([0.0, 25.0]), ball_y=np.array([-3.0, 0.0]),
                               inputs=np.zeros((2, 4)), visible=np.zeros((2, 2), dtype=bool))
-    html = population_html(geometry, observation, [0, 3], [False, True], ["gen 0", "gen 1"])
+    state = SimpleNamespace(goals=np.array([0, 3]), done=np.array([False, True]),
+                            end_reason=np.array([END_REASONS.index("running"), END_REASONS.index("idle")]))
+    html = population_html(geometry, observation, state, ["gen 0", "gen 1"])
     assert html.count('class="mini-pitch"') == 2
-    assert 'data-goals="3" data-done="true"' in html and "gen 1" in html
+    assert 'data-goals="3" data-done="true" data-end-reason="idle"' in html and "gen 1" in html
+    assert "3 goals" in html and "0 goals" in html  # said in words over each pitch, not a bare number
+    # a game that is over says why on its grey pitch; one still running says nothing
+    assert html.count("stood still too long") == 1 and 'data-end-reason="running"' in html

@@ -215,12 +215,11 @@ class BreedingPanel:
                 return
             self._last_render = now
             batch = self.batch
-            grid = population_html(self.geometry, batch.observation, batch.state.goals, batch.state.done,
-                                   self.labels, columns=PITCH_COLUMNS)
+            grid = population_html(self.geometry, batch.observation, batch.state, self.labels, columns=PITCH_COLUMNS)
         content = (f'<div class="breeding-games" data-games="{len(self.labels)}" style="{style.FONT}; '
                    f'{style.SCROLLBAR_ROOM}; '
                    f'font-size:{style.FONT_SIZE}px">Parents (top) and children (below), all from the start of seed '
-                   f"{self._seed}, as the main pitch. Top right: goals.{grid}</div>")
+                   f"{self._seed}, as the main pitch.{grid}</div>")
         if content != self.pitches.content:  # finished games: nothing more to send
             self.pitches.content = content
 

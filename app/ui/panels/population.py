@@ -18,7 +18,8 @@ from app.ui.panels.svg import escape, svg_open
 from app.ui.pitch import PitchGeometry
 from fuzzy.vocabulary import Vocabulary
 from soccer.config import GameConfig, WorldConfig
-from soccer.engine import GameBatch, Observation
+from soccer.engine import END_REASONS, GameBatch, GameState, Observation
+from soccer.outcome import END_REASON_LABELS
 
 if TYPE_CHECKING:
     from app.runs import SampledPlayer
@@ -28,12 +29,14 @@ EMPTY_TEXT = ("Start an evolution in the Evolve tab: the best players of each ge
 
 
 def population_html(
-    geometry: PitchGeometry, observation: Observation, goals: Sequence[int], done: Sequence[bool],
-    labels: Sequence[str], columns: int = style.POPULATION_GRID[0],
+    geometry: PitchGeometry, observation: Observation, state: GameState, labels: Sequence[str],
+    columns: int = style.POPULATION_GRID[0],
 ) -> str:
-    """Small pitches in a grid of `columns`, game g where observation[g] saw it."""
+    """Small pitches in a grid of `columns`, game g where observation[g] saw it (state: the games' score and
+    whether and why each ended)."""
     cells = "".join(
-        _mini_pitch(geometry, observation, g, goals[g], done[g], labels[g]) for g in range(len(labels))
+        _mini_pitch(geometry, observation, g, int(state.goals[g]), END_REASONS[state.end_reason[g]] if state.done[g]
+                    else None, labels[g]) for g in range(len(labels))
     )
     return (
         f'<div class="population" data-games="{len(labels)}" style="{style.FONT}; display:grid; '
@@ -41,7 +44,8 @@ def population_html(
     )
 
 
-def _mini_pitch(geometry: PitchGeometry, observation: Observation, g: int, goals: int, done: bool, label: str) -> str:
+def _mini_pitch(geometry: PitchGeometry, observation: Observation, g: int, goals: int, ended: str | None,
+                label: str) -> str:
     margin = style.MINI_PITCH_MARGIN
     width = 2 * (geometry.half_length + margin) + geometry.goal_depth
     height = 2 * (geometry.half_width + margin)
@@ -58,9 +62,17 @@ def _mini_pitch(geometry: PitchGeometry, observation: Observation, g: int, goals
     px, py = observation.player_x[g], observation.player_y[g]
     facing = np.radians(observation.facing[g])
     bx, by = observation.ball_x[g], observation.ball_y[g]
-    grass = style.MINI_PITCH_DONE if done else style.MINI_PITCH_GRASS
+    grass = style.MINI_PITCH_GRASS if ended is None else style.MINI_PITCH_DONE
+    why = "" if ended is None else (  # a grey pitch says why its game is over
+        f'<text x="{style.MINI_PITCH_WIDTH / 2:.1f}" y="{h * 0.3:.1f}" font-size="13" font-weight="700" fill="white" '
+        f'stroke="{style.MINI_PITCH_DONE}" stroke-width="4" paint-order="stroke" text-anchor="middle">'
+        f"{escape(END_REASON_LABELS.get(ended, ended))}</text>")
     return (
-        f'<div class="mini-pitch" data-goals="{goals}" data-done="{str(bool(done)).lower()}">'
+        f'<div class="mini-pitch" data-goals="{goals}" data-done="{str(ended is not None).lower()}" '
+        f'data-end-reason="{escape(ended or "running")}">'
+        # the label and the goals over the pitch, in the panel's text size (read from the back of a class)
+        f'<div style="display:flex; justify-content:space-between; font-size:{style.SMALL_FONT_SIZE + 1}px; '
+        f'color:{style.INK}"><span>{escape(label)}</span><b>{goals} {"goal" if goals == 1 else "goals"}</b></div>'
         f"{svg_open(style.MINI_PITCH_WIDTH, h)}"
         f'<rect width="{style.MINI_PITCH_WIDTH}" height="{h:.1f}" fill="{grass}" rx="3"/>'
         f'<rect x="{x(-hl):.1f}" y="{y(-hw):.1f}" width="{2 * hl * scale:.1f}" height="{2 * hw * scale:.1f}" '
@@ -71,10 +83,7 @@ def _mini_pitch(geometry: PitchGeometry, observation: Observation, g: int, goals
         f'<circle cx="{x(px):.1f}" cy="{y(py):.1f}" r="3.5" fill="{style.MINI_PITCH_PLAYER}" stroke="white" stroke-width="1"/>'
         f'<line x1="{x(px):.1f}" y1="{y(py):.1f}" x2="{x(px) + 7 * np.cos(facing):.1f}" '
         f'y2="{y(py) + 7 * np.sin(facing):.1f}" stroke="white" stroke-width="1.5"/>'
-        f'<circle cx="{x(bx):.1f}" cy="{y(by):.1f}" r="2.5" fill="{style.BALL_HEX}"/>'
-        f'<text x="4" y="11" font-size="10" fill="white">{escape(label)}</text>'
-        f'<text x="{style.MINI_PITCH_WIDTH - 4}" y="11" font-size="11" font-weight="700" fill="white" '
-        f'text-anchor="end">{goals}</text></svg></div>'
+        f'<circle cx="{x(bx):.1f}" cy="{y(by):.1f}" r="2.5" fill="{style.BALL_HEX}"/>{why}</svg></div>'
     )
 
 
@@ -136,9 +145,7 @@ class PopulationPanel:
         now = time.perf_counter()
         if now - self._last_render >= style.POPULATION_REFRESH_SECONDS:
             self._last_render = now
-            self.grid.content = population_html(
-                self.geometry, self.batch.observation, self.batch.state.goals, self.batch.state.done, self.labels
-            )
+            self.grid.content = population_html(self.geometry, self.batch.observation, self.batch.state, self.labels)
 
     def _rebuild(self, run_id: int, generation: int, players: Sequence["SampledPlayer"]) -> None:
         shown = list(players)[: style.POPULATION_GRID[0] * style.POPULATION_GRID[1]]
@@ -163,5 +170,5 @@ class PopulationPanel:
             f'data-ended="{str(status is not None).lower()}" style="{style.FONT}; font-size:{style.FONT_SIZE}px">'
             f"Run #{run_id}, generation {generation}: its {count} best players (rank · fitness), all from the "
             f"start of seed {seed} in the run's game ({escape(rules_summary(self.game))}), played together by "
-            f"the batched engine{when}. Top right: goals.</div>"
+            f"the batched engine{when}.</div>"
         )
