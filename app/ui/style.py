@@ -75,7 +75,7 @@ USAGE_BAR_WIDTH = 50  # px: the share of ticks a rule won, beside its strength b
 NEVER_WON_OPACITY = 0.45  # a rule that never won in those games is greyed
 
 LEFT_PANEL_WIDTH = 380
-RULE_EDITOR_HEIGHT = "max(18em, 55vh)"  # CSS: the rule text fills most of the panel's height
+RULE_EDITOR_HEIGHT = "max(18em, 70vh)"  # CSS: the rule text fills most of the panel's height
 RIGHT_PANEL_WIDTH = 500
 POLICY_REFRESH_SECONDS = 0.2  # the policy map's marker follows the player at 5 Hz (the map is ~12 kB)
 POPULATION_GRID = (3, 4)  # columns, rows of small pitches in the population view

@@ -424,9 +424,13 @@ def test_the_rule_editor_shows_a_whole_rulebase(ui, page):
     page.get_by_role("tab", name="Rules").click()
     editor = field(page, "Rules", "textarea")
     wait_until(lambda: editor.input_value().count("\n") >= 11)
+    shot(page, "9-rule-editor")
     height, content = editor.evaluate("t => [t.clientHeight, t.scrollHeight]")
     assert content <= height + 1  # every rule in view, no scrolling
-    shot(page, "9-rule-editor")
+    # in the panel's text size (viser's inputs are 12 px, too small on a projector)
+    from app.ui import style
+
+    assert editor.evaluate("t => parseFloat(getComputedStyle(t).fontSize)") == style.FONT_SIZE - 1
 
 
 def test_policy_map_marks_the_current_input(ui, page):

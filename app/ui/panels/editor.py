@@ -30,11 +30,12 @@ SIMPLIFIED_NAME = "simplified"
 UNDO_DEPTH = 50
 # viser's text area grows to six lines at most; the rule text (the element after the heading) gets
 # the panel's whole width and most of its height, so a whole rulebase reads without scrolling.
-# min-height wins over the height the text area sets itself.
+# min-height wins over the height the text area sets itself; the font is the panel's, not viser's small
+# input font, so the rules read on a projector.
 EDITOR_STYLE = (
     "<style>div:has(> .rules-on-pitch) + div .mantine-Flex-root > div:first-child { display: none }"
     f"div:has(> .rules-on-pitch) + div textarea {{ min-height: {style.RULE_EDITOR_HEIGHT} !important;"
-    " line-height: 1.45 }</style>"
+    f" font-size: {style.FONT_SIZE - 1}px !important; line-height: 1.45 }}</style>"
 )
 
 
