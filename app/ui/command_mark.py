@@ -62,13 +62,19 @@ def command_mark(state: SoccerState, goal: tuple[float, float], field: tuple[flo
         words = {AT_BALL: "stands at the ball", NO_DASH_NEEDED: "drifts onto the ball", NOTHING: "does nothing"}
         mark = (np.zeros((0, 2, 2)), style.REFUSED_MARK, words.get(why, outcome.command_text()))
     segments, colour, label = mark
-    return CommandMark(segments, colour, label, _label_place(px, py, field))
+    return CommandMark(segments, colour, label, label_place(px, py, label, field))
 
 
-def _label_place(px: float, py: float, field: tuple[float, float, float, float]) -> tuple[float, float]:
-    """Above the player (screen up = world -y), kept on the grass with room for the text."""
+def label_half_width(label: str) -> float:
+    """Metres from the label's centre to its side, as drawn."""
+    return 0.5 * len(label) * style.COMMAND_LABEL_CHARACTER * style.COMMAND_LABEL_HEIGHT
+
+
+def label_place(px: float, py: float, label: str, field: tuple[float, float, float, float]) -> tuple[float, float]:
+    """Above the player (screen up = world -y), kept whole on the grass: the label's bottom centre."""
     x0, x1, y0, y1 = field
-    x = min(max(px, x0 + style.COMMAND_LABEL_ROOM), x1 - style.COMMAND_LABEL_ROOM)
+    room = label_half_width(label)
+    x = min(max(px, x0 + room), x1 - room)
     y = py - style.PLAYER_DRAW_RADIUS - 1.0
     if y < y0 + style.COMMAND_LABEL_HEIGHT:  # no room above: below the player
         y = py + style.PLAYER_DRAW_RADIUS + 1.0 + style.COMMAND_LABEL_HEIGHT

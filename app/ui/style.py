@@ -46,8 +46,8 @@ DASH_MARK = (255, 255, 255)
 TURN_MARK = (129, 212, 250)
 REFUSED_MARK = (211, 47, 47)
 COMMAND_MARK_THICKNESS = 0.6  # metres, as the trail's
-COMMAND_LABEL_HEIGHT = 2.6  # metres: the label's letters scale with the pitch
-COMMAND_LABEL_ROOM = 9.0  # metres kept between the label's centre and the grass's ends
+COMMAND_LABEL_HEIGHT = 3.6  # metres: the label's letters scale with the pitch (about 12 px at 1280 x 800)
+COMMAND_LABEL_CHARACTER = 0.5  # a character's width over the height, with the box's padding (measured on a screenshot: 0.44)
 
 # Panel palette (HTML/SVG): hex strings.
 INK = "#1f2933"

@@ -50,3 +50,19 @@ def test_loading_a_rulebase_with_a_restart_explains_its_first_decision():
     assert inference.selected.action == "TURN" and inference.strengths[0] > 0
     game.step()
     assert game.state.action == "TURN"
+
+
+@pytest.mark.parametrize("player", [(-54.0, -37.0), (56.0, 37.0), (0.0, 0.0), (50.0, -38.0)])
+@pytest.mark.parametrize("label", ["kick 100", "no kick: ball out of reach", "hunt: turn -180°"])
+def test_the_command_label_stays_whole_on_the_grass(player, label):
+    """The label over the player, as long as it is and wherever the player stands (corners included), never
+    reaches past the grass: the frame around the pitch would hide it."""
+    from app.ui.command_mark import label_half_width, label_place
+    from app.ui.pitch import PitchGeometry
+    from app.ui import style
+    from soccer.config import WorldConfig
+
+    x0, x1, y0, y1 = grass = PitchGeometry.from_world(WorldConfig()).grass
+    x, y = label_place(*player, label, grass)  # the label's bottom centre
+    assert x0 <= x - label_half_width(label) and x + label_half_width(label) <= x1
+    assert y0 <= y - style.COMMAND_LABEL_HEIGHT and y <= y1
