@@ -125,7 +125,7 @@ def transfer_record(folder: Path, images: Path = IMAGES, command: str | None = N
         "command": command or f"soccer-lab experiment transfer --out {folder.name}",
         "recorded": datetime.date.today().isoformat(),
         "load_average": [round(x, 2) for x in os.getloadavg()],
-        "sources": experiment.trials,
+        "sources": len({row["source"] for row in players}),  # as played: the manifest does not keep --trials
         "starts": transfer.STARTS,
         "size": {"population": options.population, "generations": options.generations},
         "wall_time_seconds": sum(run["seconds"] for run in read_runs(folder) if run["preset"] == transfer.TRANSFER)

@@ -105,3 +105,11 @@ def test_a_shrunken_transfer_on_two_servers_reuses_robocup_runs_and_resumes(rcss
     transfers = [entry for entry in read_runs(folder) if entry["preset"] == TRANSFER]  # each invocation timed
     assert [(entry["ran"], entry["skipped"]) for entry in transfers] == [(2, 2), (0, 4)]
     assert transfers[0]["seconds"] > 0 and len(transfers[0]["load_average_before"]) == 3
+
+    # the docs' record of it says what was played: 2 sources (the manifest keeps no --trials), 6 x 2, 80 cycles
+    from scripts.robocup_results import options_of, transfer_record
+
+    assert options_of(folder).trial().max_ticks == 80
+    record = transfer_record(folder, images=tmp_path / "images")
+    assert record["sources"] == 2 and record["size"] == {"population": 6, "generations": 2}
+    assert record["wall_time_seconds"] == pytest.approx(sum(entry["seconds"] for entry in transfers))
