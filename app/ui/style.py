@@ -75,7 +75,12 @@ USAGE_BAR_WIDTH = 50  # px: the share of ticks a rule won, beside its strength b
 NEVER_WON_OPACITY = 0.45  # a rule that never won in those games is greyed
 
 LEFT_PANEL_WIDTH = 380
-RULE_EDITOR_HEIGHT = "max(18em, 70vh)"  # CSS: the rule text fills most of the panel's height
+# The rule text's box is as high as the rules on the pitch need (lines of RULE_EDITOR_LINE_CHARACTERS, wrapped,
+# plus room to type), between RULE_EDITOR_MIN_LINES lines and RULE_EDITOR_MAX_HEIGHT: Apply stays in view.
+RULE_EDITOR_LINE_CHARACTERS = 50  # at 14 px the 380 px panel fits about 57; fewer, so nothing is cut
+RULE_EDITOR_MIN_LINES = 6
+RULE_EDITOR_MAX_HEIGHT = "70vh"
+RULE_EDITOR_LINE_HEIGHT = 1.45  # em
 RIGHT_PANEL_WIDTH = 500
 POLICY_REFRESH_SECONDS = 0.2  # the policy map's marker follows the player at 5 Hz (the map is ~12 kB)
 POPULATION_GRID = (3, 4)  # columns, rows of small pitches in the population view

@@ -415,6 +415,7 @@ def test_save_to_library_then_open_it_again(ui, page):
 
 def test_the_rule_editor_shows_a_whole_rulebase(ui, page):
     from fuzzy.random_rulebase import random_rulebase
+    from fuzzy.rule import Rulebase
     import numpy as np
 
     vocabulary = ui.context.vocabulary
@@ -431,6 +432,12 @@ def test_the_rule_editor_shows_a_whole_rulebase(ui, page):
     from app.ui import style
 
     assert editor.evaluate("t => parseFloat(getComputedStyle(t).fontSize)") == style.FONT_SIZE - 1
+    # two rules: the box fits them with room to type, and Apply stays in view below it
+    session.load_rulebase(Rulebase(rulebase.rules[:2]), "two rules")
+    wait_until(lambda: editor.input_value().count("\n") == 1)
+    wait_until(lambda: editor.evaluate("t => t.clientHeight") < height / 2)
+    apply = page.get_by_role("button", name="Apply")
+    assert apply.bounding_box()["y"] + apply.bounding_box()["height"] <= VIEWPORT["height"]
 
 
 def test_policy_map_marks_the_current_input(ui, page):

@@ -3,6 +3,7 @@ the chromosome in the chapter's compact notation, both ways."""
 
 from __future__ import annotations
 
+import math
 from typing import TYPE_CHECKING, Callable
 
 import viser
@@ -29,14 +30,18 @@ PICK_EXAMPLE = "— pick an example —"
 SIMPLIFIED_NAME = "simplified"
 UNDO_DEPTH = 50
 # viser's text area grows to six lines at most; the rule text (the element after the heading) gets
-# the panel's whole width and most of its height, so a whole rulebase reads without scrolling.
-# min-height wins over the height the text area sets itself; the font is the panel's, not viser's small
-# input font, so the rules read on a projector.
-EDITOR_STYLE = (
-    "<style>div:has(> .rules-on-pitch) + div .mantine-Flex-root > div:first-child { display: none }"
-    f"div:has(> .rules-on-pitch) + div textarea {{ min-height: {style.RULE_EDITOR_HEIGHT} !important;"
-    f" font-size: {style.FONT_SIZE - 1}px !important; line-height: 1.45 }}</style>"
-)
+# the panel's whole width and the height its rules need (editor_style), so a whole rulebase reads without
+# scrolling and Apply stays in view. min-height wins over the height the text area sets itself; the font is
+# the panel's, not viser's small input font, so the rules read on a projector.
+def editor_style(text: str) -> str:
+    lines = sum(max(1, math.ceil(len(line) / style.RULE_EDITOR_LINE_CHARACTERS)) for line in text.splitlines())
+    height = max(lines + 1, style.RULE_EDITOR_MIN_LINES) * style.RULE_EDITOR_LINE_HEIGHT
+    return (
+        "<style>div:has(> .rules-on-pitch) + div .mantine-Flex-root > div:first-child { display: none }"
+        f"div:has(> .rules-on-pitch) + div textarea {{ min-height: min({height:.2f}em, {style.RULE_EDITOR_MAX_HEIGHT})"
+        f" !important; font-size: {style.FONT_SIZE - 1}px !important; line-height: {style.RULE_EDITOR_LINE_HEIGHT} }}"
+        "</style>"
+    )
 
 
 class EditorPanel:
@@ -128,7 +133,7 @@ class EditorPanel:
         self.compact.value = format_compact(self.codec.encode(rulebase), self.vocabulary)
         self.name.content = (
             f'<div class="rules-on-pitch" style="{style.FONT}; font-size:{style.FONT_SIZE}px">On the pitch: '
-            f"<b>{escape(name)}</b> ({len(rulebase)} rules)</div>{EDITOR_STYLE}"
+            f"<b>{escape(name)}</b> ({len(rulebase)} rules)</div>{editor_style(self.text.value)}"
         )
 
     def _say(self, text: str, *, error: bool = False, lines: list[str] | None = None) -> None:
