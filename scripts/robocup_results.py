@@ -119,17 +119,19 @@ def transfer_record(folder: Path, images: Path = IMAGES, command: str | None = N
     images.mkdir(parents=True, exist_ok=True)
     for figure in figures:
         shutil.copyfile(figure, images / figure.name)
+    runs = [run for run in read_runs(folder) if run["preset"] == transfer.TRANSFER]
     return {
         "study": transfer.TRANSFER,
         "folder": folder.name,  # the study's name, not this machine's path
         "command": command or f"soccer-lab experiment transfer --out {folder.name}",
         "recorded": datetime.date.today().isoformat(),
-        "load_average": [round(x, 2) for x in os.getloadavg()],
+        # the load the study ran under, as its invocations logged it (else the load now)
+        "load_average_before": runs[0]["load_average_before"] if runs else None,
+        "load_average": runs[-1]["load_average_after"] if runs else [round(x, 2) for x in os.getloadavg()],
         "sources": len({row["source"] for row in players}),  # as played: the manifest does not keep --trials
         "starts": transfer.STARTS,
         "size": {"population": options.population, "generations": options.generations},
-        "wall_time_seconds": sum(run["seconds"] for run in read_runs(folder) if run["preset"] == transfer.TRANSFER)
-                             or None,
+        "wall_time_seconds": sum(run["seconds"] for run in runs) or None,
         "findings": [dict(zip(("question", "measured", "verdict", "test"), row))
                      for row in transfer.assess(experiment, table, players)],
         "figures": [f"images/robocup/{figure.name}" for figure in figures],

@@ -62,7 +62,9 @@ def study_markdown(record: dict[str, Any], page_depth: int = 1) -> str:
 def transfer_markdown(record: dict[str, Any], page_depth: int = 1) -> str:
     up = "../" * page_depth
     lines = [f"Recorded {record['recorded']} from `{record['folder']}` (`{record['command']}`: {record['sources']} "
-             f"sources, {record['starts']} starts each; load average {load_average(record['load_average'])}"
+             f"sources, {record['starts']} starts each; load average "
+             + (f"{load_average(record['load_average_before'])} before, {load_average(record['load_average'])} at "
+                "the end" if record.get("load_average_before") else load_average(record["load_average"]))
              + (f"; wall time {record['wall_time_seconds'] / 60:.0f} min" if record.get("wall_time_seconds") else "")
              + ").", ""]
     size = record.get("size")
