@@ -33,7 +33,7 @@ from matplotlib.figure import Figure as MatplotlibFigure
 from scipy import stats
 
 from app.experiment.figures import DPI, FIGURES_FOLDER, SIZE_INCHES, Figure, write_figures
-from app.experiment.presets import TRANSFER, TRANSFER_TRIALS as DEFAULT_TRIALS
+from app.experiment.presets import CHAPTER_GENERATIONS, CHAPTER_POPULATION, TRANSFER, TRANSFER_TRIALS as DEFAULT_TRIALS
 from app.experiment.presets import ExperimentOptions, Preset, Setting, preset, trial_seed
 from app.experiment.report import ALPHA, AGREES, DISAGREES, INCONCLUSIVE, MIN_TRIALS, _html, _markdown
 from app.experiment.runner import (Progress, RunClock, TrialFolder, TrialResult, TrialSpec, best_record, prepare_folder,
@@ -339,14 +339,22 @@ def _players_figure(players: Sequence[dict], folder: Path) -> Figure:
     return Figure(relative, caption)
 
 
+def _size(plan: TransferPlan) -> str:
+    """" at population P x G generations" when the study is not at Table 2's own size."""
+    ga = plan.random_start.ga
+    if (ga.population_size, ga.max_generations) == (CHAPTER_POPULATION, CHAPTER_GENERATIONS):
+        return ""
+    return f" at population {ga.population_size} x {ga.max_generations} generations"
+
+
 def _blocks(plan: TransferPlan, table: StatisticsTable, players: list[dict], findings: list, figures: list) -> list:
     blocks: list = [("h1", "soccer-lab: does SimpleSoccer training carry over to rcssserver?"),
                     ("p", f"The chapter, 6.3: \"{CHAPTER_6_3}\""), ("p", THESIS_QUESTION),
-                    ("p", f"Sources: {plan.trials} GA runs of Table 2 in SimpleSoccer (the initial preset's trials "
-                          f"0-{plan.trials - 1}). Each run's best player played {STARTS} games in SimpleSoccer and "
-                          f"{STARTS} trials on rcssserver from the same seeds; then {plan.trials} GA runs of Table 2 "
-                          "on rcssserver started from a source's last population, against as many from random "
-                          "populations (the robocup preset's trials), at equal rcssserver evaluations.")]
+                    ("p", f"Sources: {plan.trials} GA runs of Table 2{_size(plan)} in SimpleSoccer (the initial "
+                          f"preset's trials 0-{plan.trials - 1}). Each run's best player played {STARTS} games in "
+                          f"SimpleSoccer and {STARTS} trials on rcssserver from the same seeds; then {plan.trials} GA "
+                          "runs of the same on rcssserver started from a source's last population, against as many "
+                          "from random populations (the robocup preset's trials), at equal rcssserver evaluations.")]
     blocks.append(("h2", "Players"))
     rows = []
     for source in sorted({int(r["source"]) for r in players}):

@@ -94,6 +94,7 @@ def test_a_shrunken_transfer_on_two_servers_reuses_robocup_runs_and_resumes(rcss
         assert seeded[0]["genes_mean"] == pytest.approx(np.mean(lengths))
     report = (folder / REPORT_MD).read_text()
     assert "broad similarity in the results" in report and "Riley's thesis" in report
+    assert "2 GA runs of Table 2 at population 6 x 2 generations in SimpleSoccer" in report  # shrunk, and says so
     assert report.count("| inconclusive |") == 3  # two players, two runs a side: too few for the tests
     for name in ("players", "mean_fitness", "best_fitness"):
         assert (folder / "figures" / f"transfer-{name}.png").read_bytes().startswith(b"\x89PNG")
