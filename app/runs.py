@@ -224,7 +224,7 @@ class RunManager:
         settings = RunSettings.build(ga, game, env, servers, trial, algorithm, start_servers)
         with self._lock:
             settings = self._with_executable(self._check_student(owner, settings))
-            self._check_capacity()
+            self._check_capacity(owner)
             self._check_servers_free(settings)
             record = self.store.create_run(name if name is not None else settings.default_name(),
                                            settings.to_dict(), self.runs_dir / "{id}", owner=owner)
@@ -242,7 +242,7 @@ class RunManager:
                 raise RunStateError(f"run {run_id} is {record.status}: there is nothing to resume")
             settings = RunSettings.from_dict(record.config)
             settings = self._with_executable(self._check_student(record.owner, settings))
-            self._check_capacity()
+            self._check_capacity(record.owner)
             self._check_servers_free(settings)
             record = self.store.set_run_status(run_id, RunStatus.RUNNING)
             self._launch(record, settings, resume_run=True)
@@ -333,11 +333,16 @@ class RunManager:
             raise RunStateError("you have a run going already: stop it first (one run at a time each)")
         return settings if self.student_bounds is None else self.student_bounds(settings)
 
-    def _check_capacity(self) -> None:
-        if len(self._active) >= self.max_concurrent_runs:
+    def _check_capacity(self, owner: int | None) -> None:
+        if len(self._active) < self.max_concurrent_runs:
+            return
+        if owner is not None:  # a pupil cannot stop the others' runs: say when to try again
             raise RunStateError(
-                f"{len(self._active)} runs are already running (the limit is {self.max_concurrent_runs}); stop one first"
-            )
+                f"this machine runs {self.max_concurrent_runs} evolutions at a time for the whole class, and "
+                f"{len(self._active)} are going now: press Start again when one ends (a pupil's run is short)")
+        raise RunStateError(
+            f"{len(self._active)} runs are already running (the limit is {self.max_concurrent_runs}); stop one first"
+        )
 
     def _with_executable(self, settings: RunSettings) -> RunSettings:
         """Settings that start servers get the app's rcssserver, checked now (RunStateError when there is none)."""

@@ -5,6 +5,7 @@ rerun's web viewer at /viewer/), started together on checked ports and stopped t
 from __future__ import annotations
 
 import errno
+import os
 import signal
 import socket
 import threading
@@ -80,7 +81,7 @@ def serve(options: ServeOptions, echo: Callable[[str], None] = print) -> None:
     from app.api.ui_page import UI_PATH
     from app.origins import SiteAddresses
     from app.rerun_viewer import RerunViewerError, viewer_files, viewer_home
-    from app.runs import RunManager
+    from app.runs import MAX_CONCURRENT_RUNS, RunManager
     from app.store import Store
     from app.ui import PortBusyError, start_ui
     from fuzzy.vocabulary import Vocabulary
@@ -103,7 +104,9 @@ def serve(options: ServeOptions, echo: Callable[[str], None] = print) -> None:
     except OSError as exc:
         raise ServeError(f"cannot create the data folder {options.data_dir}: {exc.strerror or exc}") from exc
     store = Store(options.data_dir / DATABASE_FILE)
-    runs = RunManager(store, options.data_dir, rcssserver=options.rcssserver)
+    # a class shares the machine: each pupil's run is one process, so as many at once as it has cores
+    concurrent = max(MAX_CONCURRENT_RUNS, os.cpu_count() or 1) if options.classroom else MAX_CONCURRENT_RUNS
+    runs = RunManager(store, options.data_dir, rcssserver=options.rcssserver, max_concurrent_runs=concurrent)
     ui = None
     classroom = tournament = None
     site = SiteAddresses.of(options.host, {options.port}, {options.port})

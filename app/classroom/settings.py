@@ -1,7 +1,8 @@
 """What the teacher may change for the class, and the bounds no one changes.
 
 A student's run is bounded so that 30 students cannot starve a 2-core machine: at most `max_run_games`
-games (population x generations x games per evaluation: the chapter's 200 x 25 is 5,000), games of at most
+games (population x generations x (games per evaluation + behaviour seeds): the chapter's 200 x 25 is 5,000;
+counting behaviours plays each new chromosome on K more starts), games of at most
 `max_run_ticks` ticks, on SimpleSoccer, in one worker process (the machine's cores are the class's), one
 run at a time each. docs/reference/limits.md lists every bound and why.
 """
@@ -31,8 +32,8 @@ class ClassSettings(BaseModel):
     model_config = ConfigDict(frozen=True, extra="forbid")
 
     max_run_games: int = Field(5_000, ge=1, le=1_000_000,
-                               description="games a student's run plays at most: population x generations x games "
-                                           "per evaluation")
+                               description="games a student's run plays at most: population x generations x "
+                                           "(games per evaluation + behaviour seeds)")
     max_run_ticks: int = Field(1_000, ge=1, le=MAX_TICKS, description="the longest game a student's run may play")
     starts: int = Field(20, ge=1, le=MAX_STARTS, description="starts every entry plays in a round")
     skills: SkillSet = Field("sighted", description="the skill set rounds are played with")
@@ -43,12 +44,14 @@ class ClassSettings(BaseModel):
         if settings.env != SIMPLE:
             raise RunStateError("a student's run plays SimpleSoccer (rcssserver runs are the teacher's)")
         ga, game = settings.ga, settings.game
-        games = ga.population_size * ga.max_generations * game.games_per_evaluation
+        # at most: every evaluation's games, and each new chromosome's behaviour games (ga/diversity.py)
+        games = ga.population_size * ga.max_generations * (game.games_per_evaluation + ga.behaviour_seeds)
         if games > self.max_run_games:
+            behaviour = f" + {ga.behaviour_seeds} behaviour seeds" if ga.behaviour_seeds else ""
             raise RunStateError(
-                f"this run would play {games:,} games (population {ga.population_size} x {ga.max_generations} "
-                f"generations x {game.games_per_evaluation} games per evaluation); a student's run plays at most "
-                f"{self.max_run_games:,}: make it smaller")
+                f"this run would play up to {games:,} games (population {ga.population_size} x {ga.max_generations} "
+                f"generations x ({game.games_per_evaluation} games per evaluation{behaviour})); a student's run "
+                f"plays at most {self.max_run_games:,}: make it smaller")
         if game.max_ticks > self.max_run_ticks:
             raise RunStateError(f"max_ticks {game.max_ticks} is over the class's {self.max_run_ticks} for a "
                                 "student's run")

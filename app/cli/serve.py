@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import ipaddress
 import os
 import sys
 from pathlib import Path
@@ -20,8 +21,8 @@ CLASS_HOST = "0.0.0.0"  # classroom mode listens on every interface unless --hos
 
 def serve_command(
     host: Optional[str] = typer.Option(
-        None, help="Address to listen on. (default: 127.0.0.1, this machine only; with --class 0.0.0.0, every "
-        "interface)", show_default=False),
+        None, help="Address to listen on: without --class a loopback address (this machine only), with --class "
+        "any. (default: 127.0.0.1; with --class 0.0.0.0, every interface)", show_default=False),
     classroom: bool = typer.Option(
         False, "--class", help="Classroom mode: serve the class on the local network. Prints the address students "
         "open, a join code and a teacher token; every page, API route and the UI need the code, teacher actions "
@@ -50,6 +51,9 @@ def serve_command(
         fail("--address and --join-code are for classroom mode: add --class")
     if join_code is not None and not (4 <= len(join_code) <= 32 and join_code.isascii() and join_code.isalnum()):
         fail("--join-code: 4 to 32 letters and digits")
+    if not classroom and host is not None and not _loopback(host):
+        fail(f"--host {host}: without --class the app serves this machine only (127.0.0.1, ::1 or localhost); on "
+             "the network it needs classroom mode's join code and teacher token: add --class")
     host = host if host is not None else (CLASS_HOST if classroom else DEFAULT_HOST)
     if rcssserver is not None:
         from soccer.rcss.servers import RcssLaunchError, find_rcssserver
@@ -68,6 +72,16 @@ def serve_command(
     except KeyboardInterrupt:
         typer.echo("stopped")
     _exit_now()
+
+
+def _loopback(host: str) -> bool:
+    """Whether `host` is this machine only: a loopback address or the name localhost."""
+    if host == "localhost":
+        return True
+    try:
+        return ipaddress.ip_address(host).is_loopback
+    except ValueError:  # another name: it may resolve to a network interface
+        return False
 
 
 def _exit_now() -> None:

@@ -216,7 +216,27 @@ def test_a_students_run_is_bounded_with_a_message_naming_the_bound(room):
     too_long = ada.post("/api/runs", json={"ga": {"population_size": 4, "max_generations": 2},
                                            "game": {"max_ticks": 5000}})
     assert too_long.status_code == 409 and "over the class's 1000" in too_long.json()["detail"]
+    # counting behaviours plays every new chromosome on more starts: 50 x 25 is 1,250 games, x (1 + 16) is 21,250
+    counting = ada.post("/api/runs", json={"ga": {"population_size": 50, "max_generations": 25,
+                                                  "behaviour_seeds": 16}})
+    assert counting.status_code == 409 and "up to 21,250 games" in counting.json()["detail"]
+    assert "16 behaviour seeds" in counting.json()["detail"]
     assert room.store.list_runs() == []
+
+
+def test_a_pupil_told_the_machine_is_busy_learns_when_to_try_again(room):
+    """The class shares the machine's runs; a pupil cannot stop another's run, so the refusal says to wait."""
+    room.runs.max_concurrent_runs = 1
+    ada, ben = room.student("Ada"), room.student("Ben")
+    long_run = ada.post("/api/runs", json={"ga": {"population_size": 50, "max_generations": 100}})  # 5,000 games
+    assert long_run.status_code == 201, long_run.text
+    try:
+        busy = ben.post("/api/runs", json=SMALL_RUN)
+        assert busy.status_code == 409
+        assert "1 evolutions at a time for the whole class" in busy.json()["detail"]
+        assert "press Start again when one ends" in busy.json()["detail"] and "stop one" not in busy.json()["detail"]
+    finally:
+        assert ada.post(f"/api/runs/{long_run.json()['id']}/stop").status_code == 200
 
 
 def frozen_rate(room) -> None:

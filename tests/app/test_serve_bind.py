@@ -71,3 +71,23 @@ def test_serve_binds_every_server_to_127_0_0_1_by_default(tmp_path):
         serve.send_signal(signal.SIGINT)
         serve.wait(30)
     assert all(listening_addresses(p) == set() for p in ports.values())
+
+
+@pytest.mark.parametrize("host", ["0.0.0.0", "::", "192.168.1.20", "my-laptop.local"])
+def test_the_network_needs_classroom_mode(host, tmp_path):
+    """Off this machine only classroom mode serves, behind its join code and teacher token: any other --host is
+    refused in one line before anything listens."""
+    from typer.testing import CliRunner
+
+    from app.cli import app
+
+    result = CliRunner().invoke(app, ["serve", "--host", host, "--data-dir", str(tmp_path)])
+    assert result.exit_code == 2 and "add --class" in result.output and "Traceback" not in result.output
+    assert not any(tmp_path.iterdir())  # nothing started, nothing written
+
+
+@pytest.mark.parametrize("host", ["127.0.0.1", "127.0.0.2", "::1", "localhost"])
+def test_loopback_hosts_are_this_machine(host):
+    from app.cli.serve import _loopback
+
+    assert _loopback(host)
