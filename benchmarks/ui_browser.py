@@ -47,7 +47,7 @@ from pathlib import Path
 import numpy as np
 from playwright.sync_api import TimeoutError as PlaywrightTimeout
 from playwright.sync_api import sync_playwright
-from results import Figure, add_record_option, load_average, record
+from results import Figure, add_record_option, load_average, record, this_command
 
 CHROMIUM = "/usr/bin/chromium"
 CHROMIUM_ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
@@ -301,7 +301,8 @@ def run(tab_count: int, speed: float, seconds: float, playwright) -> dict[str, o
     }
 
 
-def report(result: dict[str, object], speed: float) -> None:
+def report(result: dict[str, object], speed: float) -> list[Figure]:
+    """Prints the tabs' figures; returns the ones the docs show (the share of ticks drawn, ticks played)."""
     def spread(values: list[float], unit: str = "") -> str:
         def shown(value: float) -> str:
             return f"> {PAINT_TIMEOUT_S:.0f}" if math.isinf(value) else f"{value:.1f}"
@@ -321,6 +322,14 @@ def report(result: dict[str, object], speed: float) -> None:
     print(f"  {'frames drawn/s':<22} {spread(result['frames drawn/s'])}")
     warned = result["close warnings"]
     print(f"  viser closed-connection warnings (unfiltered) on closing the tabs: {len(warned)}{'  (' + '; '.join(sorted(set(warned))) + ')' if warned else ''}")
+    drawn = [row["ticks drawn %"] for row in rows]
+    played = [row["game ticks/s"] for row in rows]
+    tabs = f"{result['tabs']} tab{'s' if result['tabs'] != 1 else ''} at {speed:g}x"
+    return [Figure(f"ticks drawn, {tabs} (lowest tab)", round(min(drawn), 1), "%",
+                   target="every tick at 1x" if result["tabs"] == 1 else "",
+                   note=f"each tab's share: {', '.join(f'{d:.1f}' for d in drawn)}; frames the browser drew a "
+                        f"second per tab: {', '.join(f'{f:.1f}' for f in result['frames drawn/s'])}"),
+            Figure(f"game ticks played per second, {tabs} (lowest tab)", round(min(played), 1), "ticks/s")]
 
 
 # ---- open to playing, against a real `soccer-lab serve` --------------------------------------------------
@@ -378,7 +387,7 @@ def open_to_playing(playwright, rounds: int) -> dict[str, list[float]]:
     return measured
 
 
-def report_open_to_playing(measured: dict[str, list[float]], load_before: list[float], recording: bool) -> None:
+def report_open_to_playing(measured: dict[str, list[float]], load_before: list[float]) -> list[Figure]:
     print(f"\nopen to playing (navigation start -> tick counter advancing, pitch drawn), {len(measured['first open'])} "
           f"rounds, each a new `soccer-lab serve`; load average before {load_before}, after {load_average()}")
     figures = []
@@ -387,10 +396,7 @@ def report_open_to_playing(measured: dict[str, list[float]], load_before: list[f
         print(f"  {what:<12} median {median:.2f} s (min {min(values):.2f}, max {max(values):.2f})   target ≤ 3 s")
         figures.append(Figure(f"open to playing, {what} (median of {len(values)})", round(median, 2), "s",
                               target="≤ 3 s", note=f"min {min(values):.2f}, max {max(values):.2f}"))
-    if recording:
-        rounds = len(measured["first open"])
-        record("ui_browser", figures, command=f"python benchmarks/ui_browser.py --rounds {rounds} --tabs --record",
-               load_before=load_before)
+    return figures
 
 
 def main() -> None:
@@ -401,12 +407,15 @@ def main() -> None:
     parser.add_argument("--rounds", type=int, default=5, help="open to playing: rounds, each a new serve (0: skip)")
     add_record_option(parser)
     args = parser.parse_args()
+    load_before = load_average()
+    figures: list[Figure] = []
     with sync_playwright() as playwright:
         if args.rounds:
-            load_before = load_average()
-            report_open_to_playing(open_to_playing(playwright, args.rounds), load_before, args.record)
+            figures += report_open_to_playing(open_to_playing(playwright, args.rounds), load_before)
         for tab_count in args.tabs:
-            report(run(tab_count, args.speed, args.seconds, playwright), args.speed)
+            figures += report(run(tab_count, args.speed, args.seconds, playwright), args.speed)
+    if args.record:
+        record("ui_browser", figures, command=this_command(), load_before=load_before)
 
 
 if __name__ == "__main__":
