@@ -11,7 +11,8 @@ from __future__ import annotations
 import logging
 import threading
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from typing import TYPE_CHECKING
 
 import viser
@@ -72,6 +73,9 @@ class Session:
         self.tournament = tournament
         self._connected = connected  # whether the tab is still open
         self.lock = threading.RLock()
+        # one rule usage or simplification at a time per tab: each costs seconds of a thread viser's callbacks
+        # share with every tab, so clicking again while one plays must not queue more
+        self._inspecting = threading.Lock()
         self.playing = True  # the first minute: the demo player is already playing
         self._tick_budget = 0.0
         self._game_over_since: float | None = None
@@ -297,11 +301,12 @@ class Session:
             rulebase, seed, config = self.game.rulebase, self.game.seed, self.game.config
         try:
             checked_cost(len(rulebase), games, config.max_ticks)
+            with self._inspection():
+                usage = rule_usage(rulebase, self.context.vocabulary, games, seed, config)
         except ValueError as exc:
             with self.lock:
                 self.editor.show_error(f"Usage not measured: {exc}")
             return
-        usage = rule_usage(rulebase, self.context.vocabulary, games, seed, config)
         with self.lock:
             if self.game.rulebase is rulebase:
                 self.inference.show_usage(usage)
@@ -312,7 +317,18 @@ class Session:
         with self.lock:
             seed, config = self.game.seed, self.game.config
         checked_cost(len(rulebase), games, config.max_ticks, SIMPLIFY_PLAYS)  # ValueError naming the limit
-        return simplification(rulebase, self.context.vocabulary, games, seed, config)
+        with self._inspection():
+            return simplification(rulebase, self.context.vocabulary, games, seed, config)
+
+    @contextmanager
+    def _inspection(self) -> Iterator[None]:
+        """Holds this tab's one rule usage or simplification; ValueError while another one plays."""
+        if not self._inspecting.acquire(blocking=False):
+            raise ValueError("this tab is still measuring rule usage or simplifying: wait for it to finish")
+        try:
+            yield
+        finally:
+            self._inspecting.release()
 
     def refresh(self) -> None:
         with self.lock:

@@ -141,3 +141,16 @@ def test_usage_beside_the_rules_then_simplify_in_the_browser(ui, page):
     shot(page, "simplified")
     page.get_by_role("button", name="Undo").click()
     wait_until(lambda: session.game.rulebase == PLAYER)
+
+
+def test_a_tab_runs_one_usage_or_simplification_at_a_time(ui, page):
+    """Each costs seconds of a thread every tab's callbacks share: clicking again while one plays is refused in a
+    line, not queued (a pupil's repeated clicks must not hold the class's UI)."""
+    session = session_of(ui)
+    with session._inspecting:  # a measurement under way in this tab
+        with pytest.raises(ValueError, match="still measuring rule usage or simplifying"):
+            session.simplify(session.game.rulebase, 2)
+        session.measure_usage(2)
+        assert "still measuring" in session.editor.message.content and session.inference.usage is None
+    session.measure_usage(2)  # once it is done, the next one plays
+    assert session.inference.usage is not None
