@@ -57,6 +57,7 @@ def test_landing_page_lists_experiments_with_report_and_figure_links(api_url):
         try:
             page = browser.new_page()
             page.set_default_timeout(TIMEOUT_MS)
+            asked = offline(page)  # the home page, like every page the app shows, needs no internet
             page.goto(api_url + "/")
             row = page.locator("#experiments tr.experiment")
             row.wait_for()
@@ -69,6 +70,8 @@ def test_landing_page_lists_experiments_with_report_and_figure_links(api_url):
             assert figure.get_attribute("title") == "Initial: best fitness"
             report.click()
             page.get_by_text("the report").wait_for()
+            page.wait_for_load_state("networkidle")
+            assert asked == []
         finally:
             browser.close()
 
