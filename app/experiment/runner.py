@@ -30,7 +30,7 @@ from typing import Any, Iterable, Protocol
 
 import numpy as np
 
-from app.experiment.presets import ROBOCUP, RCSS_TRIAL, ExperimentOptions, Preset, Setting, presets, trial_seed
+from app.experiment.presets import RCSS_TRIAL, ROBOCUP, ExperimentOptions, Preset, Setting, presets, trial_seed
 from app.experiment.table import ALGORITHM, PRESET, SEED, SETTING, TRIAL, BestsTable, StatisticsTable
 from ga.config import SEED_BOUND, GAConfig
 from ga.evaluation import Evaluator
@@ -42,7 +42,8 @@ TRIALS_FOLDER = "trials"
 STATISTICS_FILE = "statistics.csv"
 BESTS_FILE = "bests.csv"
 RUNS_LOG = "runs.jsonl"
-OPTIONS_ADDED_SINCE = {"replays", RCSS_TRIAL}  # a folder from before them holds trials all of whose other options match
+# options recorded since the first folders: a folder from before them holds trials all of whose other options match
+OPTIONS_ADDED_SINCE = {"replays", RCSS_TRIAL}
 RESTART_KEY, REPLAY_KEY = 1, 2  # SeedSequence spawn keys: a restart's seed, the replays' seeds
 
 
