@@ -22,7 +22,7 @@ import sys
 import tempfile
 from pathlib import Path
 
-from results import Figure, add_record_option, load_average, record
+from results import Figure, add_record_option, load_average, record, this_command
 
 HERE = Path(__file__).resolve().parent.parent
 
@@ -141,8 +141,7 @@ def main() -> None:
         print(f"{figure.name}: {figure.value} {figure.unit}  {figure.note}")
     print(f"load average before {load_before}, after {load_average()}")
     if args.record:
-        command = "nice -n 19 python benchmarks/lineage_cost.py " + " ".join(sys.argv[1:]).replace("--record", "").strip()
-        record("lineage_cost", figures, command, load_before)
+        record("lineage_cost", figures, this_command(), load_before)
 
 
 def _lineage_figures(runs: dict[str, list[dict]], kind: str, outputs: bool) -> list[Figure]:
