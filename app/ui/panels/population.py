@@ -24,8 +24,8 @@ from soccer.outcome import END_REASON_LABELS
 if TYPE_CHECKING:
     from app.runs import SampledPlayer
 
-EMPTY_TEXT = ("Start an evolution in the Evolve tab: the best players of each generation will play here, "
-              "side by side, while the next generation is evaluated.")
+EMPTY_TEXT = ("Start an evolution in the Evolve tab. Once its first generation has been evaluated, that "
+              "generation's best players play here, side by side, while the next one is evaluated.")
 
 
 def population_html(
