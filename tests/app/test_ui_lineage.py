@@ -196,6 +196,12 @@ def test_one_breeding_step_by_step_from_the_runs_population(ui, page, run_id):
     wait_until(lambda: session.breeding.crossover.value == "two-point" and int(session.breeding.seed.value) == 7
                and int(session.breeding.second.value) == 3)
     lineage = RunLineage.from_store(ui.context.store, run_id, VOCABULARY).lineage
+    # under the parents' numbers, the chosen generation's best players: picked by fitness, not blindly
+    population = lineage.population(generation)
+    best_first = sorted(range(len(population)), key=lambda i: population[i].fitness)[:8]
+    ranking = page.locator(".breeding-ranking", has_text=f"Generation {generation}'s best")
+    ranking.wait_for()
+    assert [int(n) for n in re.findall(r"#(\d+) ·", ranking.inner_text())] == best_first
     parents = [Parent(str(i), lineage.individual(Place(generation, i)).chromosome) for i in (0, 3)]
     expected = BreedingDescription(breed(*parents, "two-point", 7, VOCABULARY, mutation_rate=0.1), VOCABULARY)
     page.get_by_role("button", name="Breed").click()

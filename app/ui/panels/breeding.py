@@ -36,6 +36,7 @@ PARENT_TINTS = ("#bbdefb", "#ffe0b2")  # parent A's genes light blue, parent B's
 PARENT_INKS = ("#0d47a1", "#e65100")
 CUT_COLOUR = "#d50000"
 PITCH_COLUMNS = 2  # parents above, children below
+RANKED = 8  # the chosen generation's best players listed under the parents' numbers, to pick them by fitness
 STEPS = ("the parents", "the cuts", "the children", "the mutation", "what they do")
 INTRO = ("Pick two parents and press Breed, then Next step: the cuts, the children, a mutation, "
          "and the four of them playing from the same start.")
@@ -65,6 +66,7 @@ class BreedingPanel:
             self.generation = gui.add_number("Parents' generation", initial_value=0, min=0, step=1)
             self.first = gui.add_number("Parent A: individual #", initial_value=0, min=0, step=1)
             self.second = gui.add_number("Parent B: individual #", initial_value=1, min=0, step=1)
+            self.ranking = gui.add_html("")
             self.first_saved = gui.add_dropdown("Parent A", (demo[1],))
             self.second_saved = gui.add_dropdown("Parent B", (demo[1],))
             self.crossover = gui.add_dropdown("Crossover operator", tuple(CROSSOVERS),
@@ -91,6 +93,11 @@ class BreedingPanel:
         def _(_: viser.GuiEvent) -> None:
             self._show_inputs()
 
+        @self.run.on_update
+        @self.generation.on_update
+        def _(_: viser.GuiEvent) -> None:
+            self._show_ranking()
+
         @buttons.on_click
         def _(event: viser.GuiEvent) -> None:
             {"Breed": self.breed, "Next step": self.next_step, "All steps": self.all_steps}[event.target.value]()
@@ -100,6 +107,7 @@ class BreedingPanel:
     # ---- choosing the parents ---------------------------------------------------------------------
     def refresh(self) -> None:
         refresh_runs(self.run, self.store, prefer=self.current_run())
+        self._show_ranking()  # a new run, or the chosen one's generation just recorded
         saved = (self.demo[1], *(f"#{r.id} {r.name}" for r in self.store.list_rulebases()))
         for dropdown in (self.first_saved, self.second_saved):
             if tuple(dropdown.options) != saved:
@@ -107,8 +115,31 @@ class BreedingPanel:
                 dropdown.options = saved
                 dropdown.value = current if current in saved else saved[0]
 
+    def _show_ranking(self) -> None:
+        """The chosen generation's best players (individual #, fitness, goals), so parents are picked knowingly."""
+        run_id = run_id_of(self.run.value)
+        text = ""
+        if run_id is not None:
+            try:
+                generation = int(self.generation.value)
+                lineage = RunLineage.from_store(self.store, run_id, self.vocabulary).lineage
+                if lineage.generations == 0:
+                    raise LineageError("the run has finished no generation yet")
+                population = lineage.population(generation)
+            except (LineageError, NotFound, ValueError) as exc:
+                text = f'<span style="color:{style.MUTED}">{escape(str(exc))}</span>'
+            else:
+                ranked = sorted(range(len(population)), key=lambda i: population[i].fitness)[:RANKED]
+                text = (f"Generation {generation}'s best (# · fitness · goals): " +
+                        ", ".join(f"<b>#{i}</b> · {population[i].fitness:.3f} · {population[i].goals}" for i in ranked))
+        content = (f'<div class="breeding-ranking" style="{style.FONT}; font-size:{style.SMALL_FONT_SIZE + 1}px; '
+                   f'color:{style.INK}; margin:0 0 6px 8px">{text}</div>') if text else ""
+        if self.ranking.content != content:
+            self.ranking.content = content
+
     def _show_inputs(self) -> None:
         from_run = self.source.value == RUN_POPULATION
+        self.ranking.visible = from_run
         for handle in (self.run, self.generation, self.first, self.second):
             handle.visible = from_run
         for handle in (self.first_saved, self.second_saved):
