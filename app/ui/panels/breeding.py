@@ -13,7 +13,7 @@ from typing import Callable
 import viser
 
 from app.breeding import DEFAULT_MUTATION_RATE, BreedingDescription, BreedingError, Parent, breed
-from app.lineage import RunLineage
+from app.lineage import RunLineage, plural
 from app.access import ScopedStore
 from app.store import NotFound
 from app.ui import style
@@ -157,7 +157,7 @@ class BreedingPanel:
         for index in (int(self.first.value), int(self.second.value)):
             individual = lineage.individual(Place(generation, index))
             parents.append(Parent(f"run #{run_id} gen {generation} #{index} (fitness {individual.fitness:.3f}, "
-                                  f"{individual.goals} goal{'' if individual.goals == 1 else 's'})",
+                                  f"{plural(individual.goals, 'goal')})",
                                   individual.chromosome))
         return parents[0], parents[1], self.game_of_run(run_id)
 

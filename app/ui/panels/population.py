@@ -12,6 +12,7 @@ from typing import TYPE_CHECKING, Callable, Sequence
 import numpy as np
 import viser
 
+from app.lineage import plural
 from app.ui import style
 from app.ui.game import rules_summary
 from app.ui.panels.svg import escape, svg_open
@@ -72,7 +73,7 @@ def _mini_pitch(geometry: PitchGeometry, observation: Observation, g: int, goals
         f'data-end-reason="{escape(ended or "running")}">'
         # the label and the goals over the pitch, in the panel's text size (read from the back of a class)
         f'<div style="display:flex; justify-content:space-between; font-size:{style.SMALL_FONT_SIZE + 1}px; '
-        f'color:{style.INK}"><span>{escape(label)}</span><b>{goals} {"goal" if goals == 1 else "goals"}</b></div>'
+        f'color:{style.INK}"><span>{escape(label)}</span><b>{plural(goals, "goal")}</b></div>'
         f"{svg_open(style.MINI_PITCH_WIDTH, h)}"
         f'<rect width="{style.MINI_PITCH_WIDTH}" height="{h:.1f}" fill="{grass}" rx="3"/>'
         f'<rect x="{x(-hl):.1f}" y="{y(-hw):.1f}" width="{2 * hl * scale:.1f}" height="{2 * hw * scale:.1f}" '
