@@ -160,6 +160,12 @@ class ScopedRuns:
     def is_active(self, run_id: int) -> bool:
         return self.runs.is_active(run_id)
 
+    def is_pending(self, run_id: int) -> bool:
+        return self.runs.is_pending(run_id)
+
+    def queue_place(self, run_id: int):
+        return self.runs.queue_place(run_id)
+
     def add_listener(self, listener: Callable[[RunEvent], None]) -> Callable[[], None]:
         """Events of the runs this visitor sees only."""
         def seen(event: RunEvent) -> None:

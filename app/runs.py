@@ -8,6 +8,11 @@ listeners hear about it; within a generation they hear its progress after every 
 A stop is obeyed between two chunks (about a second), abandoning the generation in progress. A run
 stopped, crashed or cut off by the app ending keeps every finished generation and resumes from its
 checkpoint, finishing as the uninterrupted run would.
+
+In classroom mode (`queue_runs`) a run started while every core is busy is queued (app/run_queue.py:
+round-robin across pupils, one run per pupil at a time) and starts when a core comes free; outside it the
+desk user is told at once, since they can stop one of their own runs. A run started without a seed draws a
+fresh one (ga.config.fresh_seed), recorded with its settings.
 """
 
 from __future__ import annotations
@@ -23,13 +28,14 @@ from typing import Any, Callable, Sequence
 from app.environments import SIMPLE
 from app.paths import RUNS_FOLDER
 from app.run import Run, RunSettings
+from app.run_queue import QueuedRun, QueuePlace, RunPace, RunQueue, budget_ticks
 from app.run_outputs import generation_best, lineage_line
 from app.store import NotFound, RunRecord, RunStatus, Store
 from fuzzy.parser import parse_rulebase
 from fuzzy.printer import format_rulebase
 from fuzzy.rule import Rulebase
 from ga.codec import ChromosomeCodec
-from ga.config import GAConfig
+from ga.config import GAConfig, fresh_seed
 from ga.individual import Individual
 from ga.notation import format_compact
 from ga.result import STOPPED
@@ -47,6 +53,7 @@ MAX_CONCURRENT_RUNS = 2  # the GA is CPU-bound; more runs than cores only slows 
 STOP_WAIT_SECONDS = 10.0
 SHUTDOWN_WAIT_SECONDS = 2.0  # serve exits within 3 s of Ctrl+C or SIGTERM; runs are marked interrupted first
 SAMPLED_PLAYERS = 12  # the best players of each generation that listeners (the population view) receive
+QUEUE_POLL_SECONDS = 0.05  # how often wait() looks whether a queued run has started
 
 
 class RunStateError(ValueError):
@@ -155,20 +162,32 @@ class _ActiveRun:
     stop: threading.Event = field(default_factory=threading.Event)
     stop_status: RunStatus = RunStatus.STOPPED  # what a stop means: the user's stop, or the app ending
     watcher: ProgressWatcher | None = None
+    started: float = field(default_factory=time.monotonic)
+    expected_seconds: float = 0.0  # the queue's estimate of its length, for the places of the runs waiting
 
 
 class RunManager:
     """Starts, stops and resumes runs; each run's folder is `<data_dir>/runs/<id>`."""
 
     def __init__(self, store: Store, data_dir: str | Path, *, max_concurrent_runs: int = MAX_CONCURRENT_RUNS,
-                 rcssserver: str | Path | None = None):
+                 rcssserver: str | Path | None = None, queue_runs: bool = False,
+                 new_seed: Callable[[], int] = fresh_seed):
         """rcssserver: the executable of the servers rcss runs start (default $RCSSSERVER, else PATH): a
-        setting of the app, never of a request."""
+        setting of the app, never of a request. queue_runs: queue the runs that find every core busy
+        (classroom mode) instead of refusing them. new_seed: the seed of a run started without one."""
         self.store = store
         self.runs_dir = Path(data_dir) / RUNS_FOLDER
         self.max_concurrent_runs = max_concurrent_runs
         self.rcssserver = str(rcssserver) if rcssserver is not None else None
         self._active: dict[int, _ActiveRun] = {}
+        self.queue_runs = queue_runs
+        self.new_seed = new_seed
+        self._queue = RunQueue()
+        self.pace = RunPace()
+        self._closing = False  # the app is ending: nothing queued starts any more
+        # Where SimpleSoccer runs play their games: None, in the run's thread (and its workers); else a
+        # function giving the evaluator that plays them elsewhere (app/run_games.py: on Ray), one worker each
+        self.remote_games: Callable[[Any], Any] | None = None
         self._listeners: list[Listener] = []
         self._lock = threading.RLock()
         # Classroom mode: a student's run's settings as it may play them (app/classroom/settings.py), or
@@ -221,14 +240,15 @@ class RunManager:
         itself. Invalid values raise ValueError before anything is saved; a server another run plays on, or
         no rcssserver to start, raises RunStateError. `owner`: the student starting it (classroom mode), whose
         run is bounded by `student_bounds` and who runs one at a time."""
-        settings = RunSettings.build(ga, game, env, servers, trial, algorithm, start_servers)
+        settings = RunSettings.build(self._seeded(ga), game, env, servers, trial, algorithm, start_servers)
         with self._lock:
-            settings = self._with_executable(self._check_student(owner, settings))
-            self._check_capacity(owner)
+            settings = self._placed(self._with_executable(self._check_student(owner, settings)))
+            queued = self._must_queue(owner)
             self._check_servers_free(settings)
             record = self.store.create_run(name if name is not None else settings.default_name(),
-                                           settings.to_dict(), self.runs_dir / "{id}", owner=owner)
-            self._launch(record, settings, resume_run=False)
+                                           settings.to_dict(), self.runs_dir / "{id}", owner=owner,
+                                           status=RunStatus.QUEUED if queued else RunStatus.RUNNING)
+            self._enqueue(record, settings, False) if queued else self._launch(record, settings, resume_run=False)
         return record
 
     def resume(self, run_id: int) -> RunRecord:
@@ -236,22 +256,26 @@ class RunManager:
         when it finished no generation)."""
         with self._lock:
             record = self.store.get_run(run_id)
-            if run_id in self._active:
-                raise RunStateError(f"run {run_id} is running")
+            if run_id in self._active or run_id in self._queue:
+                raise RunStateError(f"run {run_id} is {record.status}")
             if not record.status.resumable:
                 raise RunStateError(f"run {run_id} is {record.status}: there is nothing to resume")
             settings = RunSettings.from_dict(record.config)
-            settings = self._with_executable(self._check_student(record.owner, settings))
-            self._check_capacity(record.owner)
+            settings = self._placed(self._with_executable(self._check_student(record.owner, settings)))
+            queued = self._must_queue(record.owner)
             self._check_servers_free(settings)
-            record = self.store.set_run_status(run_id, RunStatus.RUNNING)
-            self._launch(record, settings, resume_run=True)
+            record = self.store.set_run_status(run_id, RunStatus.QUEUED if queued else RunStatus.RUNNING)
+            self._enqueue(record, settings, True) if queued else self._launch(record, settings, resume_run=True)
         return record
 
     def stop(self, run_id: int, *, wait: float = STOP_WAIT_SECONDS) -> RunRecord:
         """Ask a run to stop (it abandons the generation in progress between two chunks of evaluations) and
-        wait (up to `wait` s) for it."""
+        wait (up to `wait` s) for it. A queued run is taken out of the queue (stopped: resuming it queues it
+        again)."""
         record = self.store.get_run(run_id)
+        with self._lock:
+            if self._queue.remove(run_id) is not None:
+                return self._left_queue(run_id, RunStatus.STOPPED)
         active = self._active.get(run_id)
         if active is None:
             raise RunStateError(f"run {run_id} is not running (it is {record.status})")
@@ -263,7 +287,11 @@ class RunManager:
         """Ask every run to stop as 'interrupted' (resumable when the app starts again), marked so in the
         store at once: the app is ending. Returns without waiting (safe in a signal handler's thread)."""
         with self._lock:
+            self._closing = True
             active = dict(self._active)
+            waiting = self._queue.clear()
+        for queued in waiting:
+            self._left_queue(queued.record.id, RunStatus.INTERRUPTED)
         for run_id, run in active.items():
             run.stop_status = RunStatus.INTERRUPTED
             run.stop.set()
@@ -290,19 +318,35 @@ class RunManager:
     def is_active(self, run_id: int) -> bool:
         return run_id in self._active
 
+    def is_pending(self, run_id: int) -> bool:
+        """Running or queued: a run Stop applies to."""
+        return run_id in self._active or run_id in self._queue
+
+    def queue_place(self, run_id: int) -> QueuePlace | None:
+        """A queued run's place in the queue with its estimates; None when it is not queued."""
+        with self._lock:
+            if run_id not in self._queue:
+                return None
+            now = time.monotonic()
+            busy_for = [max(0.0, run.expected_seconds - (now - run.started)) for run in self._active.values()]
+            return self._queue.places(busy_for, self.max_concurrent_runs, self.pace)[run_id]
+
     def wait(self, run_id: int, timeout: float | None = None) -> RunRecord:
-        """Block until the run's thread ends (or `timeout` s); its record."""
+        """Block until the run's thread ends (or `timeout` s), a queued run's included; its record."""
+        deadline = None if timeout is None else time.monotonic() + timeout
+        while run_id in self._queue and (deadline is None or time.monotonic() < deadline):
+            time.sleep(QUEUE_POLL_SECONDS)
         active = self._active.get(run_id)
         if active is not None:
-            active.thread.join(timeout)
+            active.thread.join(None if deadline is None else max(0.0, deadline - time.monotonic()))
         return self.store.get_run(run_id)
 
     def delete(self, run_id: int) -> None:
         """Forget a run that is not running: its rows, and its folder when that lies inside this
         manager's runs folder (a folder recorded elsewhere is never touched)."""
         with self._lock:  # not while it starts or resumes
-            if run_id in self._active:
-                raise RunStateError(f"run {run_id} is running; stop it first")
+            if self.is_pending(run_id):
+                raise RunStateError(f"run {run_id} is {self.store.get_run(run_id).status}; stop it first")
             folder = Path(self.store.get_run(run_id).folder)
             self.store.delete_run(run_id)
         if self._owns(folder):
@@ -326,23 +370,86 @@ class RunManager:
         """The best individual so far (also while the run goes on), ready to play."""
         return parse_rulebase(self.store.best_individual(run_id).rules, SOCCER_VOCABULARY)
 
+    def _seeded(self, ga: GAConfig | dict[str, Any] | None) -> GAConfig | dict[str, Any]:
+        """`ga` with a fresh seed when it names none (a GAConfig names one when it was given)."""
+        if isinstance(ga, GAConfig):
+            return ga if "seed" in ga.model_fields_set else ga.model_copy(update={"seed": self.new_seed()})
+        ga = dict(ga or {})
+        return ga if ga.get("seed") is not None else {**ga, "seed": self.new_seed()}
+
     def _check_student(self, owner: int | None, settings: RunSettings) -> RunSettings:
         if owner is None:
             return settings
-        if any(active.owner == owner for active in self._active.values()):
-            raise RunStateError("you have a run going already: stop it first (one run at a time each)")
+        self._check_one_each(owner)
         return settings if self.student_bounds is None else self.student_bounds(settings)
 
-    def _check_capacity(self, owner: int | None) -> None:
-        if len(self._active) < self.max_concurrent_runs:
-            return
-        if owner is not None:  # a pupil cannot stop the others' runs: say when to try again
-            raise RunStateError(
-                f"this machine runs {self.max_concurrent_runs} evolutions at a time for the whole class, and "
-                f"{len(self._active)} are going now: press Start again when one ends (a pupil's run is short)")
+    def _check_one_each(self, owner: int) -> None:
+        """A pupil's second Start while their run waits or plays is refused, saying where that run is: it
+        keeps its place (replacing it would send an impatient double press to the back of the queue)."""
+        for run_id, active in self._active.items():
+            if active.owner == owner:
+                raise RunStateError(f"your run #{run_id} is running: stop it first to start another "
+                                    "(one run at a time each)")
+        for queued in self._queue:
+            if queued.owner == owner:
+                run_id = queued.record.id
+                raise RunStateError(f"your run #{run_id} is queued ({describe_place(self.queue_place(run_id))}): "
+                                    "stop it first to start another (one run at a time each)")
+
+    def _must_queue(self, owner: int | None) -> bool:
+        """Whether a run must wait for a core: every core busy (or runs already waiting, so that none jumps
+        the queue). Outside classroom mode RunStateError instead: the desk user stops one of theirs."""
+        if len(self._active) < self.max_concurrent_runs and not len(self._queue):
+            return False
+        if self.queue_runs:
+            return True
         raise RunStateError(
             f"{len(self._active)} runs are already running (the limit is {self.max_concurrent_runs}); stop one first"
         )
+
+    def _enqueue(self, record: RunRecord, settings: RunSettings, resume_run: bool) -> None:
+        self._queue.push(QueuedRun(record, settings, resume_run))
+        self._notify(RunEvent(record.id, RunStatus.QUEUED))
+
+    def _left_queue(self, run_id: int, status: RunStatus) -> RunRecord:
+        """A queued run taken out of the queue before it started (stopped, or the app ending)."""
+        record = self.store.set_run_status(run_id, status)  # a queued run cannot be deleted: it is there
+        self._notify(RunEvent(run_id, status))
+        self._tell_places()
+        return record
+
+    def _start_queued(self) -> None:
+        """Start queued runs, in turn, while a core is free (after a run ends)."""
+        with self._lock:
+            started = False
+            while not self._closing and len(self._active) < self.max_concurrent_runs:
+                queued = self._queue.pop()
+                if queued is None:
+                    break
+                self._start_one(queued)
+                started = True
+        if started:
+            self._tell_places()
+
+    def _start_one(self, queued: QueuedRun) -> None:
+        run_id = queued.record.id
+        try:
+            self._check_servers_free(queued.settings)
+            record = self.store.set_run_status(run_id, RunStatus.RUNNING)
+        except NotFound:  # deleted meanwhile
+            return
+        except RunStateError as exc:  # a teacher's rcssserver run whose server another run took meanwhile
+            self.store.set_run_status(run_id, RunStatus.FAILED, str(exc))
+            self._notify(RunEvent(run_id, RunStatus.FAILED))
+            return
+        self._launch(record, queued.settings, resume_run=queued.resume_run)
+
+    def _tell_places(self) -> None:
+        """Every queued run moved up: its listeners hear it (the pupil's tab shows the new place)."""
+        with self._lock:
+            waiting = [queued.record.id for queued in self._queue]
+        for run_id in waiting:
+            self._notify(RunEvent(run_id, RunStatus.QUEUED))
 
     def _with_executable(self, settings: RunSettings) -> RunSettings:
         """Settings that start servers get the app's rcssserver, checked now (RunStateError when there is none)."""
@@ -357,6 +464,13 @@ class RunManager:
                                 "the servers you run)") from None
         return settings.with_started_servers(settings.start_servers, str(executable))
 
+    def _placed(self, settings: RunSettings) -> RunSettings:
+        """Games played elsewhere (Ray): the run is one worker, its chunks the cluster's tasks one at a time."""
+        if self.remote_games is None or settings.env != SIMPLE or settings.ga.workers == 1:
+            return settings
+        return RunSettings(settings.ga.model_copy(update={"workers": 1}), settings.game, settings.env,
+                           settings.servers, settings.trial, settings.algorithm, settings.start_servers)
+
     def _check_servers_free(self, settings: RunSettings) -> None:
         wanted = {parse_server(server) for server in settings.servers}
         for run_id, active in self._active.items():
@@ -370,7 +484,7 @@ class RunManager:
             target=self._run, args=(record, settings, resume_run), name=f"run-{record.id}", daemon=True
         )
         self._active[record.id] = _ActiveRun(thread, frozenset(parse_server(server) for server in settings.servers),
-                                             owner=record.owner)
+                                             owner=record.owner, expected_seconds=self.pace.seconds(settings))
         self._notify(RunEvent(record.id, RunStatus.RUNNING))
         thread.start()
 
@@ -390,11 +504,22 @@ class RunManager:
         finally:
             with self._lock:
                 self._active.pop(record.id, None)
+            if status is RunStatus.FINISHED and not resume_run:
+                self._observe_pace(active, settings)
             try:
                 self.store.set_run_status(record.id, status, error)
             except NotFound:  # deleted meanwhile
                 return
+            finally:
+                self._start_queued()
             self._notify(RunEvent(record.id, status))
+
+    def _observe_pace(self, active: _ActiveRun, settings: RunSettings) -> None:
+        """A finished run's seconds per budget tick, for the queue's estimates (its generations played of
+        those it might have: a run reaching its target fitness stops early)."""
+        played = active.watcher.current.generation if active.watcher is not None else settings.ga.max_generations
+        ticks = budget_ticks(settings) * min(played, settings.ga.max_generations) // settings.ga.max_generations
+        self.pace.observe(time.monotonic() - active.started, ticks)
 
     def _evolve(self, record: RunRecord, settings: RunSettings, stop: threading.Event, resume_run: bool) -> str:
         """Play the run to its end or until `stop`; the GA's stop reason."""
@@ -406,4 +531,26 @@ class RunManager:
         watcher = ProgressWatcher(record.id, len(state.history) if state else 0, self._notify)
         self._active[record.id].watcher = watcher
         with run.evaluator(announce=lambda line: log.info("run %s: %s", record.id, line)) as evaluate:
+            if self.remote_games is not None and settings.env == SIMPLE:
+                evaluate = self.remote_games(evaluate)
             return run.play(evaluate, callbacks=[writer, watcher], stop=stop).stop_reason
+
+
+def describe_place(place: QueuePlace | None) -> str:
+    """A queued run's place for a pupil, e.g. "3rd in line of 12, starts in about 2 min, then plays about 40 s"."""
+    if place is None:
+        return "starting now"
+    return (f"{ordinal(place.position)} in line of {place.queued}, starts in about {about(place.wait_seconds)}, "
+            f"then plays about {about(place.run_seconds)}")
+
+
+def ordinal(number: int) -> str:
+    suffix = "th" if 10 <= number % 100 <= 20 else {1: "st", 2: "nd", 3: "rd"}.get(number % 10, "th")
+    return f"{number}{suffix}"
+
+
+def about(seconds: float) -> str:
+    """A rough duration a pupil reads at a glance: "10 s", "2 min"."""
+    if seconds < 60:
+        return f"{max(5, round(seconds / 5) * 5)} s"
+    return f"{round(seconds / 60)} min"

@@ -11,9 +11,14 @@ import socket
 import threading
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Callable
+from typing import TYPE_CHECKING, Callable
 
 from app.paths import DATABASE_FILE, default_cache_dir
+
+if TYPE_CHECKING:
+    from app.run_games import RayGames
+    from app.runs import RunManager
+    from app.store import Store
 
 DEFAULT_HOST = "127.0.0.1"
 DEFAULT_PORT = 8000
@@ -37,6 +42,8 @@ class ServeOptions:
     classroom: bool = False  # classroom mode: the class on the local network, admitted with a join code
     address: str | None = None  # classroom mode: the address students open (default: this machine's LAN address)
     join_code: str | None = None  # classroom mode: the class's join code (default: a new random one)
+    ray: bool = False  # classroom mode: the queue's runs play their games on Ray (app/run_games.py)
+    ray_address: str | None = None  # that Ray cluster (default: a local Ray started by serve)
 
     def url(self, port: int) -> str:
         host = f"[{self.host}]" if ":" in self.host else self.host
@@ -106,7 +113,9 @@ def serve(options: ServeOptions, echo: Callable[[str], None] = print) -> None:
     store = Store(options.data_dir / DATABASE_FILE)
     # a class shares the machine: each pupil's run is one process, so as many at once as it has cores
     concurrent = max(MAX_CONCURRENT_RUNS, os.cpu_count() or 1) if options.classroom else MAX_CONCURRENT_RUNS
-    runs = RunManager(store, options.data_dir, rcssserver=options.rcssserver, max_concurrent_runs=concurrent)
+    runs = RunManager(store, options.data_dir, rcssserver=options.rcssserver, max_concurrent_runs=concurrent,
+                      queue_runs=options.classroom)
+    games = _ray_games(options, runs, store)
     ui = None
     classroom = tournament = None
     site = SiteAddresses.of(options.host, {options.port}, {options.port})
@@ -148,6 +157,8 @@ def serve(options: ServeOptions, echo: Callable[[str], None] = print) -> None:
             echo(f"  teacher sign-in {api_url}/join.html#teacher={classroom.teacher_token}")
             echo(f"  rerun viewer    {viewer_line}")
             echo(f"  data            {options.data_dir.resolve()}")
+            echo(f"  runs            {runs.max_concurrent_runs} at once{' on Ray' if options.ray else ''}, "
+                 "the others queued in turn")
         else:
             echo("soccer-lab is running (Ctrl+C to stop)")
             echo(f"  home          {api_url}/")
@@ -165,6 +176,27 @@ def serve(options: ServeOptions, echo: Callable[[str], None] = print) -> None:
         Server(config, on_exit=runs.interrupt_all).run()
     finally:
         runs.shutdown()
+        if games is not None:
+            games.__exit__(None, None, None)
         if ui is not None:
             ui.stop()
         store.close()
+
+
+def _ray_games(options: ServeOptions, runs: "RunManager", store: "Store") -> "RayGames | None":
+    """With `ray`: the runs' games on the Ray cluster, as many runs at once as it has CPUs; ServeError
+    (one line) when Ray is missing or unreachable."""
+    if not options.ray:
+        return None
+    from app.experiment.executors import ExecutorError
+    from app.run_games import RayGames
+
+    games = RayGames(options.ray_address)
+    try:
+        games.__enter__()
+    except ExecutorError as exc:
+        store.close()
+        raise ServeError(str(exc)) from None
+    runs.remote_games = games
+    runs.max_concurrent_runs = games.cores()
+    return games

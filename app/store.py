@@ -118,7 +118,13 @@ class RunStatus(StrEnum):
     STOPPED = "stopped"
     FINISHED = "finished"
     FAILED = "failed"
-    INTERRUPTED = "interrupted"  # the app ended while the run was going; resumable
+    INTERRUPTED = "interrupted"  # the app ended while the run was going (or waiting in the queue); resumable
+    QUEUED = "queued"  # classroom mode: waiting for a free core (app/runs.py's RunQueue)
+
+    @property
+    def pending(self) -> bool:
+        """Going or about to: a run that is neither finished nor resumable."""
+        return self in (RunStatus.RUNNING, RunStatus.QUEUED)
 
     @property
     def resumable(self) -> bool:
@@ -321,15 +327,16 @@ class Store:
                 raise NotFound("rulebase", rulebase_id)
 
     # ---- runs ---------------------------------------------------------------------------
-    def create_run(self, name: str, config: dict[str, Any], folder: str | Path, owner: int | None = None) -> RunRecord:
-        """A new run, status running. `folder` may contain `{id}`, filled with the new run's id."""
+    def create_run(self, name: str, config: dict[str, Any], folder: str | Path, owner: int | None = None,
+                   status: RunStatus = RunStatus.RUNNING) -> RunRecord:
+        """A new run, status running (or queued). `folder` may contain `{id}`, filled with the new run's id."""
         name = valid_name(name)
         config_json = _json(config, "run config")
         stamp = now()
         with self._transaction() as cursor:
             cursor.execute(
                 "INSERT INTO runs (name, config, status, created, folder, owner) VALUES (?, ?, ?, ?, ?, ?)",
-                (name, config_json, RunStatus.RUNNING.value, stamp, str(folder), owner),
+                (name, config_json, RunStatus(status).value, stamp, str(folder), owner),
             )
             run_id = cursor.lastrowid
             folder = str(folder).format(id=run_id)
@@ -348,7 +355,7 @@ class Store:
 
     def set_run_status(self, run_id: int, status: RunStatus, error: str | None = None) -> RunRecord:
         status = RunStatus(status)
-        finished = None if status is RunStatus.RUNNING else now()
+        finished = None if status.pending else now()
         with self._transaction() as cursor:
             cursor.execute(
                 "UPDATE runs SET status = ?, finished = ?, error = ? WHERE id = ?",
@@ -374,13 +381,13 @@ class Store:
                 raise NotFound("run", run_id)
 
     def mark_interrupted(self) -> list[int]:
-        """Runs left 'running' by an app that ended: mark them interrupted (resumable). Their ids."""
+        """Runs left running or queued by an app that ended: mark them interrupted (resumable: a queued one
+        starts from its beginning, and in classroom mode its resume queues it again). Their ids."""
+        pending = (RunStatus.RUNNING.value, RunStatus.QUEUED.value)
         with self._transaction() as cursor:
-            ids = [row[0] for row in cursor.execute("SELECT id FROM runs WHERE status = ?", (RunStatus.RUNNING.value,))]
-            cursor.execute(
-                "UPDATE runs SET status = ?, finished = ? WHERE status = ?",
-                (RunStatus.INTERRUPTED.value, now(), RunStatus.RUNNING.value),
-            )
+            ids = [row[0] for row in cursor.execute("SELECT id FROM runs WHERE status IN (?, ?)", pending)]
+            cursor.execute("UPDATE runs SET status = ?, finished = ? WHERE status IN (?, ?)",
+                           (RunStatus.INTERRUPTED.value, now(), *pending))
         return ids
 
     # ---- generations --------------------------------------------------------------------

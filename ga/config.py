@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from typing import Literal
 
+import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 
@@ -16,6 +17,16 @@ MAX_POPULATION = 10_000
 # Each worker is a process of about 180 MB (the game kernels): 32 take about 6 GB, two runs at once 12 GB
 MAX_WORKERS = 32
 RouletteWeighting = Literal["linear", "inverse"]  # ga/selection.py roulette_weights says what each does
+
+
+FRESH_SEED_BOUND = 2**32  # a drawn seed: ten digits at most to type again, exact in JavaScript's numbers
+
+
+def fresh_seed() -> int:
+    """A new run seed in [0, FRESH_SEED_BOUND) from the operating system's entropy: what a run started from the UI or
+    the API without a seed gets (thirty pupils breed thirty different players). The run records it; giving it
+    again replays the run bit for bit."""
+    return int(np.random.SeedSequence().entropy % FRESH_SEED_BOUND)
 
 
 class GAConfig(BaseModel):

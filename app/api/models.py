@@ -285,6 +285,16 @@ class GenerationProgressOut(BaseModel):
     population: int
 
 
+class QueuePlaceOut(BaseModel):
+    """Where a queued run stands (classroom mode): `position` 1 starts next, of `queued` waiting;
+    `wait_seconds` until it starts and `run_seconds` it then plays, estimated from the class's finished runs."""
+
+    position: int
+    queued: int
+    wait_seconds: float
+    run_seconds: float
+
+
 class RunOut(BaseModel):
     id: int
     name: str
@@ -298,12 +308,14 @@ class RunOut(BaseModel):
     resumable: bool
     recording: str | None  # URL of the rerun recording, once there is one
     progress: GenerationProgressOut | None = None  # while running: the generation being evaluated
+    queue: QueuePlaceOut | None = None  # while queued (status "queued"): its place and estimates
 
     @classmethod
     def of(cls, record: RunRecord, statistics: list[dict[str, Any]], recording: str | None,
-           progress: Any = None) -> "RunOut":
+           progress: Any = None, place: Any = None) -> "RunOut":
         bests = [s["best"] for s in statistics if isinstance(s.get("best"), (int, float))]
         return cls(
+            queue=QueuePlaceOut(**place.to_dict()) if place is not None else None,
             progress=GenerationProgressOut(generation=progress.generation, evaluated=progress.evaluated,
                                            population=progress.population) if progress is not None else None,
             id=record.id,

@@ -11,6 +11,7 @@ from typing import Optional
 import typer
 
 from app.cli.common import fail
+from app.experiment.executors import EXECUTOR_NAMES, LOCAL, RAY
 from app.paths import default_data_dir
 from app.server import DEFAULT_HOST, DEFAULT_PORT, DEFAULT_UI_PORT, ServeError, ServeOptions, serve
 from app.store import StoreError
@@ -33,6 +34,13 @@ def serve_command(
     join_code: Optional[str] = typer.Option(
         None, help="With --class: the join code (4 to 32 letters and digits), to keep a class's code across "
         "restarts. (default: a new random 6-character code)", show_default=False),
+    executor: Optional[str] = typer.Option(
+        None, "--executor", help="With --class: where the queue's runs play their games: local (this machine, one "
+        "run per core) or ray (a Ray cluster, one run per CPU; the lab's machines need soccer-lab installed). "
+        "(default: local)", show_default=False),
+    ray_address: Optional[str] = typer.Option(
+        None, "--ray-address", help="With --executor ray: the cluster's address (e.g. 10.0.0.5:6379; --address is "
+        "the class's). (default: start Ray here)", show_default=False),
     port: int = typer.Option(DEFAULT_PORT, help="Port of the app: the home page, the UI's page, the JSON API, "
                              "its docs and rerun's web viewer.", **PORT_RANGE),
     ui_port: int = typer.Option(DEFAULT_UI_PORT, help="Port of the UI's websocket (viser).", **PORT_RANGE),
@@ -54,6 +62,12 @@ def serve_command(
     if not classroom and host is not None and not _loopback(host):
         fail(f"--host {host}: without --class the app serves this machine only (127.0.0.1, ::1 or localhost); on "
              "the network it needs classroom mode's join code and teacher token: add --class")
+    if executor not in (None, LOCAL, RAY):
+        fail(f"--executor: unknown executor {executor!r}; choose one of {', '.join(EXECUTOR_NAMES)}")
+    if executor is not None and not classroom:
+        fail("--executor places classroom mode's queue of runs: add --class")
+    if ray_address is not None and executor != RAY:
+        fail("--ray-address needs --executor ray")
     host = host if host is not None else (CLASS_HOST if classroom else DEFAULT_HOST)
     if rcssserver is not None:
         from soccer.rcss.servers import RcssLaunchError, find_rcssserver
@@ -64,7 +78,8 @@ def serve_command(
             fail(f"--rcssserver: {exc}")
     options = ServeOptions(host, port, ui_port, data_dir or default_data_dir(), rcssserver,
                            classroom=classroom, address=address,
-                           join_code=join_code.upper() if join_code is not None else None)
+                           join_code=join_code.upper() if join_code is not None else None,
+                           ray=executor == RAY, ray_address=ray_address)
     try:
         serve(options, echo=typer.echo)
     except (ServeError, StoreError) as exc:

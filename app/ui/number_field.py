@@ -27,17 +27,20 @@ class FieldError(ValueError):
 
 
 class NumberField:
-    """`minimum`/`maximum`: the bounds, each excluded itself when `open_minimum`/`open_maximum`."""
+    """`minimum`/`maximum`: the bounds, each excluded itself when `open_minimum`/`open_maximum`. `optional`:
+    the field may be left empty (its value is then None; its label or hint says what that means)."""
 
-    def __init__(self, gui: viser.GuiApi, label: str, initial: float, *, minimum: float | None = None,
+    def __init__(self, gui: viser.GuiApi, label: str, initial: float | None, *, minimum: float | None = None,
                  maximum: float | None = None, open_minimum: bool = False, open_maximum: bool = False,
-                 integer: bool = False, hint: str | None = None, on_change: Callable[[float], None] | None = None):
+                 integer: bool = False, hint: str | None = None, on_change: Callable[[float], None] | None = None,
+                 optional: bool = False):
         self.label = label
+        self.optional = optional
         self.minimum, self.maximum, self.integer = minimum, maximum, integer
         self.open_minimum, self.open_maximum = open_minimum, open_maximum
         self.text = gui.add_text(label, _format(initial, integer), hint=hint or f"{label}: {self.needs()}")
         self.problem_html = gui.add_html("")
-        self._value: float = initial
+        self._value: float | None = initial
 
         @self.text.on_update
         def _(_: viser.GuiEvent) -> None:
@@ -61,15 +64,16 @@ class NumberField:
         return cls(gui, label, field.default, integer=integer, **bounds, **kwargs)
 
     @property
-    def value(self) -> float:
-        """The number shown; FieldError when the field holds none the server can use."""
+    def value(self) -> float | None:
+        """The number shown (None: an optional field left empty); FieldError when the field holds none the
+        server can use."""
         problem = self._read()
         if problem is not None:
             raise FieldError(problem)
         return self._value
 
     @value.setter
-    def value(self, number: float) -> None:
+    def value(self, number: float | None) -> None:
         self._value = number
         self.text.value = _format(number, self.integer)
         self._show(None)
@@ -97,11 +101,16 @@ class NumberField:
     def _read(self) -> str | None:
         """Read the text: None and the value kept when it is a number within bounds, else the problem."""
         typed = self.text.value.strip()
-        try:
-            number = float(typed)
+        if self.optional and not typed:
+            self._value = None
+            self._show(None)
+            return None
+        try:  # a whole number as typed: a 19-digit seed loses its last digits as a float
+            number = int(typed) if self.integer and typed.lstrip("+-").isdigit() else float(typed)
         except ValueError:
             number = math.nan
-        if not (math.isfinite(number) and (not self.integer or number == int(number)) and self._within(number)):
+        finite = isinstance(number, int) or math.isfinite(number)  # math.isfinite overflows on a huge int
+        if not (finite and (not self.integer or number == int(number)) and self._within(number)):
             problem = f"{self.label}: expected {self.needs()}, got {typed!r}"
         else:
             problem = None
@@ -122,7 +131,9 @@ class NumberField:
             self.problem_html.content = content
 
 
-def _format(number: float, integer: bool) -> str:
+def _format(number: float | None, integer: bool) -> str:
+    if number is None:
+        return ""
     if integer:
         return str(int(number))
     return f"{number:g}"

@@ -30,10 +30,14 @@ def _out(record: RunRecord, store: ScopedStore, request: Request) -> RunOut:
     recording = None
     if _recording(record) is not None:
         recording = str(request.url_for("run_recording", run_id=record.id))
-    return RunOut.of(record, store.statistics(record.id), recording, request.app.state.runs.progress(record.id))
+    runs = request.app.state.runs
+    return RunOut.of(record, store.statistics(record.id), recording, runs.progress(record.id),
+                     runs.queue_place(record.id))
 
 
-@router.post("", status_code=201, summary="Start a GA or random-search run in the background", responses=CONFLICT)
+@router.post("", status_code=201, responses=CONFLICT,
+             summary="Start a GA or random-search run in the background (without ga.seed: a fresh random seed, "
+             "recorded in its config); in classroom mode, when every core is busy, it is queued (status queued)")
 def start(body: RunStart, runs: RunsDependency, store: StoreDependency, request: Request) -> RunOut:
     return _out(runs.start(body.name, body.ga, body.game, algorithm=body.algorithm, env=body.env,
                            servers=body.servers, trial=body.trial, start_servers=body.start_servers), store, request)
@@ -67,7 +71,8 @@ def statistics(run_id: RecordId, store: StoreDependency) -> list[dict[str, Any]]
 
 
 @router.post("/{run_id}/stop", summary="Stop a run within about a second: the generation in progress is abandoned, "
-             "every finished one kept (resume plays on as if never stopped)", responses=CONFLICT)
+             "every finished one kept (resume plays on as if never stopped); a queued run leaves the queue",
+             responses=CONFLICT)
 def stop(run_id: RecordId, runs: RunsDependency, store: StoreDependency, request: Request) -> RunOut:
     return _out(runs.stop(run_id), store, request)
 

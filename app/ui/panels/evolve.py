@@ -12,7 +12,7 @@ import viser.uplot
 
 from app.access import ScopedRuns, ScopedStore
 from app.environments import RCSS, RCSS_WORKERS, default_workers
-from app.runs import RunEvent, RunStateError, SampledPlayer
+from app.runs import RunEvent, RunStateError, SampledPlayer, describe_place
 from app.store import NotFound, RunStatus
 from app.ui import style
 from app.ui.number_field import FieldError, NumberField
@@ -21,7 +21,7 @@ from app.ui.panels.svg import escape
 from app.ui.panels.viewer_link import run_viewer_link
 from app.validation import describe_problem, dotted
 from fuzzy.rule import Rulebase
-from ga.config import GAConfig
+from ga.config import SEED_BOUND, GAConfig
 from ga.state import GA, RANDOM_SEARCH
 from soccer.config import GameConfig
 from soccer.rcss.servers import MAX_SERVERS
@@ -43,7 +43,7 @@ LABELS = {  # what a teacher reads next to each field; fields missing here show 
     "tournament_selector": "Tournament: P(better wins)",
     "elite_fraction": "Elite fraction",
     "target_fitness": "Target fitness (stop at or below)",
-    "seed": "Run seed",  # not the pitch's Seed (Play tab)
+    "seed": "Run seed (empty: a new one each run)",  # not the pitch's Seed (Play tab)
     "workers": "Worker processes",
     "behaviour_seeds": "Behaviour seeds (count distinct behaviours; 0: off)",
     "skills": "Skills (strict: kicks only within reach; sighted: and sees the goal)",
@@ -117,6 +117,7 @@ class EvolvePanel:
         self.progress = gui.add_progress_bar(0.0)
         self.within = gui.add_html("")  # the generation in progress: players evaluated of the population
         self.status = gui.add_html(self._status_html("Not started. Press Start: the chapter's defaults are set."))
+        self.seed_line = gui.add_html("")  # the run's seed: typed into Run seed, it plays the same run again
         self.viewer = gui.add_html("")  # the run on show, in rerun's viewer
         self.plot = gui.add_uplot(
             data=self._plot_data(),
@@ -154,14 +155,20 @@ class EvolvePanel:
             return gui.add_dropdown(label, tuple(choices), initial_value=default)
         if isinstance(default, bool):
             return gui.add_checkbox(label, default)
+        if name == "seed":  # empty by default: every run, every pupil's, breeds its own players
+            hint = "Empty: a new random seed each run (shown once it starts). The same seed replays a run bit for bit."
+            return NumberField(gui, label, None, minimum=0, maximum=SEED_BOUND, open_maximum=True, integer=True,
+                               hint=hint, optional=True)
         number = NumberField.for_field(gui, label, field, hint=field.description)  # with the field's bounds
         if name == "workers":
             number.value = default_workers()  # as the CLI: every core
         return number
 
     def config(self) -> dict[str, Any]:
-        """The GA parameters shown; FieldError naming a field that holds no usable number."""
-        return {name: handle.value for name, handle in self.inputs.items()}
+        """The GA parameters shown (no seed when Run seed is empty: the run draws one); FieldError naming a
+        field that holds no usable number."""
+        values = {name: handle.value for name, handle in self.inputs.items()}
+        return {name: value for name, value in values.items() if value is not None}
 
     def game_config(self) -> dict[str, Any]:
         return {name: handle.value for name, handle in self.game_inputs.items()}
@@ -193,12 +200,24 @@ class EvolvePanel:
         self.progress.animated = True
         self.plot.scales = self._plot_scales()
         self._redraw_plot()
-        self.status.content = self._status_html(f"Run #{record.id} started: evaluating generation 0 …")
+        self._show_started(record.id, record.status)
+        seed = record.config["ga"]["seed"]
+        self.seed_line.content = self._status_html(
+            f"Run #{record.id}'s seed: {seed} (type it in Run seed to breed the same players again)", kind="evolve-seed")
         self.viewer.content = run_viewer_link(self.api_url, record.id, self.viewer_problem)
         self.on_runs_changed()
 
+    def _show_started(self, run_id: int, status: RunStatus) -> None:
+        if status is RunStatus.QUEUED:
+            place = describe_place(self.runs.queue_place(run_id))
+            self.status.content = self._status_html(
+                f"Run #{run_id} is queued: {place}. Every core is busy with the class's runs; Stop leaves the "
+                "queue.", kind="evolve-status evolve-queued")
+        else:
+            self.status.content = self._status_html(f"Run #{run_id} started: evaluating generation 0 …")
+
     def stop(self) -> None:
-        if self.run_id is None or not self.runs.is_active(self.run_id):
+        if self.run_id is None or not self.runs.is_pending(self.run_id):
             self.status.content = self._status_html("No evolution of this tab is running.", error=True)
             return
         self.status.content = self._status_html(f"Stopping run #{self.run_id} …")
@@ -249,7 +268,9 @@ class EvolvePanel:
                 f"{self.best_so_far[-1]:.3f}; this generation: best {stats['best']:.3f}, mean {stats['mean']:.3f}; "
                 f"{stats.get('evaluations', 0)} games played"
             )
-        elif event.status is not RunStatus.RUNNING:
+        elif event.status.pending:
+            self._show_started(event.run_id, event.status)
+        else:
             self.progress.animated = False
             self.within.content = ""
             if event.status is RunStatus.FINISHED:

@@ -1,0 +1,60 @@
+"""Where the served runs' games are played: in the run's own process (default), or as Ray tasks on a lab's
+machines (`serve --class --executor ray --address ...`, as experiments do: app/experiment/executors.py).
+
+On Ray each run keeps its GA (breeding, checkpoints, the store, the UI's live view) in the app's process and
+sends every chunk of games to the cluster as one task of one CPU: a game depends only on its rulebase and
+seed, so a run plays bit for bit the same on Ray as here. The queue then runs as many runs at once as the
+cluster has CPUs. rcssserver runs stay on this machine (their servers are its own).
+"""
+
+from __future__ import annotations
+
+from typing import Any, Sequence
+
+from app.experiment.executors import RayExecutor
+
+
+def _play(evaluate: Any, rulebases: Sequence[Any], seeds: Sequence[int]) -> Any:
+    """A chunk of games, on a Ray worker."""
+    return evaluate(rulebases, seeds)
+
+
+class RemoteGames:
+    """`evaluate` with every call played as a Ray task (its chunk size kept: the GA's chunks are the tasks)."""
+
+    def __init__(self, evaluate: Any, task: Any, ray: Any):
+        self.evaluate = evaluate
+        self._task = task
+        self._ray = ray
+
+    @property
+    def chunk_size(self) -> int | None:
+        return getattr(self.evaluate, "chunk_size", None)
+
+    def __call__(self, rulebases: Sequence[Any], seeds: Sequence[int]) -> Any:
+        return self._ray.get(self._task.remote(self.evaluate, list(rulebases), list(seeds)))
+
+
+class RayGames:
+    """The served runs' games on the Ray cluster at `address` (None: a local Ray of `workers` CPUs started
+    here). A context manager, open as long as the app serves; ExecutorError (one line) when Ray is missing
+    or the cluster cannot be reached."""
+
+    def __init__(self, address: str | None = None, workers: int | None = None):
+        self._executor = RayExecutor(address, workers)
+        self._task: Any = None
+
+    def __enter__(self) -> "RayGames":
+        self._executor.__enter__()
+        self._task = self._executor.ray.remote(num_cpus=1)(_play)
+        return self
+
+    def __exit__(self, *exc_info: object) -> None:
+        self._executor.__exit__(*exc_info)
+
+    def cores(self) -> int:
+        """The cluster's CPUs: how many runs play at once."""
+        return max(1, int(self._executor.ray.cluster_resources().get("CPU", 1)))
+
+    def __call__(self, evaluate: Any) -> RemoteGames:
+        return RemoteGames(evaluate, self._task, self._executor.ray)
