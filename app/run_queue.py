@@ -25,6 +25,7 @@ from app.store import RunRecord
 # most 1,000 ticks) takes about 9 s on one core of the reference machine (docs/results/trial.json: 4.3 s
 # on two), the games ending early as often as they do in the chapter's runs
 DEFAULT_SECONDS_PER_BUDGET_TICK = 1.8e-6
+RUN_OVERHEAD_SECONDS = 0.5  # a run's own start and end (its folder, recording, best player's replay), any size
 PACE_WEIGHT = 0.5  # how much each finished run moves the estimate: the latest runs say most about the load
 
 
@@ -44,13 +45,13 @@ class RunPace:
     def observe(self, seconds: float, ticks: int) -> None:
         if ticks <= 0 or seconds <= 0:
             return
-        latest = seconds / ticks
+        latest = max(0.0, seconds - RUN_OVERHEAD_SECONDS) / ticks
         self.seconds_per_tick = latest if not self._observed else (
             PACE_WEIGHT * latest + (1 - PACE_WEIGHT) * self.seconds_per_tick)
         self._observed = True
 
     def seconds(self, settings: RunSettings) -> float:
-        return budget_ticks(settings) * self.seconds_per_tick
+        return RUN_OVERHEAD_SECONDS + budget_ticks(settings) * self.seconds_per_tick
 
 
 @dataclass(frozen=True)

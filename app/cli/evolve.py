@@ -55,7 +55,8 @@ TournamentSize = _ga_option("tournament_size", "Entrants per tournament.", int)
 TournamentSelector = _ga_option("tournament_selector", "Chance that the better entrant wins a tournament.", float)
 EliteFraction = _ga_option("elite_fraction", "Share of the population copied unchanged (elitist).", float)
 TargetFitness = _ga_option("target_fitness", "Stop once the best fitness reaches this.", float)
-Seed = _ga_option("seed", "Seed of the whole run: the same seed gives the same run, bit for bit.", int)
+Seed = _ga_option("seed", "Seed of the whole run: the same seed gives the same run, bit for bit (the summary "
+                  "prints it; the UI and the API draw a fresh one when none is given).", int)
 BehaviourSeeds = _ga_option("behaviour_seeds", "K: each generation, every new chromosome also plays K common seeds "
                             "so statistics.csv counts the distinct ways the population plays (costs K games per new "
                             "chromosome; 0: off). SimpleSoccer only.", int)
@@ -303,6 +304,8 @@ def _summary(run: "Run", result: "RunResult") -> None:
     folder, best = run.folder, result.best
     typer.echo(f"{len(result.history)} generations, {result.evaluations} evaluations ({result.stop_reason}), "
                f"{result.history[-1].wall_time:.1f} s")
+    # the CLI keeps seed 0 by default (a researcher's command line reruns as it ran); either way it says it
+    typer.echo(f"seed {run.settings.ga.seed} (--seed {run.settings.ga.seed} replays this run bit for bit)")
     typer.echo(f"best fitness {best.fitness:.4f} (mean of {best.evaluations} evaluation"
                f"{'s' if best.evaluations != 1 else ''}; {best.goals} goal{'s' if best.goals != 1 else ''} "
                f"in its latest game)")

@@ -42,7 +42,7 @@ class Class:
     def __init__(self, folder):
         self.folder = folder
         self.store = Store(folder / DATABASE_FILE)
-        self.runs = RunManager(self.store, folder)
+        self.runs = RunManager(self.store, folder, queue_runs=True)  # as serve --class
         self.classroom = Classroom(self.store, CODE, TOKEN, CLASS_URL)
         self.runs.student_bounds = self.classroom.settings.check_student_run
         self.tournament = Tournament(self.store, Vocabulary.default(), SMALL_GAME, lambda: self.classroom.settings)
@@ -224,19 +224,38 @@ def test_a_students_run_is_bounded_with_a_message_naming_the_bound(room):
     assert room.store.list_runs() == []
 
 
-def test_a_pupil_told_the_machine_is_busy_learns_when_to_try_again(room):
-    """The class shares the machine's runs; a pupil cannot stop another's run, so the refusal says to wait."""
+def test_third_pupil_start_is_queued_not_refused(room):
+    """The class shares the machine's cores: a Start that finds them busy waits its turn (issue 35), and the
+    pupil reads their place and an estimate in the run's record."""
     room.runs.max_concurrent_runs = 1
     ada, ben = room.student("Ada"), room.student("Ben")
     long_run = ada.post("/api/runs", json={"ga": {"population_size": 50, "max_generations": 100}})  # 5,000 games
-    assert long_run.status_code == 201, long_run.text
-    try:
-        busy = ben.post("/api/runs", json=SMALL_RUN)
-        assert busy.status_code == 409
-        assert "1 evolutions at a time for the whole class" in busy.json()["detail"]
-        assert "press Start again when one ends" in busy.json()["detail"] and "stop one" not in busy.json()["detail"]
-    finally:
-        assert ada.post(f"/api/runs/{long_run.json()['id']}/stop").status_code == 200
+    assert long_run.status_code == 201 and long_run.json()["status"] == "running", long_run.text
+    waiting = ben.post("/api/runs", json=SMALL_RUN)
+    assert waiting.status_code == 201 and waiting.json()["status"] == "queued", waiting.text
+    place = ben.get(f"/api/runs/{waiting.json()['id']}").json()["queue"]
+    assert place["position"] == 1 and place["queued"] == 1 and place["run_seconds"] > 0 and place["wait_seconds"] > 0
+    again = ben.post("/api/runs", json=SMALL_RUN)  # one run each: told where the first one is
+    assert again.status_code == 409 and "is queued (1st in line of 1" in again.json()["detail"]
+    assert ada.post(f"/api/runs/{long_run.json()['id']}/stop").status_code == 200
+    assert room.runs.wait(waiting.json()["id"], timeout=120).status == "finished"
+    assert ben.get(f"/api/runs/{waiting.json()['id']}").json()["queue"] is None
+
+
+def test_a_pupil_cancels_only_their_own_queued_run_and_the_teacher_any(room):
+    room.runs.max_concurrent_runs = 1
+    ada, ben, cyd, teacher = room.student("Ada"), room.student("Ben"), room.student("Cyd"), room.teacher()
+    running = ada.post("/api/runs", json={"ga": {"population_size": 50, "max_generations": 100}}).json()
+    bens, cyds = (client.post("/api/runs", json=SMALL_RUN).json() for client in (ben, cyd))
+    assert (bens["status"], cyds["status"]) == ("queued", "queued")
+    assert cyd.get(f"/api/runs/{cyds['id']}").json()["queue"]["position"] == 2
+    assert ada.post(f"/api/runs/{bens['id']}/stop").status_code == 404  # another's run does not exist for her
+    cancelled = ben.post(f"/api/runs/{bens['id']}/stop")
+    assert cancelled.status_code == 200 and cancelled.json()["status"] == "stopped", cancelled.text
+    assert cyd.get(f"/api/runs/{cyds['id']}").json()["queue"]["position"] == 1  # moved up
+    for run in (cyds, running):  # the teacher cancels a queued run and stops a running one
+        assert teacher.post(f"/api/runs/{run['id']}/stop").json()["status"] == "stopped"
+    assert not any(room.runs.is_pending(run["id"]) for run in (running, bens, cyds))
 
 
 def frozen_rate(room) -> None:

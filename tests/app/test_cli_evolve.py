@@ -84,6 +84,15 @@ def test_same_seed_same_run(evolved, tmp_path):
     assert (tmp_path / "again" / "best.rules").read_text() == (folder / "best.rules").read_text()
 
 
+def test_the_summary_prints_the_seed_that_replays_the_run(evolved, tmp_path):
+    """The CLI keeps seed 0 by default (unlike the UI and the API, which draw one), and always says it."""
+    _, result = evolved
+    assert "seed 5 (--seed 5 replays this run bit for bit)" in result.output
+    default = run("evolve", *TINY[:-2], "--generations", "1", "--out", tmp_path / "default")
+    assert default.exit_code == 0, default.output
+    assert "seed 0 (--seed 0 replays" in default.output
+
+
 def test_evolve_with_rule_wise_uniform_crossover(evolved, tmp_path):
     folder, _ = evolved
     result = run("evolve", *TINY, "--crossover", "uniform", "--out", tmp_path / "uniform")

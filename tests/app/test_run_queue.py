@@ -78,7 +78,7 @@ def test_the_queue_turns_round_robin_across_owners():
     # the estimate: two cores busy for 10 s and 20 s; each waiting run plays pace x its budget
     for run_id, owner in entries:
         queue.push(QueuedRun(RunRecord(run_id, "r", {}, RunStatus.QUEUED, "", None, "", None, owner), settings, False))
-    pace = RunPace(seconds_per_tick=1.0 / (4 * 2 * 60))  # 1 s per run
+    pace = RunPace(seconds_per_tick=0.5 / (4 * 2 * 60))  # 0.5 s + the runs' start and end, 0.5 s: 1 s each
     places = queue.places([10.0, 20.0], 2, pace)
     assert [(places[i].position, places[i].wait_seconds) for i in (1, 3, 4, 2)] == [(1, 10.0), (2, 11.0), (3, 12.0),
                                                                                       (4, 13.0)]
