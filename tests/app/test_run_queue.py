@@ -212,3 +212,69 @@ def test_a_seed_given_as_zero_is_kept(store, tmp_path):
         assert [store.get_run(r.id).config["ga"]["seed"] for r in (given, model)] == [0, 1234]
     finally:
         runs.shutdown()
+
+
+# ---- the Evolve tab ----------------------------------------------------------------------------------
+@pytest.fixture(scope="module")
+def gui():
+    import viser
+
+    from tests.app.test_ui_browser import free_port
+
+    server = viser.ViserServer(host="127.0.0.1", port=free_port(), verbose=False)
+    yield server.gui
+    server.stop()
+
+
+def evolve_panel(gui, runs, store):
+    from app.ui.panels.evolve import EvolvePanel
+
+    panel = EvolvePanel(gui, runs, store, on_load=lambda *_: None, on_generation=lambda *_: None,
+                        on_run_ended=lambda *_: None, on_runs_changed=lambda: None)
+    for name, value in {**TINY, "population_size": 6}.items():
+        panel.inputs[name].value = value
+    panel.game_inputs["skills"].value = "sighted"
+    return panel
+
+
+def test_the_evolve_tab_shows_the_seed_it_drew_and_replays_it(gui, store, tmp_path):
+    runs = RunManager(store, tmp_path)
+    panel = evolve_panel(gui, runs, store)
+    try:
+        assert panel.inputs["seed"].text.value == ""  # empty: no real-looking value every pupil would share
+        panel.start()
+        first = panel.run_id
+        seed = store.get_run(first).config["ga"]["seed"]
+        assert f"Run #{first}&#x27;s seed: {seed} (type it in Run seed" in panel.seed_line.content
+        runs.wait(first, timeout=120)
+        panel.inputs["seed"].text.value = str(seed)
+        panel.start()
+        assert runs.wait(panel.run_id, timeout=120).status is RunStatus.FINISHED
+        assert store.get_run(panel.run_id).config["ga"]["seed"] == seed
+        assert comparable(store.statistics(panel.run_id)) == comparable(store.statistics(first))
+        panel.inputs["seed"].text.value = "-3"
+        panel.start()
+        assert "Run seed (empty: a new one each run): expected a whole number ≥ 0" in panel.status.content
+    finally:
+        panel.close()
+        runs.shutdown()
+
+
+def test_the_evolve_tab_shows_a_queued_runs_place_and_stop_leaves_the_queue(gui, store, tmp_path):
+    runs = RunManager(store, tmp_path, max_concurrent_runs=1, queue_runs=True)
+    panel = evolve_panel(gui, runs, store)
+    try:
+        running = runs.start(ga=LONG, game=SHORT_GAMES, owner=PUPILS[0])
+        panel.start()
+        assert store.get_run(panel.run_id).status is RunStatus.QUEUED
+        assert f"Run #{panel.run_id} is queued: 1st in line of 1, starts in about" in panel.status.content
+        panel.stop()
+        assert store.get_run(panel.run_id).status is RunStatus.STOPPED
+        assert f"Run #{panel.run_id} stopped" in panel.status.content
+        panel.start()  # queued again; once the core is free it starts, and the tab says so
+        runs.stop(running.id)
+        assert runs.wait(panel.run_id, timeout=120).status is RunStatus.FINISHED
+        assert f"Run #{panel.run_id} finished" in panel.status.content
+    finally:
+        panel.close()
+        runs.shutdown()
