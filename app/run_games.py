@@ -1,5 +1,11 @@
-"""Where the served runs' games are played: in the run's own process (default), or as Ray tasks on a lab's
-machines (`serve --class --executor ray --address ...`, as experiments do: app/experiment/executors.py).
+"""Where classroom mode's runs play their games: in worker processes of this machine (`ProcessGames`), or
+as Ray tasks on a lab's machines (`RayGames`: `serve --class --executor ray --ray-address ...`, as
+experiments do: app/experiment/executors.py).
+
+A pupil's run is one worker, and its GA (breeding, checkpoints, the store, the UI's live view) is a thread of
+the app. Played in that thread, its games would hold Python's lock (the game kernels do not release it):
+two runs would share one core, and the tabs' games would wait on them. So every chunk of games goes to a
+worker process, one per run playing at once, and the run's thread waits without the lock.
 
 On Ray each run keeps its GA (breeding, checkpoints, the store, the UI's live view) in the app's process and
 sends every chunk of games to the cluster as one task of one CPU: a game depends only on its rulebase and
@@ -9,9 +15,14 @@ cluster has CPUs. rcssserver runs stay on this machine (their servers are its ow
 
 from __future__ import annotations
 
+import multiprocessing
+import os
+import threading
+from concurrent.futures import ProcessPoolExecutor
 from typing import Any, Sequence
 
 from app.experiment.executors import RayExecutor
+from ga.evaluation import start_worker
 
 
 def _play(evaluate: Any, rulebases: Sequence[Any], seeds: Sequence[int]) -> Any:
@@ -33,6 +44,50 @@ class RemoteGames:
 
     def __call__(self, rulebases: Sequence[Any], seeds: Sequence[int]) -> Any:
         return self._ray.get(self._task.remote(self.evaluate, list(rulebases), list(seeds)))
+
+
+class PooledGames:
+    """`evaluate` with every call played in one of the app's game processes."""
+
+    def __init__(self, evaluate: Any, pool: ProcessPoolExecutor):
+        self.evaluate = evaluate
+        self._pool = pool
+
+    @property
+    def chunk_size(self) -> int | None:
+        return getattr(self.evaluate, "chunk_size", None)
+
+    def __call__(self, rulebases: Sequence[Any], seeds: Sequence[int]) -> Any:
+        return self._pool.submit(_play, self.evaluate, list(rulebases), list(seeds)).result()
+
+
+class ProcessGames:
+    """`workers` game processes of this machine shared by the runs, started with the first run (spawned: safe
+    beside the app's threads; each dies with the app). A context manager, open as long as the app serves."""
+
+    def __init__(self, workers: int):
+        self.workers = workers
+        self._pool: ProcessPoolExecutor | None = None
+        self._lock = threading.Lock()
+
+    def __enter__(self) -> "ProcessGames":
+        return self
+
+    def __exit__(self, *exc_info: object) -> None:
+        with self._lock:
+            if self._pool is not None:
+                self._pool.shutdown(wait=False, cancel_futures=True)
+                self._pool = None
+
+    def cores(self) -> int:
+        return self.workers
+
+    def __call__(self, evaluate: Any) -> PooledGames:
+        with self._lock:
+            if self._pool is None:
+                self._pool = ProcessPoolExecutor(self.workers, mp_context=multiprocessing.get_context("spawn"),
+                                                 initializer=start_worker, initargs=(os.getpid(),))
+            return PooledGames(evaluate, self._pool)
 
 
 class RayGames:

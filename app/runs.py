@@ -186,7 +186,8 @@ class RunManager:
         self.pace = RunPace()
         self._closing = False  # the app is ending: nothing queued starts any more
         # Where SimpleSoccer runs play their games: None, in the run's thread (and its workers); else a
-        # function giving the evaluator that plays them elsewhere (app/run_games.py: on Ray), one worker each
+        # function giving the evaluator that plays them elsewhere (app/run_games.py: the class's game
+        # processes, or Ray), one worker each
         self.remote_games: Callable[[Any], Any] | None = None
         self._listeners: list[Listener] = []
         self._lock = threading.RLock()
@@ -465,7 +466,7 @@ class RunManager:
         return settings.with_started_servers(settings.start_servers, str(executable))
 
     def _placed(self, settings: RunSettings) -> RunSettings:
-        """Games played elsewhere (Ray): the run is one worker, its chunks the cluster's tasks one at a time."""
+        """Games played elsewhere (game processes, Ray): the run is one worker, its chunks sent one at a time."""
         if self.remote_games is None or settings.env != SIMPLE or settings.ga.workers == 1:
             return settings
         return RunSettings(settings.ga.model_copy(update={"workers": 1}), settings.game, settings.env,

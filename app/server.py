@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING, Callable
 from app.paths import DATABASE_FILE, default_cache_dir
 
 if TYPE_CHECKING:
-    from app.run_games import RayGames
+    from app.run_games import ProcessGames, RayGames
     from app.runs import RunManager
     from app.store import Store
 
@@ -115,7 +115,7 @@ def serve(options: ServeOptions, echo: Callable[[str], None] = print) -> None:
     concurrent = max(MAX_CONCURRENT_RUNS, os.cpu_count() or 1) if options.classroom else MAX_CONCURRENT_RUNS
     runs = RunManager(store, options.data_dir, rcssserver=options.rcssserver, max_concurrent_runs=concurrent,
                       queue_runs=options.classroom)
-    games = _ray_games(options, runs, store)
+    games = _class_games(options, runs, store)
     ui = None
     classroom = tournament = None
     site = SiteAddresses.of(options.host, {options.port}, {options.port})
@@ -183,15 +183,15 @@ def serve(options: ServeOptions, echo: Callable[[str], None] = print) -> None:
         store.close()
 
 
-def _ray_games(options: ServeOptions, runs: "RunManager", store: "Store") -> "RayGames | None":
-    """With `ray`: the runs' games on the Ray cluster, as many runs at once as it has CPUs; ServeError
-    (one line) when Ray is missing or unreachable."""
-    if not options.ray:
+def _class_games(options: ServeOptions, runs: "RunManager", store: "Store") -> "ProcessGames | RayGames | None":
+    """Classroom mode: where the runs play their games (app/run_games.py), one run per core of this machine
+    or, with `ray`, per CPU of the Ray cluster; ServeError (one line) when Ray is missing or unreachable."""
+    if not options.classroom:
         return None
     from app.experiment.executors import ExecutorError
-    from app.run_games import RayGames
+    from app.run_games import ProcessGames, RayGames
 
-    games = RayGames(options.ray_address)
+    games = RayGames(options.ray_address) if options.ray else ProcessGames(runs.max_concurrent_runs)
     try:
         games.__enter__()
     except ExecutorError as exc:

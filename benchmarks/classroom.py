@@ -34,6 +34,15 @@ table in GET /api/class/rounds (one student polls it four times a second) and in
 the server), and each session's ticks while the round plays (from the request to the table in the API) and
 in the SECONDS after the request.
 
+Then the queue (issue 35): every student presses Start in the same second (POST /api/runs, each with their own
+cookies) with the UI's default pupil run (the Evolve tab's defaults: the chapter's 200 x 25, one game per
+evaluation, games of at most 1,000 ticks; a pupil's run plays in one process). No Start may be refused: the
+runs the cores cannot take yet are queued and start in turn. The teacher polls GET /api/runs four times a
+second: each pupil's wait (Start to running), run time (running to finished) and the time until the last
+run finishes, against the target 1.3 x (the sum of the run times / the runs that play at once, as serve
+prints them); each session's ticks per second while the queue plays; the estimate each pupil was given at
+Start against their real wait.
+
 Ticks per second: the game's progress each tab saw (the counter's advance; a new game counts from 0),
 over the window. Between two games the last position stays 2 s on screen (app/ui/session.py,
 GAME_OVER_PAUSE), so a session alone receives a little under 20. A stall: the longest time a session
@@ -43,7 +52,8 @@ more and every failed request of the browser pages, every websocket that closed 
 none). CPU: cores busy in each window, of `serve`, of Chromium (and Playwright's driver), of this script,
 and of the whole machine (2 cores: more than 2 means waiting for a core).
 
-    python benchmarks/classroom.py [--students 30] [--browser-tabs 3] [--starts 20] [--seconds 20] [--record]
+    python benchmarks/classroom.py [--students 30] [--browser-tabs 3] [--starts 20] [--seconds 20] [--no-queue]
+        [--record]
 """
 
 from __future__ import annotations
@@ -89,7 +99,13 @@ POLL_ROUNDS_S = 0.25  # the polling student: 4 requests a second (the class's ra
 READ_PAGES_S = 1.0
 JOIN_COST, ADDRESS_RATE, ADDRESS_BURST = 10, 10.0, 60.0  # app/classroom: admission.py, settings.py
 TABLE_TARGET_S = 10.0
-RECORDED_WINDOWS = ("before the round", "while the round plays")  # with --record (all are printed)
+QUEUE_WINDOW = "while the queue plays"
+RECORDED_WINDOWS = ("before the round", "while the round plays", QUEUE_WINDOW)  # with --record (all are printed)
+PUPIL_RUN: dict = {}  # the Evolve tab's defaults are the API's: GAConfig's and GameConfig's (workers: one, bounded)
+POLL_RUNS_S = 0.25  # the teacher's poll of GET /api/runs while the queue plays
+QUEUE_TIMEOUT_S = 3600.0
+QUEUE_TARGET = 1.3  # the last finish within 1.3 x (the sum of the runs' own times / the runs at once)
+ENDED = {"finished", "failed", "stopped", "interrupted"}
 TICK = re.compile(rb'data-tick="(\d+)"[^>]*?data-done="(true|false)"')
 TABLE = re.compile(rb'class="class-table" data-round="(\d+)"')
 # What a browser sends on connecting (viser's CameraControls): a session is built once it arrives.
@@ -144,6 +160,7 @@ class Served:
         threading.Thread(target=self._read, daemon=True).start()
         self.teacher_token = self._wait_for(r"teacher token\s+(\S+)").group(1)
         self._wait_for(r"  data ")
+        self.runs_at_once = int(self._wait_for(r"  runs\s+(\d+) at once").group(1))
         self.url = f"http://{address}:{self.port}"
         self.ws_url = f"ws://{address}:{self.ui_port}"
 
@@ -541,6 +558,15 @@ async def lesson(served: Served, args: argparse.Namespace) -> dict[str, object]:
                                    for kind in ("browser", "protocol")} for name, span in result["windows"].items()}
         result["received KiB/s"] = [t.received / 1024 / (after_end - t.opened) for t in tabs if t.kind == "protocol"]
         result["tabs"] = tabs
+        if args.queue:
+            result["queue"] = await press_start_together(served, clients, names, teacher, ledger, cpu)
+            span = result["queue"]["window"]
+            result["windows"][QUEUE_WINDOW] = span
+            result["rates"][QUEUE_WINDOW] = {kind: [tick_rate(t, *span) for t in tabs if t.kind == kind]
+                                             for kind in ("browser", "protocol")}
+            result["stalls"][QUEUE_WINDOW] = {kind: [longest_stall(t, *span) for t in tabs if t.kind == kind]
+                                              for kind in ("browser", "protocol")}
+            await browser.read()
     finally:
         ending.set()
         for connection in connections:
@@ -552,6 +578,80 @@ async def lesson(served: Served, args: argparse.Namespace) -> dict[str, object]:
             await client.aclose()
     result["closed early"] = [f"{t.student} ({t.kind}): {t.closed}" for t in result.get("tabs", []) if t.closed]
     return result
+
+
+async def press_start_together(served: Served, clients: list, names: list[str], teacher: httpx.AsyncClient,
+                               ledger: Ledger, cpu: CpuMeter) -> dict[str, object]:
+    """Every student presses Start at once; each run's moments (Start, running, ended) as the teacher's poll
+    of GET /api/runs sees them."""
+    first = cpu.sample()
+    pressed = time.time()
+    answers = await asyncio.gather(*(ledger.call(client, "POST", "/api/runs", f"{name} presses Start",
+                                                 json=PUPIL_RUN) for name, client in zip(names, clients)))
+    answered = time.time()
+    runs = {answer.json()["id"]: name for name, answer in zip(names, answers)
+            if answer is not None and answer.status_code == 201}
+    refused = [name for name, answer in zip(names, answers) if answer is None or answer.status_code != 201]
+    estimates = {answer.json()["id"]: answer.json()["queue"]["wait_seconds"] if answer.json()["queue"] else 0.0
+                 for answer in answers if answer is not None and answer.status_code == 201}
+    started: dict[int, float] = {}
+    ended: dict[int, tuple[float, str]] = {}
+    while len(ended) < len(runs) and time.time() - pressed < QUEUE_TIMEOUT_S:
+        response = await ledger.call(teacher, "GET", "/api/runs", "the teacher polls the runs")
+        now = time.time()
+        for run in response.json() if response is not None and response.is_success else []:
+            if run["id"] not in runs:
+                continue
+            if run["status"] != "queued":
+                started.setdefault(run["id"], now)
+            if run["status"] in ENDED:
+                ended.setdefault(run["id"], (now, run["status"]))
+        await asyncio.sleep(POLL_RUNS_S)
+    last = cpu.sample()
+    end = max((when for when, _ in ended.values()), default=time.time())
+    return {"pressed": pressed, "answered s": answered - pressed, "refused": refused, "runs": len(runs),
+            "wait s": {runs[i]: started[i] - pressed for i in started},
+            "run s": {runs[i]: ended[i][0] - started[i] for i in ended},
+            "estimate error s": [estimates[i] - (started[i] - pressed) for i in started],
+            "not finished": [f"{runs[i]}: {ended[i][1]}" for i in ended if ended[i][1] != "finished"]
+                            + [runs[i] for i in runs if i not in ended],
+            "last finish s": end - pressed, "at once": served.runs_at_once, "window": (pressed, end),
+            "cpu": CpuMeter.cores(first, last)}
+
+
+def queue_figures(queue: dict[str, object]) -> list[Figure]:
+    """The queue's report, printed, and its figures."""
+    waits, times = list(queue["wait s"].values()), list(queue["run s"].values())
+    bound = QUEUE_TARGET * sum(times) / queue["at once"] if times else math.inf
+    print(f"\n  the queue: {queue['runs']} students pressed Start in the same second (all answered in "
+          f"{queue['answered s']:.2f} s); {len(queue['refused'])} refused (target 0)")
+    for name in sorted(queue["wait s"]):
+        print(f"    {name}: waited {queue['wait s'][name]:6.1f} s, ran {queue['run s'].get(name, math.nan):5.1f} s")
+    print(f"    the last run finished {queue['last finish s']:.1f} s after the Starts; the runs' own times add up to "
+          f"{sum(times):.1f} s on {queue['at once']} cores: target ≤ {QUEUE_TARGET:g} x {sum(times) / queue['at once']:.1f}"
+          f" = {bound:.1f} s")
+    errors = [abs(error) for error in queue["estimate error s"]]
+    if queue["not finished"]:
+        print(f"    not finished: {', '.join(queue['not finished'])}")
+    cores = queue["cpu"]
+    print(f"    CPU while the queue plays, cores: serve {cores['serve']:.2f}, machine {cores['machine']:.2f}")
+    low, middle, high = spread(waits) if waits else (math.nan,) * 3
+    run_low, run_middle, run_high = spread(times) if times else (math.nan,) * 3
+    return [
+        Figure("queue: Starts refused", len(queue["refused"]), target="0",
+               note=f"{queue['runs']} Starts in the same second, the UI's default pupil run; "
+                    f"{len(queue['not finished'])} runs did not finish"),
+        Figure("queue: the last run's finish, from the Starts", round(queue["last finish s"], 1), "s",
+               target=f"≤ {QUEUE_TARGET:g} x (runs' own times / cores)",
+               note=f"bound {bound:.1f} s: runs' own times add up to {sum(times):.1f} s, {queue['at once']} at once; "
+                    f"{queue['last finish s'] / (bound / QUEUE_TARGET):.2f} x"),
+        Figure("queue: a pupil's wait for their run to start", round(middle, 1), "s",
+               note=f"median of {len(waits)}; min {low:.1f}, max {high:.1f}; the estimate given at Start was off by "
+                    f"{statistics.median(errors) if errors else math.nan:.1f} s (median)"),
+        Figure("queue: a pupil's run time", round(run_middle, 1), "s",
+               note=f"median of {len(times)}; min {run_low:.1f}, max {run_high:.1f}; serve's CPU "
+                    f"{cores['serve']:.2f} cores, the machine's {cores['machine']:.2f}"),
+    ]
 
 
 async def wait_until(done, timeout: float, at_least: float = 0.0) -> None:
@@ -645,6 +745,8 @@ def report(result: dict[str, object], args: argparse.Namespace, load_before: lis
     print(f"  serve printed {len(noisy)} lines while the class ran" + (":" if noisy else ""))
     for line in noisy[:15]:
         print(f"    {line}")
+    if "queue" in result:
+        figures += queue_figures(result["queue"])
     print(f"  load average before {load_before}, after {load_average()}")
     return figures
 
@@ -655,6 +757,8 @@ def main() -> None:
     parser.add_argument("--browser-tabs", type=int, default=3, help="of the students' tabs, how many are Chromium")
     parser.add_argument("--starts", type=int, default=20, help="the round's starts per entry")
     parser.add_argument("--seconds", type=float, default=20.0, help="each measuring window")
+    parser.add_argument("--no-queue", dest="queue", action="store_false",
+                        help="skip the queue's scenario (every student pressing Start at once)")
     add_record_option(parser)
     args = parser.parse_args()
     if not 2 <= args.students or not 0 <= args.browser_tabs < args.students:

@@ -169,6 +169,40 @@ def test_a_run_ending_frees_its_core_for_the_next_even_when_it_fails(classroom, 
     assert classroom.wait(second.id, timeout=120).status is RunStatus.FINISHED
 
 
+class ProcessId:
+    """An evaluator answering with the process that played it."""
+
+    def __call__(self, rulebases, seeds):
+        import os
+
+        return [os.getpid()] * len(rulebases)
+
+
+def test_class_runs_play_their_games_in_game_processes_as_they_would_here(store, tmp_path):
+    """Played in the app's threads, two runs' games share one core (the kernels hold Python's lock): a class's
+    runs play theirs in game processes, bit for bit as here."""
+    import os
+
+    from app.run_games import ProcessGames
+
+    with ProcessGames(2) as games:
+        assert set(games(ProcessId())([None, None], [1, 2])) - {os.getpid()}  # another process played them
+        runs = RunManager(store, tmp_path, max_concurrent_runs=2, queue_runs=True)
+        runs.remote_games = games
+        here = RunManager(store, tmp_path / "here")
+        try:
+            records = [manager.start(ga={**TINY, "seed": 9, "workers": 2}, game=SHORT_GAMES)
+                       for manager in (runs, here)]
+            for manager, record in zip((runs, here), records):
+                assert manager.wait(record.id, timeout=120).status is RunStatus.FINISHED
+            pooled, local = (comparable(store.statistics(record.id)) for record in records)
+            assert pooled == local and len(pooled) == 2
+            assert store.get_run(records[0].id).config["ga"]["workers"] == 1  # one game process per run
+        finally:
+            runs.shutdown()
+            here.shutdown()
+
+
 # ---- Thirty different players -------------------------------------------------------------------------
 def test_two_default_runs_breed_different_players(store, tmp_path):
     runs = RunManager(store, tmp_path)
