@@ -17,7 +17,6 @@ from __future__ import annotations
 
 import multiprocessing
 import os
-import threading
 from concurrent.futures import ProcessPoolExecutor
 from typing import Any, Sequence
 
@@ -61,33 +60,40 @@ class PooledGames:
         return self._pool.submit(_play, self.evaluate, list(rulebases), list(seeds)).result()
 
 
+def _ready() -> None:
+    """A game process's first task: the game's kernels loaded before a run needs them."""
+    import soccer.engine  # noqa: F401
+
+
 class ProcessGames:
-    """`workers` game processes of this machine shared by the runs, started with the first run (spawned: safe
-    beside the app's threads; each dies with the app). A context manager, open as long as the app serves."""
+    """`workers` game processes of this machine shared by the runs (spawned: safe beside the app's threads).
+    A context manager, entered by the thread that lives as long as the app: a worker dies with the thread
+    that started it (ga.evaluation.start_worker), and a pool starts its processes on demand, so they are
+    all started here, at once, never from a run's thread (which ends with its run)."""
 
     def __init__(self, workers: int):
         self.workers = workers
         self._pool: ProcessPoolExecutor | None = None
-        self._lock = threading.Lock()
 
     def __enter__(self) -> "ProcessGames":
+        self._pool = ProcessPoolExecutor(self.workers, mp_context=multiprocessing.get_context("spawn"),
+                                         initializer=start_worker, initargs=(os.getpid(),))
+        for _ in range(self.workers):  # no worker is idle yet, so each task starts one more (not awaited)
+            self._pool.submit(_ready)
         return self
 
     def __exit__(self, *exc_info: object) -> None:
-        with self._lock:
-            if self._pool is not None:
-                self._pool.shutdown(wait=False, cancel_futures=True)
-                self._pool = None
+        if self._pool is not None:
+            self._pool.shutdown(wait=False, cancel_futures=True)
+            self._pool = None
 
     def cores(self) -> int:
         return self.workers
 
     def __call__(self, evaluate: Any) -> PooledGames:
-        with self._lock:
-            if self._pool is None:
-                self._pool = ProcessPoolExecutor(self.workers, mp_context=multiprocessing.get_context("spawn"),
-                                                 initializer=start_worker, initargs=(os.getpid(),))
-            return PooledGames(evaluate, self._pool)
+        if self._pool is None:
+            raise RuntimeError("ProcessGames is used inside its with block")
+        return PooledGames(evaluate, self._pool)
 
 
 class RayGames:

@@ -203,6 +203,28 @@ def test_class_runs_play_their_games_in_game_processes_as_they_would_here(store,
             here.shutdown()
 
 
+def test_game_processes_outlive_the_runs_that_use_them(store, tmp_path):
+    """A worker dies with the thread that started it: started from a run's thread, the class's game processes
+    died with the first run, and every later run failed (BrokenProcessPool)."""
+    import threading
+
+    from app.run_games import ProcessGames
+
+    with ProcessGames(2) as games:
+        runs = RunManager(store, tmp_path, max_concurrent_runs=2, queue_runs=True)
+        runs.remote_games = games
+        try:
+            for seed in (1, 2, 3):  # one after another: each run's thread has ended before the next
+                record = runs.start(ga={**TINY, "seed": seed}, game=SHORT_GAMES, owner=seed)
+                assert runs.wait(record.id, timeout=120).status is RunStatus.FINISHED, store.get_run(record.id).error
+            worker = threading.Thread(target=lambda: games(ProcessId())([None], [1]))
+            worker.start()
+            worker.join()
+            assert runs.wait(runs.start(ga=TINY, game=SHORT_GAMES).id, timeout=120).status is RunStatus.FINISHED
+        finally:
+            runs.shutdown()
+
+
 # ---- Thirty different players -------------------------------------------------------------------------
 def test_two_default_runs_breed_different_players(store, tmp_path):
     runs = RunManager(store, tmp_path)
