@@ -413,7 +413,8 @@ def longest_stall(tab: Tab, start: float, end: float) -> float:
 
 
 class CpuMeter:
-    """CPU seconds so far: serve's, this script's, its children's (Chromium, Playwright's driver), the machine's."""
+    """CPU seconds so far: serve's (with its game processes), this script's, its other children's (Chromium,
+    Playwright's driver), the machine's."""
 
     def __init__(self, serve_pid: int):
         self.serve = psutil.Process(serve_pid)
@@ -424,23 +425,28 @@ class CpuMeter:
             times = process.cpu_times()
             return times.user + times.system
 
-        children = {}
-        for child in self.me.children(recursive=True):
-            if child.pid != self.serve.pid:
+        def used_all(processes: list[psutil.Process]) -> dict[int, float]:
+            seconds = {}
+            for process in processes:
                 try:
-                    children[child.pid] = used(child)
-                except psutil.Error:
+                    seconds[process.pid] = used(process)
+                except psutil.Error:  # ended meanwhile
                     pass
+            return seconds
+
+        serves = [self.serve, *self.serve.children(recursive=True)]
+        children = used_all([child for child in self.me.children(recursive=True)
+                             if child.pid not in {process.pid for process in serves}])
         machine = psutil.cpu_times()
         busy = sum(machine) - machine.idle - getattr(machine, "iowait", 0.0)
-        return {"when": time.monotonic(), "serve": used(self.serve), "script": used(self.me), "children": children,
+        return {"when": time.monotonic(), "serve": used_all(serves), "script": used(self.me), "children": children,
                 "machine": busy}
 
     @staticmethod
     def cores(first: dict, last: dict) -> dict[str, float]:
         seconds = last["when"] - first["when"]
-        browsers = sum(value - first["children"].get(pid, 0.0) for pid, value in last["children"].items())
-        return {"serve": (last["serve"] - first["serve"]) / seconds, "Chromium": browsers / seconds,
+        grown = lambda kind: sum(value - first[kind].get(pid, 0.0) for pid, value in last[kind].items())  # noqa: E731
+        return {"serve": grown("serve") / seconds, "Chromium": grown("children") / seconds,
                 "this script": (last["script"] - first["script"]) / seconds,
                 "machine": (last["machine"] - first["machine"]) / seconds}
 
