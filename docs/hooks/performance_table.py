@@ -1,15 +1,18 @@
 """mkdocs hook: `<!-- generated: performance -->` in a page becomes one table of today's figures, read from
-docs/results/*.json, the files the benchmarks write with `--record` (benchmarks/results.py). A figure lives
+docs/results/*.json, the files the benchmarks write with `--record` (benchmarks/results.py); `<!-- generated:
+figures NAME WORD -->` the figures of NAME.json whose name holds WORD (a guide's own few). A figure lives
 in its file only; earlier figures are in CHANGELOG.md."""
 
 from __future__ import annotations
 
 import json
+import re
 from pathlib import Path
 
 from markdown_table import load_average
 
 MARKER = "<!-- generated: performance -->"
+FIGURES = re.compile(r"<!-- generated: figures (\w+) (\w+) -->")
 RESULTS = Path(__file__).resolve().parents[1] / "results"
 SHOWN_ELSEWHERE = {"examples"}  # results that are not speeds, each in its guide's own table (docs/hooks/*_table.py)
 
@@ -41,5 +44,26 @@ def performance_table(results: Path = RESULTS) -> str:
     return "\n".join(lines) + f"\n\nMeasured on: {described}. Load average: the 1-, 5- and 15-minute figures."
 
 
+def figures_table(name: str, word: str, results: Path = RESULTS) -> str:
+    """The figures of results/NAME.json whose name holds `word`, with the command and load that measured them."""
+    path = results / f"{name}.json"
+    if not path.is_file():
+        return f"No figures recorded yet: run `python benchmarks/{name}.py --record`."
+    document = json.loads(path.read_text(encoding="utf-8"))
+    chosen = [figure for figure in document["figures"] if re.search(rf"\b{word}\b", figure["name"])]
+    if not chosen:
+        return f"No {word} figures recorded yet: run `python benchmarks/{name}.py --record`."
+    lines = ["| figure | measured | target |", "|---|---|---|"]
+    for figure in chosen:
+        note = f" ({figure['note']})" if figure.get("note") else ""
+        lines.append(f"| {figure['name']}{note} | **{shown(figure['value'], figure.get('unit', ''))}** | "
+                     f"{figure.get('target', '')} |")
+    return "\n".join(lines) + (f"\n\nMeasured {document['measured']} with `{document['command']}`, load average "
+                               f"before/after {load_average(document.get('load_average_before'))} / "
+                               f"{load_average(document.get('load_average_after'))}.")
+
+
 def on_page_markdown(markdown: str, **_: object) -> str:
-    return markdown.replace(MARKER, performance_table()) if MARKER in markdown else markdown
+    if MARKER in markdown:
+        markdown = markdown.replace(MARKER, performance_table())
+    return FIGURES.sub(lambda match: figures_table(*match.groups()), markdown)

@@ -334,3 +334,34 @@ def test_the_evolve_tab_shows_a_queued_runs_place_and_stop_leaves_the_queue(gui,
     finally:
         panel.close()
         runs.shutdown()
+
+
+def test_the_teacher_cancels_a_pupils_queued_run_from_the_library_and_a_pupil_only_their_own(gui, store, tmp_path):
+    from app.access import ScopedRuns, ScopedStore, Visitor
+    from app.ui.panels.library import LibraryPanel, _label
+    from fuzzy.vocabulary import Vocabulary
+
+    runs = RunManager(store, tmp_path, max_concurrent_runs=1, queue_runs=True)
+    teacher, ada = Visitor(None, "", teacher=True), Visitor(PUPILS[0], "Ada", teacher=False)
+    panels = {visitor: LibraryPanel(gui, ScopedStore(store, visitor), ScopedRuns(runs, visitor), Vocabulary.default(),
+                                    None, on_load=lambda *_: None) for visitor in (teacher, ada)}
+    try:
+        running = runs.start(ga=LONG, game=SHORT_GAMES, owner=PUPILS[1])
+        adas = runs.start(ga=TINY, game=SHORT_GAMES, owner=PUPILS[0])
+        bens = runs.start(ga=TINY, game=SHORT_GAMES, owner=PUPILS[2])
+        for panel in panels.values():
+            panel.refresh()
+        assert _label(bens.id, f"{bens.name} (queued)") not in panels[ada].runs.options  # not hers to see
+        panels[ada].runs.value = _label(adas.id, f"{adas.name} (queued)")
+        panels[ada].stop_run()
+        assert store.get_run(adas.id).status is RunStatus.STOPPED
+        assert f"Run #{adas.id} taken out of the queue." in panels[ada].message.content
+        panels[teacher].refresh()
+        panels[teacher].runs.value = _label(bens.id, f"{bens.name} (queued)")
+        panels[teacher].stop_run()
+        assert store.get_run(bens.id).status is RunStatus.STOPPED and not runs.is_pending(bens.id)
+        panels[teacher].runs.value = _label(running.id, f"{running.name} (running)")
+        panels[teacher].stop_run()
+        assert runs.wait(running.id, timeout=30).status is RunStatus.STOPPED
+    finally:
+        runs.shutdown()

@@ -10,7 +10,7 @@ import viser
 from app.experiment.library import ExperimentFolder, FigureFile
 from app.access import ScopedRuns, ScopedStore
 from app.runs import RunStateError
-from app.store import NotFound, RulebaseRecord, StoreError
+from app.store import NotFound, RulebaseRecord, RunStatus, StoreError
 from app.ui import style
 from app.ui.panels.viewer_link import run_viewer_link
 from app.ui.panels.experiments import experiment_html, experiment_label, figure_html
@@ -61,7 +61,8 @@ class LibraryPanel:
         download = gui.add_button("Download", color="gray")
         gui.add_markdown("**Past runs**")
         self.runs = gui.add_dropdown("Run", (NONE,))
-        run_actions = gui.add_button_group("Run actions", ("Watch best", "Rename", "Delete"))
+        # Stop: a running run stops, a queued one leaves the queue (the teacher's way to any pupil's run)
+        run_actions = gui.add_button_group("Run actions", ("Watch best", "Stop", "Rename", "Delete"))
         self.new_name = gui.add_text("New name", "")
         refresh = gui.add_button("Refresh", color="gray")
         self.message = gui.add_html("")
@@ -93,7 +94,8 @@ class LibraryPanel:
 
         @run_actions.on_click
         def _(event: viser.GuiEvent) -> None:
-            {"Watch best": self.watch_run, "Rename": self.rename_run, "Delete": self.delete_run}[event.target.value]()
+            {"Watch best": self.watch_run, "Stop": self.stop_run, "Rename": self.rename_run,
+             "Delete": self.delete_run}[event.target.value]()
 
         @refresh.on_click
         def _(_: viser.GuiEvent) -> None:
@@ -215,6 +217,19 @@ class LibraryPanel:
         self.on_load(rulebase, name, record_id)
         self._say(f"Watching {name}.")
         self.message.content += run_viewer_link(self.api_url, record_id, self.viewer_problem)
+
+    def stop_run(self) -> None:
+        record_id = self._selected(self.runs, "run")
+        if record_id is None:
+            return
+        try:
+            queued = self.store.get_run(record_id).status is RunStatus.QUEUED
+            self.run_manager.stop(record_id, wait=0.0)
+        except (NotFound, RunStateError) as exc:
+            self._say(str(exc), error=True)
+            return
+        self.refresh()
+        self._say(f"Run #{record_id} taken out of the queue." if queued else f"Run #{record_id} is stopping.")
 
     def rename_run(self) -> None:
         record_id, name = self._selected(self.runs, "run"), self._new_name()
