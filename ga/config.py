@@ -5,7 +5,6 @@ from __future__ import annotations
 
 from typing import Literal
 
-import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 
@@ -26,6 +25,8 @@ def fresh_seed() -> int:
     """A new run seed in [0, FRESH_SEED_BOUND) from the operating system's entropy: what a run started from the UI or
     the API without a seed gets (thirty pupils breed thirty different players). The run records it; giving it
     again replays the run bit for bit."""
+    import numpy as np  # here: the CLI's --help reads this module and stays light
+
     return int(np.random.SeedSequence().entropy % FRESH_SEED_BOUND)
 
 
