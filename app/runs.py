@@ -244,7 +244,7 @@ class RunManager:
         settings = RunSettings.build(self._seeded(ga), game, env, servers, trial, algorithm, start_servers)
         with self._lock:
             settings = self._placed(self._with_executable(self._check_student(owner, settings)))
-            queued = self._must_queue(owner)
+            queued = self._must_queue()
             self._check_servers_free(settings)
             record = self.store.create_run(name if name is not None else settings.default_name(),
                                            settings.to_dict(), self.runs_dir / "{id}", owner=owner,
@@ -263,7 +263,7 @@ class RunManager:
                 raise RunStateError(f"run {run_id} is {record.status}: there is nothing to resume")
             settings = RunSettings.from_dict(record.config)
             settings = self._placed(self._with_executable(self._check_student(record.owner, settings)))
-            queued = self._must_queue(record.owner)
+            queued = self._must_queue()
             self._check_servers_free(settings)
             record = self.store.set_run_status(run_id, RunStatus.QUEUED if queued else RunStatus.RUNNING)
             self._enqueue(record, settings, True) if queued else self._launch(record, settings, resume_run=True)
@@ -321,7 +321,11 @@ class RunManager:
 
     def is_pending(self, run_id: int) -> bool:
         """Running or queued: a run Stop applies to."""
-        return run_id in self._active or run_id in self._queue
+        return run_id in self._active or self._is_queued(run_id)
+
+    def _is_queued(self, run_id: int) -> bool:
+        with self._lock:  # the queue changes in the runs' threads
+            return run_id in self._queue
 
     def queue_place(self, run_id: int) -> QueuePlace | None:
         """A queued run's place in the queue with its estimates; None when it is not queued."""
@@ -335,7 +339,7 @@ class RunManager:
     def wait(self, run_id: int, timeout: float | None = None) -> RunRecord:
         """Block until the run's thread ends (or `timeout` s), a queued run's included; its record."""
         deadline = None if timeout is None else time.monotonic() + timeout
-        while run_id in self._queue and (deadline is None or time.monotonic() < deadline):
+        while self._is_queued(run_id) and (deadline is None or time.monotonic() < deadline):
             time.sleep(QUEUE_POLL_SECONDS)
         active = self._active.get(run_id)
         if active is not None:
@@ -397,7 +401,7 @@ class RunManager:
                 raise RunStateError(f"your run #{run_id} is queued ({describe_place(self.queue_place(run_id))}): "
                                     "stop it first to start another (one run at a time each)")
 
-    def _must_queue(self, owner: int | None) -> bool:
+    def _must_queue(self) -> bool:
         """Whether a run must wait for a core: every core busy (or runs already waiting, so that none jumps
         the queue). Outside classroom mode RunStateError instead: the desk user stops one of theirs."""
         if len(self._active) < self.max_concurrent_runs and not len(self._queue):
