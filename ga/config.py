@@ -52,7 +52,9 @@ class GAConfig(BaseModel):
     tournament_selector: float = Field(0.75, ge=0, le=1, description="chance that the better entrant wins")
     elite_fraction: float = Field(0.05, ge=0, lt=1, description="share of the population copied unchanged (elitist)")
     target_fitness: float = Field(0.05, ge=0, le=1, description="stop once the best fitness reaches this")
-    seed: int = Field(0, ge=0, lt=SEED_BOUND)
+    seed: int = Field(0, ge=0, lt=SEED_BOUND,
+                      description="the whole run's seed: the same seed plays the same run bit for bit; left out, "
+                                  "the UI and the API draw a fresh one (fresh_seed), the CLI uses 0")
     workers: int = Field(1, ge=1, le=MAX_WORKERS, description="evaluation processes; results do not depend on it")
     behaviour_seeds: int = Field(0, ge=0, le=MAX_BEHAVIOUR_SEEDS,
                                  description="K: every generation each distinct chromosome also plays K common "
