@@ -144,7 +144,12 @@ class ProgressWatcher:
     def __init__(self, run_id: int, generation: int, notify: Callable[[RunEvent], None]):
         self.run_id = run_id
         self.notify = notify
+        self.first = generation  # a resumed run's first generation this time
         self.current = GenerationProgress(generation, 0, 0)
+
+    def played(self) -> int:
+        """Generations finished since the run (re)started."""
+        return self.current.generation - self.first
 
     def on_progress(self, evaluated: int, population: int) -> None:
         self.current = GenerationProgress(self.current.generation, evaluated, population)
@@ -164,6 +169,21 @@ class _ActiveRun:
     watcher: ProgressWatcher | None = None
     started: float = field(default_factory=time.monotonic)
     expected_seconds: float = 0.0  # the queue's estimate of its length, for the places of the runs waiting
+    generations: int = 1  # it may play (its max_generations)
+    budget: int = 0  # the game-ticks it may play (app/run_queue.py)
+
+    def remaining(self, now: float) -> float:
+        """Seconds it still needs: from its own pace once it has finished a generation, else the estimate."""
+        elapsed = now - self.started
+        played = self.watcher.played() if self.watcher is not None else 0
+        if played <= 0:
+            return max(0.0, self.expected_seconds - elapsed)
+        return elapsed * max(0, self.generations - self.watcher.current.generation) / played
+
+    def seconds_per_tick(self, now: float) -> float | None:
+        """Its pace so far (None before its first generation): the load of the machine as it is now."""
+        played = self.watcher.played() if self.watcher is not None else 0
+        return (now - self.started) / (self.budget * played / self.generations) if played > 0 else None
 
 
 class RunManager:
@@ -333,8 +353,15 @@ class RunManager:
             if run_id not in self._queue:
                 return None
             now = time.monotonic()
-            busy_for = [max(0.0, run.expected_seconds - (now - run.started)) for run in self._active.values()]
-            return self._queue.places(busy_for, self.max_concurrent_runs, self.pace)[run_id]
+            busy_for = [run.remaining(now) for run in self._active.values()]
+            return self._queue.places(busy_for, self.max_concurrent_runs, self._live_pace(now))[run_id]
+
+    def _live_pace(self, now: float) -> RunPace:
+        """The running runs' own pace once they have finished a generation (the machine's load now: a class's
+        first estimates came from a quiet machine's pace and were minutes short on a busy one), else the
+        finished runs'."""
+        live = [pace for run in self._active.values() if (pace := run.seconds_per_tick(now)) is not None]
+        return RunPace(sum(live) / len(live)) if live else self.pace
 
     def wait(self, run_id: int, timeout: float | None = None) -> RunRecord:
         """Block until the run's thread ends (or `timeout` s), a queued run's included; its record."""
@@ -489,7 +516,8 @@ class RunManager:
             target=self._run, args=(record, settings, resume_run), name=f"run-{record.id}", daemon=True
         )
         self._active[record.id] = _ActiveRun(thread, frozenset(parse_server(server) for server in settings.servers),
-                                             owner=record.owner, expected_seconds=self.pace.seconds(settings))
+                                             owner=record.owner, expected_seconds=self.pace.seconds(settings),
+                                             generations=settings.ga.max_generations, budget=budget_ticks(settings))
         self._notify(RunEvent(record.id, RunStatus.RUNNING))
         thread.start()
 

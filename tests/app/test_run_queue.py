@@ -84,6 +84,24 @@ def test_the_queue_turns_round_robin_across_owners():
                                                                                       (4, 13.0)]
 
 
+def test_a_queued_runs_estimate_follows_the_pace_the_running_run_keeps(store, tmp_path):
+    """At Start under a load of 20 the estimates (from a quiet machine's pace) were 11 minutes short: once
+    the running run has finished generations, the wait is its own remaining time at its own pace."""
+    runs = RunManager(store, tmp_path, max_concurrent_runs=1, queue_runs=True)
+    try:
+        started = time.monotonic()
+        running = runs.start(ga=LONG, game=SHORT_GAMES, owner=PUPILS[0])
+        queued = runs.start(ga=TINY, game=SHORT_GAMES, owner=PUPILS[1])
+        while (progress := runs.progress(running.id)) is None or progress.generation < 3:
+            time.sleep(0.05)
+        place = runs.queue_place(queued.id)
+        elapsed, done = time.monotonic() - started, runs.progress(running.id).generation
+        expected = elapsed * (LONG["max_generations"] - done) / done
+        assert 0.6 * expected < place.wait_seconds < 1.6 * expected, (place, expected)
+    finally:
+        runs.shutdown()
+
+
 def test_a_second_start_while_queued_is_told_its_place_and_keeps_it(classroom):
     for pupil in PUPILS[:2]:
         classroom.start(ga=LONG, game=SHORT_GAMES, owner=pupil)
