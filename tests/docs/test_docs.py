@@ -16,6 +16,8 @@ import pytest
 REPOSITORY = Path(__file__).resolve().parents[2]
 DOCUMENTS = sorted((REPOSITORY / "docs").rglob("*.md")) + [REPOSITORY / "README.md"]
 CONSOLE_BLOCK = re.compile(r"^```console\n(.*?)^```", re.MULTILINE | re.DOTALL)
+# A reference page's generated block (docs/hooks/generated_block.py) shows usage lines, not examples to run
+GENERATED_BLOCK = re.compile(r"<!-- generated: (\w+) -->.*?<!-- end of generated: \1 -->", re.DOTALL)
 EXTERNAL_ASSET = re.compile(r"<(?:script|link|img)\b[^>]*\b(?:src|href)=\"(?:https?:)?//", re.IGNORECASE)
 pytest.importorskip("mkdocs", reason="mkdocs is not installed: pip install -e '.[test]' (scripts/test does)")
 
@@ -79,7 +81,8 @@ def test_the_site_fetches_nothing_from_the_internet(site):
 def console_examples() -> list:
     examples = []
     for document in DOCUMENTS:
-        for number, block in enumerate(CONSOLE_BLOCK.findall(document.read_text(encoding="utf-8")), start=1):
+        text = GENERATED_BLOCK.sub("", document.read_text(encoding="utf-8"))
+        for number, block in enumerate(CONSOLE_BLOCK.findall(text), start=1):
             name = f"{document.relative_to(REPOSITORY)}#{number}"
             examples.append(pytest.param(block, id=name))
     return examples
