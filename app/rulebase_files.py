@@ -42,7 +42,7 @@ def load_rulebase(path: str | Path, vocabulary: Vocabulary = Vocabulary.default(
 
     if path.suffix.lower() == JSON_SUFFIX or text.lstrip().startswith("{"):
         try:
-            legacy_text = _legacy_trial_best(text)
+            legacy_text = legacy_trial_rules(text)
             if legacy_text is not None:
                 return load_rulebase_text(path, legacy_text, vocabulary)
             rulebase, file_vocabulary = rulebase_from_json(text)
@@ -73,7 +73,7 @@ def _not_empty(path: Path, rulebase: Rulebase) -> Rulebase:
     return rulebase
 
 
-def _legacy_trial_best(text: str) -> str | None:
+def legacy_trial_rules(text: str) -> str | None:
     """The rule text of an experiment trial's best.json written before it carried the rulebase JSON
     (no "format", the rules as text under "rules"); None for any other JSON."""
     try:
