@@ -283,3 +283,38 @@ def test_each_disagreement_is_explained_under_it_from_the_runs_data(tmp_path):
     disagreements = [f for f, a in report.findings if a.verdict == DISAGREES]
     assert markdown.count("Measured why: ") == len(disagreements) and all(a.reason for f, a in report.findings
                                                                           if a.verdict == DISAGREES)
+
+
+@pytest.mark.parametrize("name", ["initial", "max-length", "long"])
+def test_legends_stand_beside_the_data_and_axes_say_means_or_medians(name):
+    """Legends once covered the initial goal histogram and the max-length chromosome lengths; curves were
+    means over trials beside tables of medians, unlabelled."""
+    from app.experiment.figures import DRAWERS, draw_figure
+
+    rng = np.random.default_rng(13)
+    chosen = preset(name, OPTIONS)
+    curves = {"mean": falling(0.9, 0.8, rng), "best": falling(0.6, 0.5, rng), "goals_0": np.full((10, 10), 0.7),
+              "goals_1": np.full((10, 10), 0.3), "genes_mean": falling(20, 40, rng),
+              "valid_rules_mean": falling(2, 6, rng), "unique_premise_genes": falling(130, 110, rng)}
+    table = StatisticsTable(fabricated(name, {s.label: curves for s in chosen.settings}))
+    for kind in (k for k in chosen.figures if k in DRAWERS):
+        figure, _ = draw_figure(kind, table, chosen)
+        (axes,) = figure.axes
+        figure.canvas.draw()
+        legend, plot = axes.get_legend(), axes.get_window_extent()
+        assert legend is None or legend.get_window_extent().x0 >= plot.x1, f"{name} {kind}: the legend covers the data"
+        label = axes.get_ylabel()
+        assert any(word in label for word in ("median over trials", "mean over trials", "averaged over trials",
+                                              "each trial")), f"{name} {kind}: {label!r}"
+
+
+def test_a_fitness_figure_ends_at_the_median_its_table_gives(tmp_path):
+    from app.experiment.figures import draw_figure
+
+    rng = np.random.default_rng(14)
+    crossover = preset("crossover", OPTIONS)
+    skewed = {s: {"mean": falling(0.9, 0.8, rng) ** 3, "best": falling(0.6, 0.5, rng)} for s in ("one-point", "two-point")}
+    table = StatisticsTable(fabricated("crossover", skewed))
+    figure, _ = draw_figure("mean_fitness", table, crossover)
+    for line in figure.axes[0].lines:
+        assert line.get_ydata()[-1] == pytest.approx(np.median(table.final("crossover", line.get_label(), "mean")))
