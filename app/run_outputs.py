@@ -298,6 +298,32 @@ class RunOutputs:
         self.folder.write_best_record(best_record(best, generation, self.best_quality))
 
 
+def best_quality_of(folder: str | Path, fitness: float | None = None) -> TrueQuality | None:
+    """The true quality run.json keeps for a run folder's best so far; with `fitness`, only when that best
+    is the player of this fitness (the store's best may be a generation ahead of run.json for a moment)."""
+    record = RunFolder(Path(folder)).best_record()
+    if record is None or (fitness is not None and record.get("fitness_seen") != fitness):
+        return None
+    return TrueQuality.from_dict(record.get("true_quality"))
+
+
+def replayed_note(quality: TrueQuality | None) -> str:
+    """' (re-played on 20 fresh starts: 0.823 ± 0.101)' to stand beside a one-game fitness; '' when unknown."""
+    if quality is None:
+        return ""
+    return f" (re-played on {quality.starts} fresh starts: {quality.fitness:.3f} ± {quality.fitness_std:.3f})"
+
+
+def run_replayed_note(store: Any, run_id: int, fitness: float | None = None) -> str:
+    """replayed_note for a stored run's best (the app's runs keep run.json in their folder); '' when the
+    run or its quality is unknown."""
+    try:
+        folder = store.get_run(run_id).folder
+    except KeyError:  # the store's NotFound
+        return ""
+    return replayed_note(best_quality_of(folder, fitness))
+
+
 def _found_in(record: dict[str, Any] | None, best: Individual) -> int | None:
     """The generation a resumed run's best was found in, as run.json recorded it (None: not recorded)."""
     return record.get("generation") if record and record.get("fitness_seen") == best.fitness else None
