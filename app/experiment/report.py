@@ -297,8 +297,8 @@ def improves_then_plateaus(column: str, what: str) -> Callable[[StatisticsTable,
                 f"first-half gain > second-half gain, p = {p_plateau:.3g}. Parts: "
                 + ", ".join(f"{part} {v}" for part, v in parts.items()))
         failed = [part for part, v in parts.items() if v == DISAGREES]
-        reason = (f"the part{'s' if len(failed) > 1 else ''} {' and '.join(failed)} fail{'s' if len(failed) == 1 else ''}"
-                  f": {_shape(mean, what)}" if failed else "")
+        failing = f"the part {failed[0]} fails" if len(failed) == 1 else f"the parts {' and '.join(failed)} fail"
+        reason = f"{failing}: {_shape(mean, what)}" if failed else ""
         return Assessment(measured, verdict, test, reason=reason)
     return assess
 

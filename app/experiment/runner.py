@@ -138,7 +138,8 @@ def best_record(result: Any, rows: list[dict[str, Any]], replay: Evaluator, seed
             "fitness_seen": best.fitness, "evaluations_seen": best.evaluations, "replays": quality.starts,
             "replay_fitness": quality.fitness, "replay_fitness_std": quality.fitness_std,
             "replay_goals": quality.goals, "replay_scoring": quality.scoring,
-            "chromosome": best.chromosome.tolist(), "rule_text": format_rulebase(result.best_rulebase, result.vocabulary)}
+            "chromosome": best.chromosome.tolist(),
+            "rule_text": format_rulebase(result.best_rulebase, result.vocabulary)}
 
 
 @dataclass(frozen=True)

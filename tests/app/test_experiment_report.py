@@ -94,7 +94,8 @@ def test_too_few_trials_are_too_small_to_judge_and_say_what_they_need(tmp_path):
     report = write_report(StatisticsTable(fabricated("crossover", alike)), [crossover], tmp_path)
     (assessment,) = [a for f, a in report.findings if f.preset == "crossover"]
     assert assessment.verdict == TOO_SMALL and assessment.needs == "5 trials per setting, our minimum (here 2)"
-    assert "| too small to judge (needs 5 trials per setting, our minimum (here 2)) |" in (tmp_path / REPORT_MD).read_text()
+    markdown = (tmp_path / REPORT_MD).read_text()
+    assert "| too small to judge (needs 5 trials per setting, our minimum (here 2)) |" in markdown
 
 
 @pytest.mark.parametrize("shrunk, needs", [
@@ -279,7 +280,8 @@ def test_each_disagreement_is_explained_under_it_from_the_runs_data(tmp_path):
     assert "'slowly' is not tested" in assessment.test
     assert "by generation 3, then regrow" in assessment.reason
     markdown = (tmp_path / REPORT_MD).read_text()
-    assert f"Why 6.4.5, Fig. 29 disagrees" in markdown and "docs/research/calibration.md#why-the-disagreements" in markdown
+    assert "Why 6.4.5, Fig. 29 disagrees" in markdown
+    assert "docs/research/calibration.md#why-the-disagreements" in markdown
     disagreements = [f for f, a in report.findings if a.verdict == DISAGREES]
     assert markdown.count("Measured why: ") == len(disagreements) and all(a.reason for f, a in report.findings
                                                                           if a.verdict == DISAGREES)
@@ -313,7 +315,8 @@ def test_a_fitness_figure_ends_at_the_median_its_table_gives(tmp_path):
 
     rng = np.random.default_rng(14)
     crossover = preset("crossover", OPTIONS)
-    skewed = {s: {"mean": falling(0.9, 0.8, rng) ** 3, "best": falling(0.6, 0.5, rng)} for s in ("one-point", "two-point")}
+    skewed = {s: {"mean": falling(0.9, 0.8, rng) ** 3, "best": falling(0.6, 0.5, rng)}
+              for s in ("one-point", "two-point")}
     table = StatisticsTable(fabricated("crossover", skewed))
     figure, _ = draw_figure("mean_fitness", table, crossover)
     for line in figure.axes[0].lines:
