@@ -266,7 +266,8 @@ class World:
         self.pitches = Pitches(layer=layers, player=np.zeros(games, dtype=np.uint64),
                                ball=np.zeros(games, dtype=np.uint64), offsets=offsets)
         self._slots = slots
-        self._pitch_spaces = borrow_spaces(PitchOutline.of(config), max(len(taken), 1))
+        self._outline = PitchOutline.of(config)
+        self._pitch_spaces = borrow_spaces(self._outline, max(len(taken), 1))
         self.spaces = [pitch_space.space for pitch_space in self._pitch_spaces]
         self._games_in_space = [0] * len(self.spaces)  # per layer
         self._objects: list[tuple[pymunk.Body, ...]] = [()] * games
@@ -303,6 +304,25 @@ class World:
         if not any(self._games_in_space):
             give_back_spaces(self._pitch_spaces)
             self._pitch_spaces, self.spaces, self._games_in_space = [], [], []
+
+    def restart_game(self, game: int, seed: int, player_xy: tuple[float, float], ball_xy: tuple[float, float]) -> None:
+        """Game `game` (finished or not) begins again from `seed`, at that seed's slot, in the first space
+        where no other game holds that slot (a space borrowed when none is free)."""
+        self.remove_game(game)
+        slot = pitch_slot(seed)
+        held = [set() for _ in self._pitch_spaces]
+        for other, pitch in enumerate(self._pitch):
+            if pitch is not None:
+                held[self.pitches.layer[other]].add(self._slots[other])
+        layer = next((k for k, slots in enumerate(held) if slot not in slots), len(held))
+        if layer == len(held):  # also when every game had left and the spaces went back
+            self._pitch_spaces += borrow_spaces(self._outline, 1)
+            self.spaces.append(self._pitch_spaces[-1].space)
+            self._games_in_space.append(0)
+        self._slots[game] = slot
+        self.pitches.offsets[game] = pitch_offset(slot)
+        self.pitches.layer[game] = layer
+        self.add_game(game, player_xy, ball_xy)
 
     def occupied_layers(self) -> list[int]:
         """The layers whose space still holds games (only their spaces need stepping)."""

@@ -1,0 +1,86 @@
+"""SimpleSoccer's observation and action spaces in Gymnasium's terms, and the conversions between
+them and the engine's arrays (soccer/engine.py `Observation`, `GameBatch.act`).
+
+Observation, a Dict: "inputs", a float64 Box of the vocabulary's inputs in its order (ball and goal,
+each a distance in metres and a direction in degrees relative to the facing, as perception gives them),
+and "visible", a MultiBinary of its objects in its order (1: in the view cone). An object out of view
+has its inputs at 0: the player does not perceive them, and "visible" says so.
+
+Action, a Dict: "skill", a Discrete over the vocabulary's actions in its order plus one more, the
+hunt (what the player does when no rule fired), and "parameters", a float64 Box of the vocabulary's
+outputs in its order (direction, power), each bounded by its universe; a skill reads only the
+parameters its action uses (soccer/skills.py).
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+from gymnasium import spaces
+
+from fuzzy.batched import NO_ACTION
+from fuzzy.vocabulary import Vocabulary
+from soccer.perception import DIRECTION, DISTANCE
+
+UNSEEN_INPUT = 0.0  # an out-of-view object's inputs in the observation ("visible" says it is unseen)
+_INPUT_BOUNDS = {DISTANCE: (0.0, np.inf), DIRECTION: (-180.0, 180.0)}  # what perception can give
+
+
+class SoccerSpaces(NamedTuple):
+    """A vocabulary's observation and action spaces, and where its inputs and actions sit."""
+
+    observation: spaces.Dict
+    action: spaces.Dict
+    input_object: np.ndarray  # int64[n_inputs]: the object each input describes
+    hunt: int  # the "skill" value of the hunt
+
+    @classmethod
+    def of(cls, vocabulary: Vocabulary) -> "SoccerSpaces":
+        inputs, objects = vocabulary.input_names, vocabulary.object_names
+        input_object = np.empty(len(inputs), dtype=np.int64)
+        low, high = np.empty(len(inputs)), np.empty(len(inputs))
+        for o, obj in enumerate(objects):
+            for kind, name in vocabulary.objects[obj].items():
+                i = inputs.index(name)
+                input_object[i] = o
+                low[i], high[i] = _INPUT_BOUNDS[kind]
+        observation = spaces.Dict({
+            "inputs": spaces.Box(low, high, dtype=np.float64),
+            "visible": spaces.MultiBinary(len(objects)),
+        })
+        universes = [vocabulary.variables[vocabulary.outputs[name][0]] for name in vocabulary.output_names]
+        action = spaces.Dict({
+            "skill": spaces.Discrete(len(vocabulary.action_names) + 1),
+            "parameters": spaces.Box(np.array([u.minimum for u in universes]),
+                                     np.array([u.maximum for u in universes]), dtype=np.float64),
+        })
+        return cls(observation, action, input_object, len(vocabulary.action_names))
+
+    def observations(self, inputs: np.ndarray, visible: np.ndarray) -> dict[str, np.ndarray]:
+        """The engine's perception rows (inputs NaN when unseen, visible bool) as observations."""
+        return {"inputs": np.where(visible[:, self.input_object], inputs, UNSEEN_INPUT),
+                "visible": visible.astype(np.int8)}
+
+    def engine_inputs(self, observation: dict) -> tuple[np.ndarray, np.ndarray]:
+        """Observations (one or a batch) back as the engine's rows: inputs (NaN when unseen), visible."""
+        visible = np.atleast_2d(np.asarray(observation["visible"])).astype(np.bool_)
+        inputs = np.atleast_2d(np.asarray(observation["inputs"], dtype=np.float64))
+        return np.where(visible[:, self.input_object], inputs, np.nan), visible
+
+    def engine_actions(self, action: dict, games: int) -> tuple[np.ndarray, np.ndarray]:
+        """Actions (one or a batch of `games`) as GameBatch.act takes them; ValueError for a skill out of
+        range or parameters that are not finite. Parameters are clipped to their universes (an agent's
+        raw output may overshoot; a fuzzy controller's never does)."""
+        skills = np.asarray(action["skill"], dtype=np.int64).reshape(games)
+        parameters = np.asarray(action["parameters"], dtype=np.float64).reshape(games, -1)
+        box = self.action["parameters"]
+        if skills.min(initial=0) < 0 or skills.max(initial=0) > self.hunt:
+            raise ValueError(f"skill must be in 0..{self.hunt} ({self.hunt}: the hunt), got {skills}")
+        if parameters.shape[1] != box.shape[0] or not np.isfinite(parameters).all():
+            raise ValueError(f"parameters must be {box.shape[0]} finite numbers per game, got {parameters}")
+        return np.where(skills == self.hunt, NO_ACTION, skills), np.clip(parameters, box.low, box.high)
+
+    def actions(self, engine_actions: np.ndarray, values: np.ndarray) -> dict[str, np.ndarray]:
+        """The engine's decisions (action index or NO_ACTION, output values) as actions."""
+        return {"skill": np.where(engine_actions == NO_ACTION, self.hunt, engine_actions), "parameters": values}
