@@ -49,7 +49,7 @@ class SimpleSoccerEnv(gymnasium.Env):
         if reward not in REWARDS:
             raise ValueError(f"reward must be one of {', '.join(REWARDS)}, got {reward!r}")
         self.config, self.vocabulary, self.render_mode, self.reward = config, vocabulary, render_mode, reward
-        self.spaces = SoccerSpaces.of(vocabulary)
+        self.spaces = SoccerSpaces.of(vocabulary, config.world)
         self.observation_space, self.action_space = self.spaces.observation, self.spaces.action
         self.batch: GameBatch | None = None
         self.game_seed: int | None = None

@@ -14,7 +14,7 @@ import numpy as np
 from fuzzy.batched import compile_rulebases, decide_batch
 from fuzzy.rule import Rulebase
 from fuzzy.vocabulary import Vocabulary
-from soccer.config import SOCCER_VOCABULARY
+from soccer.config import SOCCER_VOCABULARY, WorldConfig
 from soccer.gym.spaces import SoccerSpaces
 
 
@@ -22,11 +22,12 @@ class FuzzyPolicy:
     """policy(observation) -> action. Given one rulebase it decides for every observation with it; given
     a sequence, row i of a batch of observations (a vector environment's) is decided by rulebase i."""
 
-    def __init__(self, rulebases: Rulebase | Sequence[Rulebase], vocabulary: Vocabulary = SOCCER_VOCABULARY):
+    def __init__(self, rulebases: Rulebase | Sequence[Rulebase], vocabulary: Vocabulary = SOCCER_VOCABULARY,
+                 world: WorldConfig = WorldConfig()):
         rulebases = [rulebases] if isinstance(rulebases, Rulebase) else list(rulebases)
         self.players = len(rulebases)
         self.compiled = compile_rulebases(rulebases, vocabulary)
-        self.spaces = SoccerSpaces.of(vocabulary)
+        self.spaces = SoccerSpaces.of(vocabulary, world)
 
     def __call__(self, observation: dict) -> dict[str, np.ndarray]:
         single = np.ndim(observation["visible"]) == 1

@@ -48,10 +48,10 @@ class PitchPicture:
     def draw(self, player: tuple[float, float], facing: float, ball: tuple[float, float]) -> np.ndarray:
         image = self._background.copy()
         size = BODY_SCALE * self.world.player_size
-        image[np.hypot(self._x - player[0], self._y - player[1]) <= size] = PLAYER
         heading = math.radians(facing)
         tip = (player[0] + 2 * size * math.cos(heading), player[1] + 2 * size * math.sin(heading))
-        image[_segment(self._x, self._y, player, tip) <= LINE_WIDTH] = FACING
+        image[_segment(self._x, self._y, player, tip) <= LINE_WIDTH] = FACING  # sticks out of the body
+        image[np.hypot(self._x - player[0], self._y - player[1]) <= size] = PLAYER
         image[np.hypot(self._x - ball[0], self._y - ball[1]) <= BODY_SCALE * 2 * self.world.ball_size] = BALL
         return image
 

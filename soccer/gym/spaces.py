@@ -14,6 +14,7 @@ parameters its action uses (soccer/skills.py).
 
 from __future__ import annotations
 
+import math
 from typing import NamedTuple
 
 import numpy as np
@@ -21,10 +22,17 @@ from gymnasium import spaces
 
 from fuzzy.batched import NO_ACTION
 from fuzzy.vocabulary import Vocabulary
+from soccer.config import WorldConfig
 from soccer.perception import DIRECTION, DISTANCE
 
 UNSEEN_INPUT = 0.0  # an out-of-view object's inputs in the observation ("visible" says it is unseen)
-_INPUT_BOUNDS = {DISTANCE: (0.0, np.inf), DIRECTION: (-180.0, 180.0)}  # what perception can give
+
+
+def _input_bounds(world: WorldConfig) -> dict[str, tuple[float, float]]:
+    """What perception can give: no two points of the pitch with its net lie further apart than its
+    diagonal; a direction is an angle in (-180, 180]."""
+    diagonal = math.hypot(world.pitch_length + world.goal_depth, world.pitch_width)
+    return {DISTANCE: (0.0, diagonal), DIRECTION: (-180.0, 180.0)}
 
 
 class SoccerSpaces(NamedTuple):
@@ -36,15 +44,16 @@ class SoccerSpaces(NamedTuple):
     hunt: int  # the "skill" value of the hunt
 
     @classmethod
-    def of(cls, vocabulary: Vocabulary) -> "SoccerSpaces":
+    def of(cls, vocabulary: Vocabulary, world: WorldConfig) -> "SoccerSpaces":
         inputs, objects = vocabulary.input_names, vocabulary.object_names
+        bounds = _input_bounds(world)
         input_object = np.empty(len(inputs), dtype=np.int64)
         low, high = np.empty(len(inputs)), np.empty(len(inputs))
         for o, obj in enumerate(objects):
             for kind, name in vocabulary.objects[obj].items():
                 i = inputs.index(name)
                 input_object[i] = o
-                low[i], high[i] = _INPUT_BOUNDS[kind]
+                low[i], high[i] = bounds[kind]
         observation = spaces.Dict({
             "inputs": spaces.Box(low, high, dtype=np.float64),
             "visible": spaces.MultiBinary(len(objects)),

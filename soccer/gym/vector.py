@@ -40,7 +40,7 @@ class SimpleSoccerVectorEnv(VectorEnv):
             raise ValueError(f"reward must be one of {', '.join(REWARDS)}, got {reward!r}")
         self.num_envs, self.config, self.vocabulary = num_envs, config, vocabulary
         self.render_mode, self.reward = render_mode, reward
-        self.spaces = SoccerSpaces.of(vocabulary)
+        self.spaces = SoccerSpaces.of(vocabulary, config.world)
         self.single_observation_space, self.single_action_space = self.spaces.observation, self.spaces.action
         self.observation_space = batch_space(self.single_observation_space, num_envs)
         self.action_space = batch_space(self.single_action_space, num_envs)
@@ -52,10 +52,9 @@ class SimpleSoccerVectorEnv(VectorEnv):
     def reset(self, *, seed: int | Sequence[int] | None = None, options: dict[str, Any] | None = None):
         """seed: an int s (sub-environment i plays the game of seed s + i, as `soccer-lab play --seed s
         --games n` numbers them), one seed per sub-environment, or None (drawn)."""
-        if seed is None or isinstance(seed, (int, np.integer)):
-            super().reset(seed=None if seed is None else int(seed))
-        else:
-            super().reset(seed=[int(s) for s in seed])
+        # the generator for later games' seeds: seeded by the int, or the first of the list
+        first = seed if seed is None or isinstance(seed, (int, np.integer)) else next(iter(seed), None)
+        super().reset(seed=None if first is None else int(first))
         seeds = self._first_seeds(seed)
         self.batch = GameBatch([NO_CONTROLLER] * self.num_envs, seeds, self.config, self.vocabulary)
         self.game_seeds[:] = seeds
