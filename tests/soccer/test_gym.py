@@ -266,3 +266,16 @@ def test_make_with_the_module_prefix_needs_no_import_first():
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=600)
     assert done.returncode == 0, done.stderr
     assert done.stdout.strip() == "['inputs', 'visible']"
+
+
+def test_the_gymnasium_page_examples_print_what_it_shows(capsys):
+    """docs/research/gymnasium.md: each ```python block, run in turn, prints the ```text block after it."""
+    import re
+    from pathlib import Path
+
+    page = (Path(__file__).resolve().parents[2] / "docs" / "research" / "gymnasium.md").read_text(encoding="utf-8")
+    examples = re.findall(r"^```python\n(.*?)^```\n\n```text\n(.*?)^```", page, re.MULTILINE | re.DOTALL)
+    assert len(examples) == 2
+    for code, shown in examples:
+        exec(compile(code, "docs/research/gymnasium.md", "exec"), {})
+        assert capsys.readouterr().out == shown
