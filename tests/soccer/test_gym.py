@@ -279,3 +279,17 @@ def test_the_gymnasium_page_examples_print_what_it_shows(capsys):
     for code, shown in examples:
         exec(compile(code, "docs/research/gymnasium.md", "exec"), {})
         assert capsys.readouterr().out == shown
+
+
+def test_evolved_players_through_the_vector_env_play_the_games_play_games_plays(evolved_rulebases):
+    """What evolution produces (long messy antecedents), a population at once through the vector env."""
+    players = evolved_rulebases
+    envs = SimpleSoccerVectorEnv(len(players), config=SHORT)
+    policy = FuzzyPolicy(players)
+    observations, infos = envs.reset(seed=[1000 + 7 * g for g in range(len(players))])
+    results = [None] * len(players)
+    while any(r is None for r in results):
+        observations, _, _, _, infos = envs.step(policy(observations))
+        for g in np.flatnonzero(infos.get("_result", [])):
+            results[g] = results[g] or infos["result"][g]
+    assert results == play_games(players, [1000 + 7 * g for g in range(len(players))], SHORT)
