@@ -7,6 +7,8 @@ steps, each a numba function: `close_step` (the step just made: player-ball coll
 restart, statistics, end conditions), `perceive_step`, `decide_step` (the game's own fuzzy
 controller, `fuzzy.batched.decide`), `act_step` (the skill's body command) and `physics_step` (the
 command applied to velocities, noise).
+Actions given from outside (soccer/gym, `GameBatch.act`) take `act_kernel` and `close_kernel`: the
+same steps, in the same order, the decide step left out.
 A single game is a batch of one: there is one code path. A game's result does not depend on its batch
 (soccer/world.py says how): games sharing a seed share a pitch slot and so play in separate spaces,
 each stepped in turn.
