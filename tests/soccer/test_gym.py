@@ -293,3 +293,22 @@ def test_evolved_players_through_the_vector_env_play_the_games_play_games_plays(
         for g in np.flatnonzero(infos.get("_result", [])):
             results[g] = results[g] or infos["result"][g]
     assert results == play_games(players, [1000 + 7 * g for g in range(len(players))], SHORT)
+
+
+def test_vector_env_steps_as_sync_vector_env_over_single_envs_does():
+    """The same API as Gymnasium's own vectorisation: the same batched observations, rewards and ends."""
+    from gymnasium.vector import SyncVectorEnv
+
+    config = GameConfig(max_ticks=20, skills="assisted")
+    batched = SimpleSoccerVectorEnv(3, config=config)
+    synced = SyncVectorEnv([lambda: SimpleSoccerEnv(config=config) for _ in range(3)])
+    batched.action_space.seed(4)
+    actions = [batched.action_space.sample() for _ in range(20)]
+    steps = [[envs.reset(seed=30)[0]] + [envs.step(action)[:4] for action in actions] for envs in (batched, synced)]
+    for ours, theirs in zip(*steps):
+        for a, b in zip(ours, theirs):
+            if isinstance(a, dict):
+                assert a.keys() == b.keys() and all(np.array_equal(a[k], b[k]) for k in a)
+            else:
+                assert np.array_equal(a, b)
+    assert steps[0][-1][3].all()  # the last step truncated every game
