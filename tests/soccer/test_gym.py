@@ -175,11 +175,11 @@ def test_parameters_beyond_their_universe_act_as_its_bound():
     power = SOCCER_VOCABULARY.output_names.index("power")
     high = SimpleSoccerEnv(config=SHORT).action_space["parameters"].high
     infos = []
-    for parameters in (high * 10, high):
+    for parameters in (high * 10, np.full(2, np.inf), high):
         env = SimpleSoccerEnv(config=SHORT)
         env.reset(seed=4)
         infos.append(env.step({"skill": dash, "parameters": parameters})[4])
-    assert infos[0]["player"] == infos[1]["player"] and high[power] > 0
+    assert infos[0]["player"] == infos[1]["player"] == infos[2]["player"] and high[power] > 0
 
 
 def test_step_after_the_game_ended_asks_for_reset():
