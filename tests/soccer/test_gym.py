@@ -25,6 +25,7 @@ ENV_ID = soccer.gym.ENV_ID
 SHORT = GameConfig(max_ticks=300)
 IDLE_SOON = GameConfig(max_ticks=300, idle_ticks=20)  # a random player that stands still ends the game early
 GOAL_CAP = GameConfig(goal_cap=1, skills="assisted")  # the demo scores within 1000 ticks: ends by the cap
+NOISY = GameConfig(max_ticks=300, noise=True, count_touches=True)  # every random draw, every kick counted
 
 
 def rulebases():
@@ -53,7 +54,7 @@ def trace_rows(trace):
             zip(trace.player_x, trace.player_y, trace.facing, trace.ball_x, trace.ball_y, trace.goals)]
 
 
-@pytest.mark.parametrize("config", [SHORT, IDLE_SOON, GOAL_CAP], ids=["time-up", "idle", "goal-cap"])
+@pytest.mark.parametrize("config", [SHORT, IDLE_SOON, GOAL_CAP, NOISY], ids=["time-up", "idle", "goal-cap", "noise"])
 @pytest.mark.parametrize("name", list(RULEBASES))
 def test_fuzzy_policy_through_env_plays_the_game_play_plays(name, config):
     rulebase = RULEBASES[name]
