@@ -146,6 +146,11 @@ def test_play_gives_each_game_soccer_lab_play_prints():
     assert any(g.goals for g in games)  # the comparison covers scoring games
 
 
+def test_play_takes_a_rulebase_or_the_path_of_a_file_as_text_or_path():
+    games = sl.play(sl.load_rules(STRIKER), games=2, seed=3, **GAME)
+    assert sl.play(str(STRIKER), games=2, seed=3, **GAME) == sl.play(STRIKER, games=2, seed=3, **GAME) == games
+
+
 def test_play_gives_the_engines_results_with_their_end_reasons():
     from soccer.config import GameConfig
     from soccer.engine import play_games
@@ -186,6 +191,13 @@ def test_a_run_gives_the_best_and_statistics_the_command_gives(runs, command):
     assert (record.folder / "best.rules").read_text() == (folder / "best.rules").read_text()
     assert record.generations == RUN["generations"]
     assert record.best.fitness == min(record.column("best"))
+
+
+def test_evolve_gives_the_same_run_with_more_workers(runs, tmp_path):
+    """A notebook's default is every core: the run must not depend on it."""
+    record = sl.evolve(**{**RUN, "workers": 2}, out=tmp_path / "two")
+    assert record.best == runs["evolve"][1].best
+    assert without_wall_time(record.statistics) == without_wall_time(runs["evolve"][1].statistics)
 
 
 def test_evolve_finds_a_scorer_in_the_compared_run(runs):
