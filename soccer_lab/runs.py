@@ -103,11 +103,47 @@ def _run(algorithm: str, out: str | PathLike | None, on_generation: OnGeneration
 
     settings = _settings(algorithm, {name: value for name, value in options.items() if value is not None})
     folder = Path(out) if out is not None else Path(tempfile.mkdtemp(prefix="soccer-lab-run-"))
-    run = Run.create(settings, folder)
+    _play(Run.create(settings, folder), on_generation)
+    return open_run(folder)
+
+
+def resume(folder: str | PathLike, *, on_generation: OnGeneration | None = None) -> RunRecord:
+    """Continue a run that was stopped (Ctrl-C, a killed kernel, an exception from `on_generation`) from its
+    folder's checkpoint, with its own settings, as `soccer-lab evolve --resume` does: it finishes exactly as
+    the uninterrupted run would. A finished run is returned as it is.
+
+    >>> import soccer_lab as sl, tempfile
+    >>> folder = tempfile.mkdtemp()
+    >>> def stop_after_first(statistics):
+    ...     raise KeyboardInterrupt
+    >>> try:
+    ...     sl.evolve(population_size=4, generations=3, seed=2, max_ticks=100, workers=1, out=folder,
+    ...               on_generation=stop_after_first)
+    ... except KeyboardInterrupt:
+    ...     pass
+    >>> sl.open_run(folder).generations
+    1
+    >>> sl.resume(folder).generations
+    3
+    """
+    from app.run import Run
+
+    run = Run.open(folder)
+    if not _finished(run.saved_state()):
+        _play(run, on_generation)
+    return open_run(folder)
+
+
+def _finished(state: Any) -> bool:
+    """The run reached its target or its last generation (ga.algorithms stops there too)."""
+    config, history = state.config, state.history
+    return bool(history) and (history[-1].best <= config.target_fitness or len(history) >= config.max_generations)
+
+
+def _play(run: Any, on_generation: OnGeneration | None) -> None:
     callbacks = [] if on_generation is None else [lambda stats, population: on_generation(stats.to_dict())]
     with run.evaluator() as evaluate:
         run.play(evaluate, callbacks=callbacks)
-    return open_run(folder)
 
 
 def _settings(algorithm: str, options: dict[str, Any]) -> "RunSettings":

@@ -241,6 +241,21 @@ def test_a_run_calls_on_generation_with_each_generations_statistics(tmp_path):
     assert heard == record.statistics
 
 
+def test_a_run_stopped_by_its_callback_resumes_to_the_uninterrupted_run(runs, tmp_path):
+    def stop_after_second(statistics):
+        if statistics["generation"] == 1:
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        sl.evolve(**RUN, out=tmp_path / "stopped", on_generation=stop_after_second)
+    assert sl.open_run(tmp_path / "stopped").generations == 2
+    resumed = sl.resume(tmp_path / "stopped")
+    assert resumed.best == runs["evolve"][1].best
+    assert without_wall_time(resumed.statistics) == without_wall_time(runs["evolve"][1].statistics)
+    assert (tmp_path / "stopped" / "best.rules").read_text() == (runs["evolve"][0] / "best.rules").read_text()
+    assert sl.resume(tmp_path / "stopped") == resumed  # finished: nothing more is played
+
+
 def test_evolve_without_out_writes_a_new_temporary_folder(monkeypatch, tmp_path):
     monkeypatch.setattr(tempfile, "tempdir", str(tmp_path))
     record = sl.evolve(population_size=4, generations=1, seed=3, max_ticks=60, workers=1)
