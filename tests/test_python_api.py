@@ -306,6 +306,18 @@ def test_open_experiment_gives_the_verdicts_the_command_printed(experiment):
     assert all(finding.claim in report for finding in found.findings if finding.preset == "selection")
 
 
+def test_open_experiment_reads_replicates_with_the_verdicts_the_command_printed(tmp_path):
+    folder = tmp_path / "replicates"
+    printed = cli("experiment", "selection", "--trials", 1, "--population", 4, "--generations", 2, "--max-ticks", 60,
+                  "--replays", 1, "--seeds", "3,8", "--workers", 1, "--no-library", "--out", folder)
+    found = sl.open_experiment(folder)
+    summary = ", ".join(f"{n} {v}" for v, n in found.verdicts().items() if n)
+    assert f"verdicts: {summary}\n" in printed
+    assert [replicate.folder.name for replicate in found.replicates] == ["seed-3", "seed-8"]
+    assert [replicate.options.seed for replicate in found.replicates] == [3, 8]
+    assert len(found.statistics) == sum(len(replicate.statistics) for replicate in found.replicates) > 0
+
+
 def test_open_experiment_refuses_a_folder_without_one(tmp_path):
     with pytest.raises(ValueError, match="holds no finished experiment"):
         sl.open_experiment(tmp_path)
