@@ -112,7 +112,7 @@ def _bests(folder: RunFolder, lines: dict[int, str]) -> list[tuple[int, float]]:
     for generation, line in lines.items():
         if generation not in bests:
             population = read_generation_record(json.loads(line))[1]
-            bests[generation] = min(individual.fitness for individual in population)
+            bests[generation] = min(population.fitnesses())
     return sorted(bests.items())
 
 

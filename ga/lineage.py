@@ -12,6 +12,7 @@ which it first stood whole: drawn at random, made by a crossover's cut, or chang
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from typing import Any, Callable, Iterable, NamedTuple, Sequence
 
@@ -53,17 +54,46 @@ def generation_record(generation: int, population: Sequence[Individual]) -> dict
         for individual in population]}
 
 
-def read_generation_record(record: dict[str, Any]) -> tuple[int, list[Individual]]:
-    """(generation, population) of a record; ValueError (or KeyError, TypeError) for a malformed one."""
-    population = []
-    for row in record["individuals"]:
-        chromosome = np.frombuffer(bytes.fromhex(row["chromosome"]), dtype=GENE_DTYPE).reshape(-1, GENE_WIDTH).copy()
-        birth = row.get("birth")
-        first_seed = row.get("first_seed")
-        population.append(Individual(chromosome, int(row["evaluations"]), float(row["fitness_sum"]), int(row["goals"]),
-                                     None if first_seed is None else int(first_seed),
-                                     None if birth is None else Birth.from_dict(birth)))
-    return int(record["generation"]), population
+def read_generation_record(record: dict[str, Any]) -> tuple[int, "RecordedPopulation"]:
+    """(generation, population) of a record; ValueError (or KeyError, TypeError) for a malformed one. Its
+    individuals are decoded as they are read (a family tree or a page of the population reads a few of
+    thousands: decoding every birth of a generation of 10,000 took seconds)."""
+    rows = record["individuals"]
+    if not isinstance(rows, list):
+        raise TypeError("a lineage record's individuals are a list")
+    return int(record["generation"]), RecordedPopulation(rows)
+
+
+class RecordedPopulation(Sequence[Individual]):
+    """A generation's recorded individuals, each decoded on first access (then kept)."""
+
+    def __init__(self, rows: list[dict[str, Any]]):
+        self._rows = rows
+        self._decoded: dict[int, Individual] = {}
+
+    def __len__(self) -> int:
+        return len(self._rows)
+
+    def __getitem__(self, index):  # type: ignore[override]
+        if isinstance(index, slice):
+            return [self[i] for i in range(*index.indices(len(self)))]
+        index = range(len(self))[index]  # IndexError out of range; negative indices count from the end
+        if index not in self._decoded:
+            self._decoded[index] = _individual(self._rows[index])
+        return self._decoded[index]
+
+    def fitnesses(self) -> list[float]:
+        """Every individual's fitness (its running mean), without decoding the individuals."""
+        return [float(row["fitness_sum"]) / int(row["evaluations"]) if int(row["evaluations"]) else math.inf
+                for row in self._rows]
+
+
+def _individual(row: dict[str, Any]) -> Individual:
+    chromosome = np.frombuffer(bytes.fromhex(row["chromosome"]), dtype=GENE_DTYPE).reshape(-1, GENE_WIDTH).copy()
+    birth = row.get("birth")
+    first_seed = row.get("first_seed")
+    return Individual(chromosome, int(row["evaluations"]), float(row["fitness_sum"]), int(row["goals"]),
+                      None if first_seed is None else int(first_seed), None if birth is None else Birth.from_dict(birth))
 
 
 # ---- following genes back ---------------------------------------------------------------------
@@ -271,4 +301,5 @@ def best_place(bests: Iterable[tuple[int, float]], population_of: Callable[[int]
 
 def generation_best_index(population: Sequence[Individual]) -> int:
     """A generation's best individual, as the GA's: the lowest running mean, the first of equals."""
-    return min(range(len(population)), key=lambda i: population[i].fitness)
+    fitness = population.fitnesses() if isinstance(population, RecordedPopulation) else [i.fitness for i in population]
+    return min(range(len(fitness)), key=fitness.__getitem__)
