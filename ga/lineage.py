@@ -12,7 +12,9 @@ which it first stood whole: drawn at random, made by a crossover's cut, or chang
 
 from __future__ import annotations
 
+import json
 import math
+import re
 from dataclasses import dataclass, field
 from typing import Any, Callable, Iterable, NamedTuple, Sequence
 
@@ -64,12 +66,35 @@ def read_generation_record(record: dict[str, Any]) -> tuple[int, "RecordedPopula
     return int(record["generation"]), RecordedPopulation(rows)
 
 
+# A record's text as generation_record's dict is written (its keys' order; compact separators or json's
+# default ones): where each individual's object starts, and its evaluations and fitness sum, found without
+# parsing the whole record
+RECORD_START = re.compile(r'\{"generation":\s*\d+,\s*"individuals":\s*\[')
+ROW_START = re.compile(r'\{"chromosome":\s*"')
+ROW_FITNESS = re.compile(r'"evaluations":\s*(\d+),\s*"fitness_sum":\s*(-?[0-9.eE+-]+|-?Infinity|NaN)')
+
+
 class RecordedPopulation(Sequence[Individual]):
-    """A generation's recorded individuals, each decoded on first access (then kept)."""
+    """A generation's recorded individuals, each decoded on first access (then kept): from the record's
+    rows, or from its text, where only the individuals read are parsed (a 10,000-individual record is
+    5 MB of JSON: parsing all of it took longer than a lineage request may)."""
 
     def __init__(self, rows: list[dict[str, Any]]):
-        self._rows = rows
+        self._rows: Sequence[Any] = rows
+        self._text = ""
         self._decoded: dict[int, Individual] = {}
+
+    @classmethod
+    def from_text(cls, text: str) -> "RecordedPopulation":
+        """The population of a record's JSON text (ValueError for a malformed one)."""
+        starts = [match.start() for match in ROW_START.finditer(text)]
+        fitness = ROW_FITNESS.findall(text)
+        if not RECORD_START.match(text) or len(fitness) != len(starts):  # not as written: parse it all
+            return read_generation_record(json.loads(text))[1]
+        population = cls([])
+        population._rows, population._text = starts, text
+        population._fitness = [float(total) / int(n) if int(n) else math.inf for n, total in fitness]
+        return population
 
     def __len__(self) -> int:
         return len(self._rows)
@@ -79,13 +104,19 @@ class RecordedPopulation(Sequence[Individual]):
             return [self[i] for i in range(*index.indices(len(self)))]
         index = range(len(self))[index]  # IndexError out of range; negative indices count from the end
         if index not in self._decoded:
-            self._decoded[index] = _individual(self._rows[index])
+            row = self._rows[index]
+            self._decoded[index] = _individual(_DECODER.raw_decode(self._text, row)[0] if self._text else row)
         return self._decoded[index]
 
     def fitnesses(self) -> list[float]:
         """Every individual's fitness (its running mean), without decoding the individuals."""
+        if self._text:
+            return list(self._fitness)
         return [float(row["fitness_sum"]) / int(row["evaluations"]) if int(row["evaluations"]) else math.inf
                 for row in self._rows]
+
+
+_DECODER = json.JSONDecoder()
 
 
 def _individual(row: dict[str, Any]) -> Individual:

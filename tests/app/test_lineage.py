@@ -21,7 +21,7 @@ from app.run_outputs import LineageFile
 from fuzzy.vocabulary import Vocabulary
 from ga.checkpoint import load_checkpoint
 from ga import lineage as ga_lineage
-from ga.lineage import read_generation_record
+from ga.lineage import RecordedPopulation, read_generation_record
 from ga.provenance import rebuild
 from tests.app.api_client import SHORT_GAMES, api_client, wait_for
 
@@ -188,6 +188,17 @@ def test_the_api_pages_through_a_population(api):
     record = client.app.state.store.lineage_record(run, 2)["individuals"][10]
     assert page["individuals"][0]["record"] == record["birth"]
     assert page["individuals"][0]["chromosome"].startswith("(")
+
+
+def test_a_record_read_in_place_is_the_record_parsed_whole(folder, monkeypatch):
+    """Only the individuals read are parsed: the whole record never is (json.loads refuses here)."""
+    lines = LineageFile.read(folder / "lineage.jsonl").values()
+    whole = [read_generation_record(json.loads(line))[1] for line in lines]
+    monkeypatch.setattr(ga_lineage.json, "loads", lambda *args, **kwargs: pytest.fail("parsed the whole record"))
+    for line, parsed in zip(lines, whole):
+        in_place = RecordedPopulation.from_text(line)
+        assert in_place.fitnesses() == [i.fitness for i in parsed]
+        assert [i.to_dict() for i in in_place[::-1]] == [i.to_dict() for i in parsed[::-1]]
 
 
 def test_lineage_requests_decode_only_the_players_they_show(api, monkeypatch):
