@@ -13,7 +13,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable
 
-from app.paths import DATABASE_FILE, default_cache_dir
+from app.paths import DATABASE_FILE, DataFolderInUse, DataFolderLock, default_cache_dir
 
 DEFAULT_HOST = "127.0.0.1"
 DEFAULT_PORT = 8000
@@ -101,6 +101,10 @@ def serve(options: ServeOptions, echo: Callable[[str], None] = print) -> None:
     check_ports(options)
     try:
         options.data_dir.mkdir(parents=True, exist_ok=True)
+        # held for the process's life: before the run manager marks runs 'running' as interrupted
+        folder_lock = DataFolderLock(options.data_dir, options.url(options.port))
+    except DataFolderInUse as exc:
+        raise ServeError(str(exc)) from exc
     except OSError as exc:
         raise ServeError(f"cannot create the data folder {options.data_dir}: {exc.strerror or exc}") from exc
     store = Store(options.data_dir / DATABASE_FILE)
@@ -168,3 +172,4 @@ def serve(options: ServeOptions, echo: Callable[[str], None] = print) -> None:
         if ui is not None:
             ui.stop()
         store.close()
+        folder_lock.release()
