@@ -106,6 +106,10 @@ class ScopedStore:
         self.get_run(run_id)
         return self.store.lineage_record(run_id, generation)
 
+    def lineage_text(self, run_id: int, generation: int) -> str:
+        self.get_run(run_id)
+        return self.store.lineage_text(run_id, generation)
+
     def best_individuals(self, run_id: int) -> list[BestIndividual]:
         self.get_run(run_id)
         return self.store.best_individuals(run_id)

@@ -7,7 +7,6 @@ mutation changed. The CLI, the API and the UI's Lineage tab all show this descri
 from __future__ import annotations
 
 import csv
-import json
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Callable, Sequence
@@ -20,7 +19,7 @@ from ga.codec import ChromosomeCodec
 from ga.genes import FIELD_NAMES, KIND, GeneSpace
 from ga.individual import Individual
 from ga.lineage import (CUT, DRAWN, EARLIER, MUTATED, Ancestor, FamilyTree, Lineage, LineageError, NotRecorded, Place,
-                        RuleOrigin, best_place, generation_best_index, read_generation_record)
+                        RecordedPopulation, RuleOrigin, best_place, generation_best_index)
 from ga.notation import CompactNotation
 from ga.provenance import COPY, Birth, Mutation, Splice
 
@@ -57,7 +56,7 @@ class RunLineage:
             vocabulary = state.vocabulary
         except CheckpointError:
             pass  # the records alone are enough; the rules read in the default vocabulary
-        return cls(lambda g: read_generation_record(json.loads(lines[g]))[1], _bests(folder, lines), vocabulary)
+        return cls(lambda g: RecordedPopulation.from_text(lines[g]), _bests(folder, lines), vocabulary)
 
     @classmethod
     def from_store(cls, store: Any, run_id: int, vocabulary: Vocabulary) -> "RunLineage":
@@ -66,7 +65,7 @@ class RunLineage:
 
         def population_of(generation: int) -> list[Individual]:
             try:
-                return read_generation_record(store.lineage_record(run_id, generation))[1]
+                return RecordedPopulation.from_text(store.lineage_text(run_id, generation))
             except NotFound:
                 raise LookupError(generation) from None
 
@@ -111,8 +110,7 @@ def _bests(folder: RunFolder, lines: dict[int, str]) -> list[tuple[int, float]]:
         pass
     for generation, line in lines.items():
         if generation not in bests:
-            population = read_generation_record(json.loads(line))[1]
-            bests[generation] = min(individual.fitness for individual in population)
+            bests[generation] = min(RecordedPopulation.from_text(line).fitnesses())
     return sorted(bests.items())
 
 

@@ -21,8 +21,9 @@ from app.environments import (RCSS, SIMPLE, Announce, Environment, RcssTrials, R
                               checked_behaviour_seeds, checked_env, checked_servers, checked_start_servers,
                               checked_workers)
 from app.recording import RunRecorder
-from app.run_outputs import (GenerationBestsFile, LineageFile, RunFolder, RunFolderError, RunOutputs,
+from app.run_outputs import (GenerationBestsFile, LineageFile, Replayer, RunFolder, RunFolderError, RunOutputs,
                              generation_best, lineage_line)
+from app.true_quality import TrueQuality, simple_soccer_replayer
 from app.validation import describe_problems
 from fuzzy.vocabulary import Vocabulary
 from ga.algorithms import Callback, evolve, random_search, resume
@@ -160,6 +161,7 @@ class Run:
         self.folder = RunFolder(Path(folder))
         self.vocabulary = SOCCER_VOCABULARY  # what a new run's rules are made of (a resumed run keeps its own)
         self.best_game: Replay | None = None  # after play: the best player's first game, where it can be replayed
+        self.outputs: RunOutputs | None = None  # while and after it plays
 
     @classmethod
     def create(cls, settings: RunSettings, folder: str | Path) -> "Run":
@@ -204,7 +206,9 @@ class Run:
         vocabulary = state.vocabulary if state else self.vocabulary
         bests = self._generation_bests(state)
         outputs = RunOutputs(self.folder, vocabulary, history=history, best=state.best if state else None,
-                             generation_bests=bests, lineage=self.lineage_lines(state).values())
+                             generation_bests=bests, lineage=self.lineage_lines(state).values(),
+                             replay=self._quality_replayer(vocabulary))
+        self.outputs = outputs
         environment = self.settings.environment
         recorder = RunRecorder(self.folder.recording, history=history, world=environment.world)
         try:
@@ -224,6 +228,16 @@ class Run:
         finally:
             recorder.close()
         return result
+
+    @property
+    def best_quality(self) -> TrueQuality | None:
+        """The best so far re-played on the common fresh starts (None before the first generation, on rcssserver)."""
+        return self.outputs.best_quality if self.outputs is not None else self.folder.best_quality()
+
+    def _quality_replayer(self, vocabulary: Vocabulary) -> Replayer | None:
+        """Re-plays a best on app/true_quality.py's common starts, one SimpleSoccer game each, in one batch
+        (none on rcssserver: there N trials would cost minutes)."""
+        return simple_soccer_replayer(self.settings.game, vocabulary) if self.settings.env == SIMPLE else None
 
     def lineage_lines(self, state: RunState | None) -> dict[int, str]:
         """lineage.jsonl's line of each finished generation: those the file holds for the generations the

@@ -2,7 +2,9 @@
 
 ```
 RUN_DIR/
-  run.json               what is run (algorithm, GA parameters, environment): enough to resume it
+  run.json               what is run (algorithm, GA parameters, environment): enough to resume it; and
+                         under "best" the best so far: the fitness the GA saw and its true quality
+                         (re-played on the same fresh starts as every run's players: app/true_quality.py)
   statistics.csv         every statistic of each generation, one row per generation
   generation_bests.jsonl each generation's best individual, one JSON object a line
   lineage.jsonl          every individual of each generation with its birth (parents, operations), a line
@@ -24,9 +26,10 @@ import json
 from dataclasses import dataclass
 from datetime import datetime
 from pathlib import Path
-from typing import Any, Iterable, Mapping, Sequence
+from typing import Any, Callable, Iterable, Mapping, Sequence
 
 from app.rulebase_files import rulebase_json, rulebase_text
+from app.true_quality import TrueQuality
 from fuzzy.rule import Rulebase
 from fuzzy.vocabulary import Vocabulary
 from ga.codec import ChromosomeCodec
@@ -43,6 +46,8 @@ RECORDING = "run.rrd"
 GENERATION_BESTS = "generation_bests.jsonl"
 LINEAGE = "lineage.jsonl"
 TIMESTAMP_FORMAT = "%Y%m%d-%H%M%S"
+BEST_KEY = "best"  # run.json's record of the best so far
+Replayer = Callable[[Rulebase], TrueQuality]  # a player's true quality
 
 
 class RunFolderError(ValueError):
@@ -132,6 +137,24 @@ class RunFolder:
     def write_best(self, rule_text: str, json_text: str) -> None:
         _write_atomically(self.best_rules, rule_text)
         _write_atomically(self.best_json, json_text)
+
+    def write_best_record(self, record: Mapping[str, Any]) -> None:
+        """run.json's "best": the best so far, its fitness as the GA saw it and its true quality."""
+        manifest = self.read_manifest()
+        manifest[BEST_KEY] = dict(record)
+        _write_atomically(self.manifest, json.dumps(manifest, indent=2) + "\n")
+
+    def best_record(self) -> dict[str, Any] | None:
+        """run.json's "best", None for runs from before it was kept (or a folder without run.json)."""
+        try:
+            record = self.read_manifest().get(BEST_KEY)
+        except RunFolderError:
+            return None
+        return record if isinstance(record, dict) else None
+
+    def best_quality(self) -> TrueQuality | None:
+        record = self.best_record()
+        return TrueQuality.from_dict(record.get("true_quality")) if record else None
 
 
 def generation_best(population: Sequence[Individual]) -> Individual:
@@ -236,22 +259,25 @@ class StatisticsFile:
 class RunOutputs:
     """Callback for `ga.algorithms.evolve`: after each generation, appends its statistics to
     statistics.csv and its population to lineage.jsonl, and rewrites best.rules and best.json when the best
-    individual so far changed (the GA's own rule: a lower running mean; the first of equals stays)."""
+    individual so far changed (the GA's own rule: a lower running mean; the first of equals stays); then
+    `replay` (when given) re-plays the new best for its true quality, kept in run.json."""
 
     def __init__(self, folder: RunFolder, vocabulary: Vocabulary, *, history: Iterable[Mapping[str, Any]] = (),
                  best: Individual | None = None, generation_bests: Iterable[tuple[int, Individual]] = (),
-                 lineage: Iterable[str] = ()):
+                 lineage: Iterable[str] = (), replay: Replayer | None = None):
         """history, best, generation_bests, lineage: the finished generations' statistics, the run's best
         individual, each generation's best and the lines of lineage.jsonl, when resuming."""
         self.folder = folder
         self.vocabulary = vocabulary
         self.codec = ChromosomeCodec(vocabulary)
+        self.replay = replay
         self.statistics = StatisticsFile(folder.statistics, history)
         self.generation_bests = GenerationBestsFile(folder.generation_bests, generation_bests)
         self.lineage = LineageFile(folder.lineage, lineage)
         self.best: Individual | None = None
+        self.best_quality: TrueQuality | None = None
         if best is not None:
-            self._keep_best(best)
+            self._keep_best(best, _found_in(folder.best_record(), best))
 
     def on_generation(self, stats: Any, population: list[Individual]) -> None:
         self.statistics.append(stats.to_dict())
@@ -259,14 +285,54 @@ class RunOutputs:
         contender = generation_best(population)
         self.generation_bests.append(stats.generation, contender)
         if self.best is None or contender.fitness < self.best.fitness:
-            self._keep_best(contender)
+            self._keep_best(contender, stats.generation)
 
     def write_best(self, rulebase: Rulebase) -> None:
         self.folder.write_best(rulebase_text(rulebase, self.vocabulary), rulebase_json(rulebase, self.vocabulary))
 
-    def _keep_best(self, best: Individual) -> None:
+    def _keep_best(self, best: Individual, generation: int | None) -> None:
         self.best = best
-        self.write_best(self.codec.decode(best.chromosome))
+        rulebase = self.codec.decode(best.chromosome)
+        self.write_best(rulebase)
+        self.best_quality = self.replay(rulebase) if self.replay is not None else None
+        self.folder.write_best_record(best_record(best, generation, self.best_quality))
+
+
+def best_quality_of(folder: str | Path, fitness: float | None = None) -> TrueQuality | None:
+    """The true quality run.json keeps for a run folder's best so far; with `fitness`, only when that best
+    is the player of this fitness (the store's best may be a generation ahead of run.json for a moment)."""
+    record = RunFolder(Path(folder)).best_record()
+    if record is None or (fitness is not None and record.get("fitness_seen") != fitness):
+        return None
+    return TrueQuality.from_dict(record.get("true_quality"))
+
+
+def replayed_note(quality: TrueQuality | None) -> str:
+    """' (re-played on 20 fresh starts: 0.823 ± 0.101)' to stand beside a one-game fitness; '' when unknown."""
+    if quality is None:
+        return ""
+    return f" (re-played on {quality.starts} fresh starts: {quality.fitness:.3f} ± {quality.fitness_std:.3f})"
+
+
+def run_replayed_note(store: Any, run_id: int, fitness: float | None = None) -> str:
+    """replayed_note for a stored run's best (the app's runs keep run.json in their folder); '' when the
+    run or its quality is unknown."""
+    try:
+        folder = store.get_run(run_id).folder
+    except KeyError:  # the store's NotFound
+        return ""
+    return replayed_note(best_quality_of(folder, fitness))
+
+
+def _found_in(record: dict[str, Any] | None, best: Individual) -> int | None:
+    """The generation a resumed run's best was found in, as run.json recorded it (None: not recorded)."""
+    return record.get("generation") if record and record.get("fitness_seen") == best.fitness else None
+
+
+def best_record(best: Individual, generation: int | None, quality: TrueQuality | None) -> dict[str, Any]:
+    """The best so far as run.json keeps it: the one figure the GA saw beside its true quality."""
+    return {"generation": generation, "fitness_seen": best.fitness, "evaluations_seen": best.evaluations,
+            "goals_seen": best.goals, "true_quality": quality.to_dict() if quality else None}
 
 
 def _write_atomically(path: Path, text: str) -> None:

@@ -13,12 +13,11 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Callable
 
-from app.paths import DATABASE_FILE, default_cache_dir
+from app.paths import DATABASE_FILE, DataFolderInUse, DataFolderLock, default_cache_dir
 
 if TYPE_CHECKING:
     from app.run_games import ProcessGames, RayGames
     from app.runs import RunManager
-    from app.store import Store
 
 DEFAULT_HOST = "127.0.0.1"
 DEFAULT_PORT = 8000
@@ -108,6 +107,10 @@ def serve(options: ServeOptions, echo: Callable[[str], None] = print) -> None:
     check_ports(options)
     try:
         options.data_dir.mkdir(parents=True, exist_ok=True)
+        # held for the process's life: before the run manager marks runs 'running' as interrupted
+        folder_lock = DataFolderLock(options.data_dir, options.url(options.port))
+    except DataFolderInUse as exc:
+        raise ServeError(str(exc)) from exc
     except OSError as exc:
         raise ServeError(f"cannot create the data folder {options.data_dir}: {exc.strerror or exc}") from exc
     store = Store(options.data_dir / DATABASE_FILE)
@@ -115,7 +118,12 @@ def serve(options: ServeOptions, echo: Callable[[str], None] = print) -> None:
     concurrent = max(MAX_CONCURRENT_RUNS, os.cpu_count() or 1) if options.classroom else MAX_CONCURRENT_RUNS
     runs = RunManager(store, options.data_dir, rcssserver=options.rcssserver, max_concurrent_runs=concurrent,
                       queue_runs=options.classroom)
-    games = _class_games(options, runs, store)
+    try:
+        games = _class_games(options, runs)
+    except ServeError:
+        store.close()
+        folder_lock.release()
+        raise
     ui = None
     classroom = tournament = None
     site = SiteAddresses.of(options.host, {options.port}, {options.port})
@@ -181,9 +189,10 @@ def serve(options: ServeOptions, echo: Callable[[str], None] = print) -> None:
         if ui is not None:
             ui.stop()
         store.close()
+        folder_lock.release()
 
 
-def _class_games(options: ServeOptions, runs: "RunManager", store: "Store") -> "ProcessGames | RayGames | None":
+def _class_games(options: ServeOptions, runs: "RunManager") -> "ProcessGames | RayGames | None":
     """Classroom mode: where the runs play their games (app/run_games.py), one run per core of this machine
     or, with `ray`, per CPU of the Ray cluster; ServeError (one line) when Ray is missing or unreachable."""
     if not options.classroom:
@@ -195,7 +204,6 @@ def _class_games(options: ServeOptions, runs: "RunManager", store: "Store") -> "
     try:
         games.__enter__()
     except ExecutorError as exc:
-        store.close()
         raise ServeError(str(exc)) from None
     runs.remote_games = games
     runs.max_concurrent_runs = games.cores()

@@ -428,12 +428,16 @@ class Store:
 
     def lineage_record(self, run_id: int, generation: int) -> dict[str, Any]:
         """Generation `generation`'s lineage record (NotFound when there is none)."""
+        return json.loads(self.lineage_text(run_id, generation))
+
+    def lineage_text(self, run_id: int, generation: int) -> str:
+        """Generation `generation`'s lineage record as stored, JSON text (NotFound when there is none)."""
         self.get_run(run_id)
         rows = self._query("SELECT record FROM lineage WHERE run_id = ? AND generation = ?",
                            (run_id, _valid_id(generation)))
         if not rows:
             raise NotFound("lineage record", generation, f"run {run_id} has no lineage record of generation {generation}")
-        return json.loads(rows[0]["record"])
+        return rows[0]["record"]
 
     def best_individuals(self, run_id: int) -> list[BestIndividual]:
         self.get_run(run_id)

@@ -7,7 +7,11 @@ Genotypic, from the chromosomes alone (cheap: every generation of every run):
   which decoding ignores, is ignored here too);
 - rule-set distance: the mean, over every pair of individuals, of the Jaccard distance between their
   sets of rules (1 - shared rules / rules of either): 0 when every player has the same rules, 1 when no
-  two share one.
+  two share one. Exact up to population 2,000 (in bounded memory); above, its pairs are too many to
+  visit every generation (50 million at 10,000), and it is the mean over a sample of 200,000 pairs drawn
+  uniformly at random, with a standard error of at most 0.0011 (so within 0.0034 of the exact mean in all
+  but 3 generations in 1,000). The sample is drawn from the population itself (seeded by its rule sets),
+  so the same population always gives the same figure.
 
 Behavioural, from play (costs games, so an option: GAConfig.behaviour_seeds = K): every distinct chromosome
 also plays the run's K common seeds, and the population's distinct outcome tuples are counted (an outcome:
@@ -18,6 +22,7 @@ in practice, when they played the same games.
 
 from __future__ import annotations
 
+import hashlib
 from typing import Sequence
 
 import numpy as np
@@ -31,6 +36,15 @@ from ga.individual import Individual
 
 GENE_CODE_RADIX = 1 << 8  # gene fields are int8: a gene is one integer, its fields its base-256 digits
 BEHAVIOUR_STREAM = 1  # the behaviour seeds' own random stream, apart from the GA's (which they never touch)
+DISTANCE_STREAM = 2  # the rule-set distance's sample of pairs: a stream of its own too
+# The rule-set distance is exact up to this many pairs (population 2,000), in blocks of at most BLOCK_ENTRIES
+# shared-rule counts (about 100 MB at worst, when every pair shares a rule); above, it is the mean over
+# SAMPLED_PAIRS pairs drawn at random (SAMPLE_BLOCK at a time): a standard error of at most
+# 0.5 / sqrt(SAMPLED_PAIRS) = 0.0011, since each pair's distance lies in [0, 1]
+EXACT_PAIRS = 2_000 * 1_999 // 2
+BLOCK_ENTRIES = 4_000_000
+SAMPLED_PAIRS = 200_000
+SAMPLE_BLOCK = 20_000
 
 
 def gene_codes(pool: np.ndarray) -> np.ndarray:
@@ -76,18 +90,56 @@ def genotypic_diversity(chromosomes: Sequence[np.ndarray]) -> tuple[int, int, fl
 
 
 def _mean_jaccard_distance(owners: np.ndarray, rules: np.ndarray, individuals: int) -> float:
-    """Mean over pairs of individuals of 1 - |shared rules| / |rules of either| (0 for two empty sets)."""
+    """Mean over pairs of individuals of 1 - |shared rules| / |rules of either| (0 for two empty sets):
+    exact up to EXACT_PAIRS pairs, else estimated from SAMPLED_PAIRS pairs (module docstring)."""
     if individuals < 2:
         return 0.0
     has = sparse.csr_matrix((np.ones(len(owners)), (owners, rules)), shape=(individuals, rules.max() + 1))
     has.data[:] = 1.0  # a rule held twice is one rule of the set
-    shared = (has @ has.T).toarray()
-    own = shared.diagonal().copy()
-    either = own[:, None] + own[None, :] - shared
-    # shared / either is 1 on the diagonal and for two empty sets (either 0): the same rules
-    similarity = np.divide(shared, either, out=np.ones_like(shared), where=either > 0)
-    pairs = individuals * (individuals - 1)
-    return float((pairs - (similarity.sum() - individuals)) / pairs)
+    own = np.asarray(has.sum(axis=1)).ravel()
+    if individuals * (individuals - 1) // 2 <= EXACT_PAIRS:
+        return _exact_mean_distance(has, own)
+    return _sampled_mean_distance(has, own, _pair_sampler(owners, rules))
+
+
+def _exact_mean_distance(has: sparse.csr_matrix, own: np.ndarray) -> float:
+    """Every pair, in blocks of rows whose shared-rule counts hold at most BLOCK_ENTRIES entries: only pairs
+    sharing a rule add a similarity, and pairs of two empty sets add 1 (the same rules)."""
+    individuals = has.shape[0]
+    rows = max(1, BLOCK_ENTRIES // individuals)
+    similarity = 0.0
+    for lo in range(0, individuals, rows):
+        shared = (has[lo:lo + rows] @ has.T).tocoo()
+        pair = shared.row + lo < shared.col  # each unordered pair once
+        i, j, both = shared.row[pair] + lo, shared.col[pair], shared.data[pair]
+        similarity += float(np.sum(both / (own[i] + own[j] - both)))
+    empty = int(np.count_nonzero(own == 0))
+    pairs = individuals * (individuals - 1) // 2
+    return float((pairs - similarity - empty * (empty - 1) // 2) / pairs)
+
+
+def _sampled_mean_distance(has: sparse.csr_matrix, own: np.ndarray, rng: np.random.Generator) -> float:
+    """The mean distance of SAMPLED_PAIRS pairs of distinct individuals drawn uniformly (with replacement)."""
+    individuals = has.shape[0]
+    first = rng.integers(0, individuals, size=SAMPLED_PAIRS)
+    second = rng.integers(0, individuals - 1, size=SAMPLED_PAIRS)
+    second += second >= first  # another individual, every one equally likely
+    total = 0.0
+    for lo in range(0, SAMPLED_PAIRS, SAMPLE_BLOCK):
+        i, j = first[lo:lo + SAMPLE_BLOCK], second[lo:lo + SAMPLE_BLOCK]
+        both = np.asarray(has[i].multiply(has[j]).sum(axis=1)).ravel()
+        either = own[i] + own[j] - both
+        total += float(np.sum(1.0 - np.divide(both, either, out=np.ones_like(both), where=either > 0)))
+    return total / SAMPLED_PAIRS
+
+
+def _pair_sampler(owners: np.ndarray, rules: np.ndarray) -> np.random.Generator:
+    """The sample's generator, seeded by the population's rule sets: the same population gives the same
+    figure (a run, its resume and its replay agree bit for bit) and the GA's own stream is never touched."""
+    digest = hashlib.blake2b(np.ascontiguousarray(owners, dtype=np.int64).tobytes(), digest_size=16)
+    digest.update(np.ascontiguousarray(rules, dtype=np.int64).tobytes())
+    return np.random.default_rng(np.random.SeedSequence(int.from_bytes(digest.digest(), "little"),
+                                                        spawn_key=(DISTANCE_STREAM,)))
 
 
 def behaviour_seeds(config: GAConfig) -> list[int]:

@@ -12,6 +12,9 @@ which it first stood whole: drawn at random, made by a crossover's cut, or chang
 
 from __future__ import annotations
 
+import json
+import math
+import re
 from dataclasses import dataclass, field
 from typing import Any, Callable, Iterable, NamedTuple, Sequence
 
@@ -53,17 +56,75 @@ def generation_record(generation: int, population: Sequence[Individual]) -> dict
         for individual in population]}
 
 
-def read_generation_record(record: dict[str, Any]) -> tuple[int, list[Individual]]:
-    """(generation, population) of a record; ValueError (or KeyError, TypeError) for a malformed one."""
-    population = []
-    for row in record["individuals"]:
-        chromosome = np.frombuffer(bytes.fromhex(row["chromosome"]), dtype=GENE_DTYPE).reshape(-1, GENE_WIDTH).copy()
-        birth = row.get("birth")
-        first_seed = row.get("first_seed")
-        population.append(Individual(chromosome, int(row["evaluations"]), float(row["fitness_sum"]), int(row["goals"]),
-                                     None if first_seed is None else int(first_seed),
-                                     None if birth is None else Birth.from_dict(birth)))
-    return int(record["generation"]), population
+def read_generation_record(record: dict[str, Any]) -> tuple[int, "RecordedPopulation"]:
+    """(generation, population) of a record; ValueError (or KeyError, TypeError) for a malformed one. Its
+    individuals are decoded as they are read (a family tree or a page of the population reads a few of
+    thousands: decoding every birth of a generation of 10,000 took seconds)."""
+    rows = record["individuals"]
+    if not isinstance(rows, list):
+        raise TypeError("a lineage record's individuals are a list")
+    return int(record["generation"]), RecordedPopulation(rows)
+
+
+# A record's text as generation_record's dict is written (its keys' order; compact separators or json's
+# default ones): where each individual's object starts, and its evaluations and fitness sum, found without
+# parsing the whole record
+RECORD_START = re.compile(r'\{"generation":\s*\d+,\s*"individuals":\s*\[')
+ROW_START = re.compile(r'\{"chromosome":\s*"')
+ROW_FITNESS = re.compile(r'"evaluations":\s*(\d+),\s*"fitness_sum":\s*(-?[0-9.eE+-]+|-?Infinity|NaN)')
+
+
+class RecordedPopulation(Sequence[Individual]):
+    """A generation's recorded individuals, each decoded on first access (then kept): from the record's
+    rows, or from its text, where only the individuals read are parsed (a 10,000-individual record is
+    5 MB of JSON: parsing all of it took longer than a lineage request may)."""
+
+    def __init__(self, rows: list[dict[str, Any]]):
+        self._rows: Sequence[Any] = rows
+        self._text = ""
+        self._decoded: dict[int, Individual] = {}
+
+    @classmethod
+    def from_text(cls, text: str) -> "RecordedPopulation":
+        """The population of a record's JSON text (ValueError for a malformed one)."""
+        starts = [match.start() for match in ROW_START.finditer(text)]
+        fitness = ROW_FITNESS.findall(text)
+        if not RECORD_START.match(text) or len(fitness) != len(starts):  # not as written: parse it all
+            return read_generation_record(json.loads(text))[1]
+        population = cls([])
+        population._rows, population._text = starts, text
+        population._fitness = [float(total) / int(n) if int(n) else math.inf for n, total in fitness]
+        return population
+
+    def __len__(self) -> int:
+        return len(self._rows)
+
+    def __getitem__(self, index):  # type: ignore[override]
+        if isinstance(index, slice):
+            return [self[i] for i in range(*index.indices(len(self)))]
+        index = range(len(self))[index]  # IndexError out of range; negative indices count from the end
+        if index not in self._decoded:
+            row = self._rows[index]
+            self._decoded[index] = _individual(_DECODER.raw_decode(self._text, row)[0] if self._text else row)
+        return self._decoded[index]
+
+    def fitnesses(self) -> list[float]:
+        """Every individual's fitness (its running mean), without decoding the individuals."""
+        if self._text:
+            return list(self._fitness)
+        return [float(row["fitness_sum"]) / int(row["evaluations"]) if int(row["evaluations"]) else math.inf
+                for row in self._rows]
+
+
+_DECODER = json.JSONDecoder()
+
+
+def _individual(row: dict[str, Any]) -> Individual:
+    chromosome = np.frombuffer(bytes.fromhex(row["chromosome"]), dtype=GENE_DTYPE).reshape(-1, GENE_WIDTH).copy()
+    birth = row.get("birth")
+    first_seed = row.get("first_seed")
+    return Individual(chromosome, int(row["evaluations"]), float(row["fitness_sum"]), int(row["goals"]),
+                      None if first_seed is None else int(first_seed), None if birth is None else Birth.from_dict(birth))
 
 
 # ---- following genes back ---------------------------------------------------------------------
@@ -271,4 +332,5 @@ def best_place(bests: Iterable[tuple[int, float]], population_of: Callable[[int]
 
 def generation_best_index(population: Sequence[Individual]) -> int:
     """A generation's best individual, as the GA's: the lowest running mean, the first of equals."""
-    return min(range(len(population)), key=lambda i: population[i].fitness)
+    fitness = population.fitnesses() if isinstance(population, RecordedPopulation) else [i.fitness for i in population]
+    return min(range(len(fitness)), key=fitness.__getitem__)

@@ -7,6 +7,8 @@ steps, each a numba function: `close_step` (the step just made: player-ball coll
 restart, statistics, end conditions), `perceive_step`, `decide_step` (the game's own fuzzy
 controller, `fuzzy.batched.decide`), `act_step` (the skill's body command) and `physics_step` (the
 command applied to velocities, noise).
+Actions given from outside (soccer/gym, `GameBatch.act`) take `act_kernel` and `close_kernel`: the
+same steps, in the same order, the decide step left out.
 A single game is a batch of one: there is one code path. A game's result does not depend on its batch
 (soccer/world.py says how): games sharing a seed share a pitch slot and so play in separate spaces,
 each stepped in turn.
@@ -447,17 +449,78 @@ def tick_kernel(pitches, state, observation, decision, rulebases, scratch, layou
 
 
 @numba.njit(cache=True)
-def observe_kernel(pitches, state, observation, layout, constants):
-    """Perception alone for every live game: the first observation of a new batch, the very one its
+def observe_kernel(pitches, state, observation, layout, constants, games):
+    """Perception alone for the given (new, live) games: a game's first observation, the very one its
     first tick perceives again. The named tuples arrive as plain ones (see `plain`)."""
     pitches, state, observation = Pitches(*pitches), GameState(*state), Observation(*observation)
     layout, constants = VocabularyLayout(*layout), WorldConstants(*constants)
     done, player_at, ball_at = state.done, pitches.player, pitches.ball
-    for g in range(done.shape[0]):
+    for g in games:
         if not done[g]:
             player, ball = body_vectors(player_at[g]), body_vectors(ball_at[g])
             px, py, bx, by = local_positions(g, player, ball, pitches)
             perceive_step(g, px, py, bx, by, state, observation, layout, constants)
+
+
+# Actions given from outside (soccer/gym): `act_kernel`, pymunk's step, then `close_kernel` play one tick
+# as `tick_kernel` does, its decide step replaced by the given actions. The tick kernel closes a step at
+# the start of the next tick; here it is closed at once, so the caller sees the outcome and the next
+# observation before it chooses the next action. The order of the steps, and so every result, is the same.
+
+
+@numba.njit(cache=True)
+def act_kernel(pitches, state, observation, decision, layout, constants, rules, actions, values):
+    """Every live game's given action (a vocabulary action index, NO_ACTION: the hunt) and output values,
+    acted on from the game's latest observation: tick_kernel's act and physics steps. The named tuples
+    arrive as plain ones (see `plain`)."""
+    pitches, state, observation = borrowed(pitches), borrowed(state), borrowed(observation)
+    decision, layout = borrowed(decision), borrowed(layout)
+    pitches, state, observation, decision = Pitches(*pitches), GameState(*state), Observation(*observation), \
+        Decision(*decision)
+    layout, constants, rules = VocabularyLayout(*layout), WorldConstants(*constants), GameRules(*rules)
+    dt = constants.tick_seconds
+    done, facing, player_at, ball_at = state.done, state.facing, pitches.player, pitches.ball
+    # the positions the observation was perceived at, exactly (re-read from the bodies they may differ
+    # by the rounding of the pitch offset)
+    player_x, player_y, ball_x, ball_y = observation.player_x, observation.player_y, observation.ball_x, \
+        observation.ball_y
+    chosen, chosen_values = decision.action, decision.values
+    for g in range(done.shape[0]):
+        if done[g]:
+            continue
+        player, ball = body_vectors(player_at[g]), body_vectors(ball_at[g])
+        px, py, bx, by = player_x[g], player_y[g], ball_x[g], ball_y[g]
+        pvx, pvy = decay(player[2] * dt, player[3] * dt, constants.player_decay)
+        bvx, bvy = decay(ball[2] * dt, ball[3] * dt, constants.ball_decay)
+        perceived = perceive(px, py, facing[g], bx, by, constants)
+        chosen[g] = actions[g]
+        chosen_values[g, :] = values[g, :]
+        command = act_step(g, actions[g], perceived, math.sqrt(pvx * pvx + pvy * pvy), state, decision, layout,
+                           constants, rules)
+        physics_step(g, command, perceived, (pvx, pvy, bvx, bvy), (px, py, bx, by), player, ball, state,
+                     constants, rules)
+
+
+@numba.njit(cache=True)
+def close_kernel(pitches, state, observation, layout, constants, rules):
+    """After pymunk's step: every live game's step closed (tick_kernel's close step) and its next
+    observation perceived. Returns how many games finished now."""
+    pitches, state, observation = borrowed(pitches), borrowed(state), borrowed(observation)
+    layout = borrowed(layout)
+    pitches, state, observation = Pitches(*pitches), GameState(*state), Observation(*observation)
+    layout, constants, rules = VocabularyLayout(*layout), WorldConstants(*constants), GameRules(*rules)
+    done, ticks, player_at, ball_at = state.done, state.ticks, pitches.player, pitches.ball
+    finished = 0
+    for g in range(done.shape[0]):
+        if done[g] or ticks[g] == 0:
+            continue
+        player, ball = body_vectors(player_at[g]), body_vectors(ball_at[g])
+        px, py, bx, by = local_positions(g, player, ball, pitches)
+        px, py, bx, by, ended = close_step(g, px, py, bx, by, player, ball, pitches, state, constants, rules)
+        finished += ended
+        # also at the end: a Gymnasium episode's last observation shows where it ended
+        perceive_step(g, px, py, bx, by, state, observation, layout, constants)
+    return finished
 
 
 # ---- the batch --------------------------------------------------------------------------------
@@ -539,8 +602,9 @@ class GameBatch:
                                  command_direction=np.zeros(n), outcome=np.full(n, NO_OUTCOME, dtype=np.int64))
         self.set_rulebases(rulebases)
         self._live = n
+        self._acted: bool | None = None  # played by `act` (True) or by `step` (False): never both
         a = self._arguments
-        observe_kernel(a.pitches, a.state, a.observation, a.layout, a.constants)
+        observe_kernel(a.pitches, a.state, a.observation, a.layout, a.constants, np.arange(n))
 
     def set_rulebases(self, rulebases: Sequence[Rulebase]) -> None:
         """Give the players (new) controllers; the games go on where they are."""
@@ -564,14 +628,58 @@ class GameBatch:
         """One tick of every live game (a finished game's last call only closes its books)."""
         if self._live == 0:
             return
-        world = self.world
+        self._played_by(acted=False)
         a = self._arguments
         finished = tick_kernel(a.pitches, a.state, a.observation, a.decision, a.rulebases, a.scratch, a.layout,
                                a.constants, a.rules)
+        self._remove_finished(finished)
+        self._step_spaces()
+
+    def act(self, actions: np.ndarray, values: np.ndarray) -> None:
+        """One tick of every live game with its action given from outside instead of its controller's:
+        actions int64[n] (a vocabulary action index, NO_ACTION: the hunt), values float64[n, n_outputs]
+        (the action's output values); rows of finished games are ignored. The tick is closed at once:
+        `state` holds its goals and end, `observation` the next one (soccer/gym plays through this)."""
+        self._played_by(acted=True)
+        a = self._arguments
+        act_kernel(a.pitches, a.state, a.observation, a.decision, a.layout, a.constants, a.rules,
+                   np.ascontiguousarray(actions, dtype=np.int64), np.ascontiguousarray(values, dtype=np.float64))
+        self._step_spaces()
+        self._remove_finished(close_kernel(a.pitches, a.state, a.observation, a.layout, a.constants, a.rules))
+
+    def restart(self, g: int, seed: int) -> None:
+        """Game g begins a new game from `seed` (a vector environment's reset of one sub-environment),
+        played as `play_game(rulebase, seed)` plays it; the other games go on. Only for a batch played
+        by `act`: the new game has no controller."""
+        self._played_by(acted=True)
+        if not self.state.done[g]:
+            self._live -= 1
+        streams = self.state.streams[g:g + 1]  # a view: start_positions draws from game g's own stream
+        streams[0] = seed_states([seed])[0]
+        player, ball = start_positions(streams, self.constants)
+        self.world.restart_game(g, seed, tuple(player[0]), tuple(ball[0]))
+        _reset_row(self.state, self.decision, g, player[0], ball[0], self.constants.half_length)
+        self._live += 1
+        a = self._arguments
+        observe_kernel(a.pitches, a.state, a.observation, a.layout, a.constants, np.array([g]))
+
+    def _played_by(self, acted: bool) -> None:
+        # `step` closes the previous tick when the next begins, `act` at once: mixed, a tick would close twice
+        if self._acted is None:
+            self._acted = acted
+        elif self._acted != acted:
+            raise RuntimeError("a batch is played either by step() (its controllers) or by act() (given "
+                               "actions), not both")
+
+    def _remove_finished(self, finished: int) -> None:
         if finished:
             self._live -= finished
+            world = self.world
             for g in np.flatnonzero(self.state.done & (world.pitches.player != 0)):
                 world.remove_game(int(g))
+
+    def _step_spaces(self) -> None:
+        world = self.world
         for layer in world.occupied_layers():
             world.spaces[layer].step(self.constants.tick_seconds)
 
@@ -595,6 +703,27 @@ class GameBatch:
 
     def results(self) -> list[GameResult]:
         return [self.result(g) for g in range(self.games)]
+
+
+def _reset_row(state: GameState, decision: Decision, g: int, player: np.ndarray, ball: np.ndarray,
+               half_length: float) -> None:
+    """Game g's bookkeeping as a new batch starts it (GameBatch.__init__), its stream already seeded."""
+    for name in ("done", "kicked"):
+        getattr(state, name)[g] = False
+    for name in ("facing", "ticks", "goals", "kicks", "idle", "end_reason"):
+        getattr(state, name)[g] = 0
+    state.last_player[g] = player
+    state.last_ball[g] = ball
+    goal_dx = ball[0] - half_length
+    state.min_distance[g] = np.sqrt(goal_dx * goal_dx + ball[1] * ball[1])
+    state.last_side[g] = LEFT
+    decision.action[g] = NO_ACTION
+    decision.values[g] = 0.0
+    decision.strengths[g] = 0.0
+    decision.command[g] = 0
+    decision.command_value[g] = 0.0
+    decision.command_direction[g] = 0.0
+    decision.outcome[g] = NO_OUTCOME
 
 
 def play_games(rulebases: Sequence[Rulebase], seeds: Sequence[int], config: GameConfig = GameConfig(),

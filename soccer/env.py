@@ -1,5 +1,6 @@
 """`SoccerEnv`: one game, Gymnasium-style, for the UI. It is a batch of one through the same engine as
-evolution, so what the UI shows is exactly what the GA scored. No rendering here."""
+evolution, so what the UI shows is exactly what the GA scored. No rendering here. The Gymnasium
+environment proper, with an agent's actions, is soccer/gym/."""
 
 from __future__ import annotations
 

@@ -266,9 +266,10 @@ class World:
         self.pitches = Pitches(layer=layers, player=np.zeros(games, dtype=np.uint64),
                                ball=np.zeros(games, dtype=np.uint64), offsets=offsets)
         self._slots = slots
-        self._pitch_spaces = borrow_spaces(PitchOutline.of(config), max(len(taken), 1))
+        self._outline = PitchOutline.of(config)
+        self._pitch_spaces = borrow_spaces(self._outline, max(len(taken), 1))
         self.spaces = [pitch_space.space for pitch_space in self._pitch_spaces]
-        self._games_in_space = [0] * len(self.spaces)  # per layer
+        self._slots_in_space: list[set[int]] = [set() for _ in self.spaces]  # per layer: its games' slots
         self._objects: list[tuple[pymunk.Body, ...]] = [()] * games
         self._pitch: list[Pitch | None] = [None] * games
 
@@ -281,7 +282,7 @@ class World:
         self.spaces[layer].add(player, player_shape, ball, ball_shape)
         self._objects[game] = (player, player_shape, ball, ball_shape)
         self._pitch[game] = pitch_space.take_pitch(self._slots[game])
-        self._games_in_space[layer] += 1
+        self._slots_in_space[layer].add(self._slots[game])
         self.pitches.player[game] = vectors_address(player)
         self.pitches.ball[game] = vectors_address(ball)
 
@@ -299,14 +300,30 @@ class World:
         self._objects[game] = ()
         self._pitch[game] = None
         self.pitches.player[game] = self.pitches.ball[game] = 0
-        self._games_in_space[layer] -= 1
-        if not any(self._games_in_space):
+        self._slots_in_space[layer].discard(self._slots[game])
+        if not any(self._slots_in_space):
             give_back_spaces(self._pitch_spaces)
-            self._pitch_spaces, self.spaces, self._games_in_space = [], [], []
+            self._pitch_spaces, self.spaces, self._slots_in_space = [], [], []
+
+    def restart_game(self, game: int, seed: int, player_xy: tuple[float, float], ball_xy: tuple[float, float]) -> None:
+        """Game `game` (finished or not) begins again from `seed`, at that seed's slot, in the first space
+        where no other game holds that slot (a space borrowed when none is free)."""
+        self.remove_game(game)
+        slot = pitch_slot(seed)
+        held = self._slots_in_space
+        layer = next((k for k, slots in enumerate(held) if slot not in slots), len(held))
+        if layer == len(held):  # also when every game had left and the spaces went back
+            self._pitch_spaces += borrow_spaces(self._outline, 1)
+            self.spaces.append(self._pitch_spaces[-1].space)
+            held.append(set())
+        self._slots[game] = slot
+        self.pitches.offsets[game] = pitch_offset(slot)
+        self.pitches.layer[game] = layer
+        self.add_game(game, player_xy, ball_xy)
 
     def occupied_layers(self) -> list[int]:
         """The layers whose space still holds games (only their spaces need stepping)."""
-        return [layer for layer, games in enumerate(self._games_in_space) if games]
+        return [layer for layer, slots in enumerate(self._slots_in_space) if slots]
 
     def objects(self, game: int) -> tuple[pymunk.Body, pymunk.Shape, pymunk.Body, pymunk.Shape]:
         """(player body, player shape, ball body, ball shape) of a game still in the space."""

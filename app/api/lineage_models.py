@@ -9,12 +9,12 @@ from pydantic import BaseModel, Field, model_validator
 from app.api.models import RuleText, Strict
 from app.breeding import DEFAULT_MUTATION_RATE
 from app.lineage import MAX_GENERATIONS_BACK
-from ga.config import SEED_BOUND, GAConfig
+from ga.config import MAX_POPULATION, SEED_BOUND, GAConfig
 from ga.crossover import CROSSOVERS
 
 SQLITE_MAX_INTEGER = 2**63 - 1
 MAX_GENERATION = 100_000  # GAConfig's largest max_generations
-MAX_INDEX = 100_000  # GAConfig's largest population_size
+MAX_INDEX = MAX_POPULATION - 1  # the last place in the largest population GAConfig allows
 MAX_POPULATION_PAGE = 500
 CrossoverName = Literal[tuple(CROSSOVERS)]  # type: ignore[valid-type]
 

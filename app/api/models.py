@@ -332,16 +332,28 @@ class RunOut(BaseModel):
         )
 
 
+class TrueQualityOut(BaseModel):
+    """The best re-played on `starts` fresh starts, the same for every player (app/true_quality.py)."""
+
+    starts: int
+    fitness: float = Field(description="mean fitness over the starts")
+    fitness_std: float
+    goals: float = Field(description="mean goals a game")
+    scoring: float = Field(description="share of the games with a goal")
+
+
 class BestOut(BaseModel):
     run_id: int
     generation: int
     rules: str
     chromosome: str
-    fitness: float
+    fitness: float = Field(description="the fitness the GA saw: its running mean, often one game")
+    true_quality: TrueQualityOut | None = Field(
+        None, description="its true quality, beside `fitness`; null until re-played (and on rcssserver)")
 
     @classmethod
-    def of(cls, best: BestIndividual) -> "BestOut":
-        return cls(**best.to_dict())
+    def of(cls, best: BestIndividual, quality: Any = None) -> "BestOut":
+        return cls(**best.to_dict(), true_quality=quality.to_dict() if quality is not None else None)
 
 
 # ---- experiments -------------------------------------------------------------------------

@@ -258,6 +258,9 @@ def _summary(outcome: "ExperimentOutcome | ReplicatesOutcome") -> None:
     trials = outcome.trials
     typer.echo(f"{trials} trials ({outcome.ran} run, {outcome.skipped} already finished) in {outcome.seconds:.1f} s")
     typer.echo("verdicts: " + (", ".join(f"{n} {v}" for v, n in outcome.report.verdicts().items() if n) or "none"))
+    if hasattr(outcome.report, "no_difference_agreements") and outcome.report.verdicts()["agrees"]:
+        typer.echo(f"of the agreements, {outcome.report.no_difference_agreements()} are 'no significant difference "
+                   f"found' (each says the smallest difference its test could detect: report.md)")
     if hasattr(outcome, "replicates"):
         typer.echo(f"outputs in {outcome.folder}: report.md, report.html, verdicts.csv (each finding per replicate), "
                    f"and seed-S/ per replicate (statistics.csv, bests.csv, report, figures, trials/)")

@@ -1,15 +1,21 @@
 """`soccer-lab lineage RUN_DIR`: a player's family tree from a run folder's lineage records: the ancestors
 whose genes it carries (each with fitness, goals and how it was made), each of its rules with the ancestor
-it came from, its chromosome in compact notation; as text, and as an SVG or Graphviz DOT file."""
+it came from, its chromosome in compact notation; as text, and as an SVG or Graphviz DOT file. The player's
+true quality (re-played on the common fresh starts, app/true_quality.py) stands beside its one-game
+fitness; --rules writes the player as a rulebase file every tool opens (`rules ...`, `play`, the UI)."""
 
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated, Optional
+from typing import TYPE_CHECKING, Annotated, Optional
 
 import typer
 
 from app.cli.common import fail
+
+if TYPE_CHECKING:
+    from fuzzy.rule import Rulebase
+    from fuzzy.vocabulary import Vocabulary
 
 RunDir = Annotated[Path, typer.Argument(
     help="A run folder (what soccer-lab evolve --out wrote, or the app's runs/<id>).", show_default=False)]
@@ -24,12 +30,16 @@ Generations = Annotated[Optional[int], typer.Option(
     show_default=False)]
 Svg = Annotated[Optional[Path], typer.Option("--svg", help="Also draw the tree, rules and chromosome to this SVG file.",
                                              show_default=False)]
+RulesOut = Annotated[Optional[Path], typer.Option(
+    "--rules", help="Also write the player's rules to this file: rule text, or rulebase JSON when it ends in .json "
+    "(opens in soccer-lab rules ..., play and the app).", show_default=False)]
 Dot = Annotated[Optional[Path], typer.Option("--dot", help="Also write the tree as a Graphviz DOT file.",
                                              show_default=False)]
 
 
 def lineage_command(run_dir: RunDir, generation: Generation = None, index: Index = None,
-                    generations: Generations = None, svg: Svg = None, dot: Dot = None) -> None:
+                    generations: Generations = None, svg: Svg = None, dot: Dot = None,
+                    rules: RulesOut = None) -> None:
     """A player's family tree: by default the run's best so far; --generation G for that generation's best,
     with --index I for any of its players."""
     from app.lineage import RunLineage
@@ -42,10 +52,35 @@ def lineage_command(run_dir: RunDir, generation: Generation = None, index: Index
     except LineageError as exc:
         fail(str(exc))
     typer.echo(tree_text(view), nl=False)
-    for path, text in ((svg, lambda: tree_svg(view, with_rules=True)), (dot, lambda: tree_dot(view))):
+    rulebase = view.codec.decode(view.tree.individual.chromosome)
+    typer.echo(_quality_line(run_dir, rulebase, view.vocabulary))
+    for path, text in ((svg, lambda: tree_svg(view, with_rules=True)), (dot, lambda: tree_dot(view)),
+                       (rules, lambda: _rulebase_file_text(rules, rulebase, view.vocabulary))):
         if path is not None:
             try:
                 path.write_text(text())
             except OSError as exc:
                 fail(f"cannot write {path}: {exc.strerror or exc}")
             typer.echo(f"wrote {path}")
+
+
+def _quality_line(run_dir: Path, rulebase: "Rulebase", vocabulary: "Vocabulary") -> str:
+    """The chosen player re-played on the common fresh starts, in the run's own SimpleSoccer games."""
+    from app.environments import SIMPLE
+    from app.run import RunSettings
+    from app.run_outputs import RunFolder, RunFolderError
+    from app.true_quality import simple_soccer_replayer
+
+    try:
+        settings = RunSettings.from_dict(RunFolder(run_dir).read_manifest())
+    except (RunFolderError, ValueError):
+        return "true quality: not re-played (the run's settings cannot be read)"
+    if settings.env != SIMPLE:
+        return "true quality: not re-played (the run played on rcssserver)"
+    return f"true quality of this player: {simple_soccer_replayer(settings.game, vocabulary)(rulebase).text()}"
+
+
+def _rulebase_file_text(path: Path, rulebase: "Rulebase", vocabulary: "Vocabulary") -> str:
+    from app.rulebase_files import JSON_SUFFIX, rulebase_json, rulebase_text
+
+    return (rulebase_json if path.suffix.lower() == JSON_SUFFIX else rulebase_text)(rulebase, vocabulary)

@@ -15,7 +15,7 @@ from app.cli.common import TYPER_SETTINGS, CommandList, OneLineErrors, fail
 from app.cli.play import (CountTouchesOption, FitnessOption, GoalCapOption, IdleTicksOption, MaxTicksOption,
                           NoiseOption, SkillsOption, game_config)
 from app.rule_inspection import DEFAULT_USAGE_GAMES
-from app.rulebase_files import JSON_SUFFIX
+from app.rulebase_files import JSON_SUFFIX, legacy_trial_rules
 from fuzzy.engine import Engine, Inference
 from fuzzy.export import FORMATS, RulebaseFormatError, export_rulebase, rulebase_from_json, to_json
 from fuzzy.parser import RuleSyntaxError, parse_rulebase
@@ -36,7 +36,8 @@ VOCABULARY_OPTION = typer.Option(None, "--vocabulary", help="Vocabulary JSON for
 
 
 def load_rulebase(path: Path, vocabulary_path: Path | None = None) -> tuple[Rulebase, Vocabulary]:
-    """Read FILE as our JSON (if it starts with '{') or as rule text; bad input ends the command."""
+    """Read FILE as our JSON (if it starts with '{') or as rule text; bad input ends the command.
+    Reads every file soccer-lab writes, as app/rulebase_files.py does (other vocabularies too)."""
     try:
         text = path.read_text()
     except (OSError, UnicodeDecodeError) as exc:
@@ -46,10 +47,13 @@ def load_rulebase(path: Path, vocabulary_path: Path | None = None) -> tuple[Rule
     except VocabularyError as exc:
         fail(str(exc))
     if text.lstrip().startswith("{"):
-        try:
-            return rulebase_from_json(text)
-        except RulebaseFormatError as exc:
-            fail(f"{path}: {exc}")
+        legacy = legacy_trial_rules(text)  # an older experiment folder's best: its rules as text
+        if legacy is None:
+            try:
+                return rulebase_from_json(text)
+            except RulebaseFormatError as exc:
+                fail(f"{path}: {exc}")
+        text = legacy
     try:
         return parse_rulebase(text, vocabulary), vocabulary
     except RuleSyntaxError as error:

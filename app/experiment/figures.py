@@ -1,6 +1,8 @@
 """The experiment's figures (PNG, matplotlib without pyplot: no display, no global state), in the manner
 of the chapter's Figs. 8-31, drawn from the statistics table, and each trial's best player as the GA
-saw it and re-played on fresh starts (bests.csv). Generation axes tick whole generations only."""
+saw it and re-played on fresh starts (bests.csv). Generation axes tick whole generations only. Fitness
+curves over several trials are medians over trials, as the report's tables beside them; every axis says
+what it averages; legends stand beside the axes, never over the data."""
 
 from __future__ import annotations
 
@@ -79,6 +81,15 @@ def draw_figure(kind: str, table: StatisticsTable, preset: Preset,
 
 
 # ---- drawers ---------------------------------------------------------------------------------------
+def _legend(axes, **options) -> None:
+    """The legend beside the axes (constrained layout narrows them to make room), never over the data."""
+    axes.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), **{"fontsize": 8, **options})
+
+
+def _median_curve(curves: np.ndarray) -> np.ndarray:
+    """The median over trials at each generation: what the report's tables give (their final medians)."""
+    with np.errstate(all="ignore"):
+        return np.nanmedian(curves, axis=0)
 def _x(table: StatisticsTable, preset: Preset) -> tuple[dict[str, np.ndarray], str]:
     """Generations; evaluations when the settings spend them at different rates (population, random);
     games played when their evaluations play different numbers of games."""
@@ -100,13 +111,15 @@ def _fitness(column: str, what: str):
                 for trial, curve in zip(table.trials(preset.name, setting), table.curves(preset.name, setting, column)):
                     axes.plot(xs[setting][:len(curve)], curve, linewidth=0.9, label=f"trial {trial}")
             if len(axes.lines) <= 10:
-                axes.legend(fontsize=7, ncols=2)
+                _legend(axes, fontsize=7)
+            over = "each trial"
         else:
             for setting in table.settings(preset.name):
-                axes.plot(xs[setting], np.nanmean(table.curves(preset.name, setting, column), axis=0), label=setting)
-            axes.legend(title=preset.varied, fontsize=8)
+                axes.plot(xs[setting], _median_curve(table.curves(preset.name, setting, column)), label=setting)
+            _legend(axes, title=preset.varied)
+            over = "median over trials"
         axes.set_xlabel(xlabel)
-        axes.set_ylabel(f"{what} fitness (lower is better)")
+        axes.set_ylabel(f"{what} fitness ({over}; lower is better)")
         axes.grid(alpha=0.3)
     return draw
 
@@ -115,10 +128,10 @@ def _averaged(column: str, ylabel: str):
     def draw(axes, table: StatisticsTable, preset: Preset) -> None:
         xs, xlabel = _x(table, preset)
         for setting in table.settings(preset.name):
-            axes.plot(xs[setting], np.nanmean(table.curves(preset.name, setting, column), axis=0), label=setting)
-        axes.legend(title=preset.varied, fontsize=8)
+            axes.plot(xs[setting], _median_curve(table.curves(preset.name, setting, column)), label=setting)
+        _legend(axes, title=preset.varied)
         axes.set_xlabel(xlabel)
-        axes.set_ylabel(ylabel)
+        axes.set_ylabel(f"{ylabel} (median over trials)")
         axes.grid(alpha=0.3)
     return draw
 
@@ -136,7 +149,7 @@ def _goal_histogram(axes, table: StatisticsTable, preset: Preset) -> None:
     axes.set_xlim(-0.6, mean.shape[1] - 0.4)
     axes.set_xlabel("generation")
     axes.set_ylabel("% of population (mean over trials)")
-    axes.legend(fontsize=7, ncols=3)
+    _legend(axes, fontsize=7)
     axes.grid(alpha=0.3, axis="y")
 
 
@@ -149,8 +162,8 @@ def _composition(axes, table: StatisticsTable, preset: Preset) -> None:
         (line,) = axes.plot(generations, mean, label=label)
         axes.fill_between(generations, mean - std, mean + std, color=line.get_color(), alpha=0.2)
     axes.set_xlabel("generation")
-    axes.set_ylabel("per chromosome (mean +- std)")
-    axes.legend(fontsize=8)
+    axes.set_ylabel("per chromosome (population mean +- std,\naveraged over trials)")
+    _legend(axes)
     axes.grid(alpha=0.3)
 
 
@@ -159,8 +172,8 @@ def _gene_pools(axes, table: StatisticsTable, preset: Preset) -> None:
     for column, label in GENE_POOLS:
         axes.plot(np.nanmean(table.curves(preset.name, setting, column), axis=0), label=label)
     axes.set_xlabel("generation")
-    axes.set_ylabel("distinct genes in the population")
-    axes.legend(fontsize=8)
+    axes.set_ylabel("distinct genes in the population\n(mean over trials)")
+    _legend(axes)
     axes.grid(alpha=0.3)
 
 
@@ -169,10 +182,10 @@ def _best_so_far(axes, table: StatisticsTable, preset: Preset) -> None:
     xs, xlabel = _x(table, preset)
     for setting in table.settings(preset.name):
         curves = np.fmin.accumulate(table.curves(preset.name, setting, "best"), axis=1)
-        axes.plot(xs[setting], np.nanmean(curves, axis=0), label=setting)
-    axes.legend(title=preset.varied, fontsize=8)
+        axes.plot(xs[setting], _median_curve(curves), label=setting)
+    _legend(axes, title=preset.varied)
     axes.set_xlabel(xlabel)
-    axes.set_ylabel("best fitness so far (lower is better)")
+    axes.set_ylabel("best fitness so far (median over trials;\nlower is better)")
     axes.grid(alpha=0.3)
 
 
@@ -185,7 +198,7 @@ def _rules_and_bound(axes, table: StatisticsTable, preset: Preset) -> None:
         axes.plot(bound, linestyle="--", color=line.get_color(), label=f"{setting}: bound (genes / 2)")
     axes.set_xlabel("generation")
     axes.set_ylabel("per chromosome (mean over trials)")
-    axes.legend(title=preset.varied, fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))  # beside the lines
+    _legend(axes, title=preset.varied, fontsize=7)
     axes.grid(alpha=0.3)
 
 
@@ -197,7 +210,7 @@ def _premises_per_rule(axes, table: StatisticsTable, preset: Preset) -> None:
             axes.plot(np.nanmean(premises / rules, axis=0), label=setting)
     axes.set_xlabel("generation")
     axes.set_ylabel("premises per valid rule (mean over trials)")
-    axes.legend(title=preset.varied, fontsize=8)
+    _legend(axes, title=preset.varied)
     axes.grid(alpha=0.3)
 
 
@@ -217,7 +230,7 @@ def _true_quality(axes, bests: BestsTable, preset: Preset) -> None:
     axes.set_xticks(range(len(bests.settings(preset.name))), bests.settings(preset.name))
     axes.set_xlabel(preset.varied)
     axes.set_ylabel("fitness of each trial's best (lower is better)")
-    axes.legend(fontsize=8)
+    _legend(axes)
     axes.grid(alpha=0.3, axis="y")
 
 

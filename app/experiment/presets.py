@@ -219,6 +219,7 @@ class Preset:
     figures: tuple[str, ...] = field(default=())  # figure kinds (app.experiment.figures.FIGURE_KINDS)
     size: RunSize = CHAPTER_SIZE  # this run's Table 2 control
     chapter_size: RunSize = CHAPTER_SIZE  # the chapter's: the size its findings were read at
+    chapter_trials: int = DEFAULT_TRIALS  # the chapter's trials per setting (20 initial, 10 otherwise)
 
 
 def _config(options: ExperimentOptions, base: dict[str, Any], **changes: Any) -> GAConfig:
@@ -325,7 +326,7 @@ def preset(name: str, options: ExperimentOptions) -> Preset:
     robocup = name == ROBOCUP
     chapter = ExperimentOptions().size(robocup)
     return Preset(name, title, varied, _preset_settings(name, options), options.trials or trials, per_trial,
-                  (*figures, "true_quality"), options.size(robocup), chapter)
+                  (*figures, "true_quality"), options.size(robocup), chapter, trials)
 
 
 def presets(name: str, options: ExperimentOptions) -> list[Preset]:

@@ -14,6 +14,7 @@ from __future__ import annotations
 import csv
 import html
 import io
+import textwrap
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -34,6 +35,7 @@ VARIES = "varies with the seed"
 VERDICTS_FILE = "verdicts.csv"
 VERDICTS_FIGURE = "replicates-verdicts.png"
 MAX_REPLICATES = 100
+LABEL_CLAIM_CHARACTERS = 48  # of a claim in the verdict grid's row labels
 COLOURS = {AGREES: "#1a7f37", DISAGREES: "#c62828", INCONCLUSIVE: "#d4a72c", TOO_SMALL: "#9e9e9e",
            NOT_RUN: "#ffffff"}
 
@@ -224,6 +226,19 @@ def _html(report: ReplicatesReport, header: str, folder: Path) -> str:
     return "\n".join(parts + ["</body></html>"])
 
 
+def row_labels(rows: list[Row]) -> list[str]:
+    """One label a row, never two alike (a section's figure often holds several findings): the preset, the
+    chapter's place, the claim shortened, the summary."""
+    labels = [f"{r.preset} {r.where}: {textwrap.shorten(r.claim, LABEL_CLAIM_CHARACTERS, placeholder='...')} "
+              f"({r.summary})" for r in rows]
+    seen: dict[str, int] = {}
+    for i, label in enumerate(labels):
+        seen[label] = seen.get(label, 0) + 1
+        if seen[label] > 1:
+            labels[i] = f"{label} [{seen[label]}]"
+    return labels
+
+
 def _verdict_figure(folder: Path, seeds: list[int], rows: list[Row]) -> Figure:
     """A grid: one row per finding, one column per replicate, coloured by verdict."""
     order = list(COLOURS)
@@ -232,7 +247,7 @@ def _verdict_figure(folder: Path, seeds: list[int], rows: list[Row]) -> Figure:
     axes = figure.subplots()
     axes.imshow(grid, cmap=ListedColormap(list(COLOURS.values())), vmin=0, vmax=len(order) - 1, aspect="auto")
     axes.set_xticks(range(len(seeds)), [f"seed {s}" for s in seeds], fontsize=8)
-    axes.set_yticks(range(len(rows)), [f"{r.preset} {r.where}: {r.summary}" for r in rows], fontsize=7)
+    axes.set_yticks(range(len(rows)), row_labels(rows), fontsize=7)
     axes.set_xticks(np.arange(len(seeds)) - 0.5, minor=True)
     axes.set_yticks(np.arange(len(rows)) - 0.5, minor=True)
     axes.grid(which="minor", color="white", linewidth=1.5)

@@ -26,7 +26,7 @@ from __future__ import annotations
 
 import base64
 import html
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Callable
 
@@ -38,7 +38,9 @@ from app.experiment.presets import BEYOND_NAMES, ROBOCUP, Preset
 from app.experiment.table import BestsTable, StatisticsTable
 
 ALPHA = 0.05
-MIN_TRIALS = 5  # the fewest per setting at which the rank tests used can reach p < ALPHA
+POWER = 0.8  # for the smallest difference a "no difference" test could have detected
+RANK_EFFICIENCY = 3 / np.pi  # rank tests' efficiency against the t test on normal data: their trials count 0.955x
+MIN_TRIALS = 5  # our minimum: the fewest per setting at which the rank tests used can reach p < ALPHA
 VALUE_DECIMALS = 10  # per-trial values are compared at this precision (see _settled)
 AGREES, DISAGREES, INCONCLUSIVE, NOT_RUN = "agrees", "disagrees", "inconclusive", "not run"
 TOO_SMALL = "too small to judge"
@@ -63,6 +65,7 @@ REPORT_MD, REPORT_HTML = "report.md", "report.html"
 # scores at most ~0.77, Table 1); at or below SCORERS_SPREAD goal scorers have spread through the
 # population, where the chapter's SimpleSoccer plateau stays around 0.75 (6.2).
 NEVER_KICKING, SCORERS_SPREAD = 0.95, 0.60
+WHY_PAGE = "docs/research/calibration.md#why-the-disagreements"  # the docs page that measured why they disagree
 
 
 @dataclass(frozen=True)
@@ -71,13 +74,17 @@ class Assessment:
     verdict: str
     test: str
     needs: str = ""  # for TOO_SMALL: the size the finding needs, against this run's
+    reason: str = ""  # for DISAGREES: what this run's data show instead, in words
+    no_difference_found: bool = False  # an agreement that is the absence of a significant difference
+    smaller: str = ""  # judged at a smaller size than the chapter's: in which dimensions
 
     @property
     def shown(self) -> str:
-        """The verdict as the report prints it."""
+        """The verdict as the report prints it, with the smaller size it was judged at."""
         if self.verdict == TOO_SMALL:
             return f"{TOO_SMALL} (needs {self.needs})"
-        return self.verdict.upper() if self.verdict == DISAGREES else self.verdict
+        shown = self.verdict.upper() if self.verdict == DISAGREES else self.verdict
+        return f"{shown} (at a smaller size than the chapter's: {self.smaller})" if self.smaller else shown
 
 
 @dataclass(frozen=True)
@@ -100,6 +107,13 @@ class Report:
         for _, assessment in self.findings:
             counts[assessment.verdict] += 1
         return counts
+
+    def no_difference_agreements(self) -> int:
+        """Agreements that are "no significant difference found": absence of evidence, not evidence."""
+        return sum(a.verdict == AGREES and a.no_difference_found for _, a in self.findings)
+
+    def judged_smaller(self) -> int:
+        return sum(bool(a.smaller) for _, a in self.findings)
 
 
 # ---- per-trial values ------------------------------------------------------------------------------
@@ -136,30 +150,93 @@ def _p_between(groups: dict[str, np.ndarray], alternative: str = "two-sided") ->
     return float(stats.kruskal(*samples).pvalue), name
 
 
+def detectable_difference(groups: dict[str, np.ndarray]) -> tuple[float, float, int]:
+    """The smallest difference between two settings' means that the test could have detected with
+    probability POWER at ALPHA (two-sided) with these trials: the two-sample normal approximation, the
+    trials counted at the rank test's efficiency. (difference in the measure's units, in pooled
+    within-setting standard deviations, trials per setting)."""
+    trials = min(len(v) for v in groups.values())
+    z = stats.norm.ppf(1 - ALPHA / 2) + stats.norm.ppf(POWER)
+    in_deviations = float(z * np.sqrt(2 / (trials * RANK_EFFICIENCY)))
+    pooled = float(np.sqrt(np.mean([np.var(v, ddof=1) for v in groups.values()]))) if trials > 1 else float("nan")
+    return in_deviations * pooled, in_deviations, trials
+
+
+def _detectable_text(name: str, groups: dict[str, np.ndarray]) -> str:
+    difference, in_deviations, trials = detectable_difference(groups)
+    return (f"with {trials} trials per setting it could have detected a difference of about {difference:.3f} in "
+            f"{name} between two settings ({in_deviations:.2f} standard deviations; alpha {ALPHA}, power {POWER})")
+
+
+def _chapter_trials(table: StatisticsTable, preset: Preset) -> int:
+    return min((len(table.trials(preset.name, s)) for s in table.settings(preset.name)), default=0)
+
+
 def too_small(table: StatisticsTable, preset: Preset) -> str:
-    """What the run lacks to judge the preset's findings ("" when nothing): MIN_TRIALS trials per
-    setting, and the chapter's population, generations and game length."""
-    trials = min((len(table.trials(preset.name, s)) for s in table.settings(preset.name)), default=0)
-    lacking = [f"{MIN_TRIALS} trials per setting (here {trials})"] if trials < MIN_TRIALS else []
+    """What the run lacks to judge the preset's findings ("" when nothing): our minimum of MIN_TRIALS
+    trials per setting, and the chapter's population, generations and game length."""
+    trials = _chapter_trials(table, preset)
+    lacking = [f"{MIN_TRIALS} trials per setting, our minimum (here {trials})"] if trials < MIN_TRIALS else []
     return ", ".join(lacking + preset.size.shortfalls(preset.chapter_size))
+
+
+def smaller_than_chapter(table: StatisticsTable, preset: Preset) -> str:
+    """Every dimension in which the run is smaller than the chapter's ("" when none): trials per
+    setting (the chapter's 20 for its initial trials, 10 otherwise), population, generations, game length."""
+    trials = _chapter_trials(table, preset)
+    fewer = ([f"{trials} trials per setting (the chapter's {preset.chapter_trials})"]
+             if trials < preset.chapter_trials else [])
+    return ", ".join(fewer + preset.size.shortfalls(preset.chapter_size))
 
 
 # ---- claim shapes -----------------------------------------------------------------------------------
 def no_difference(*measures: tuple[str, Callable]) -> Callable[[StatisticsTable, Preset], Assessment]:
     """The chapter claims the varied parameter makes no significant difference to each measure."""
     def assess(table: StatisticsTable, preset: Preset) -> Assessment:
-        measured, tests, different = [], [], False
+        measured, tests, detectable, reasons = [], [], [], []
         for name, values in measures:
             groups = _groups(table, preset, values)
             p, test = _p_between(groups)
             measured.append(f"{name}: {_medians(groups)}")
             tests.append(f"{test} on {name}, p = {p:.3g}")
-            different |= p < ALPHA
+            detectable.append(_detectable_text(name, groups))
+            if p < ALPHA:
+                reasons.append(_spread_reason(name, groups, p))
         text = " | ".join(measured)
-        if different:
-            return Assessment(text, DISAGREES, "; ".join(tests) + f": a significant difference (p < {ALPHA})")
-        return Assessment(text, AGREES, "; ".join(tests) + f": no significant difference (p >= {ALPHA})")
+        if reasons:
+            return Assessment(text, DISAGREES, "; ".join(tests) + f": a significant difference (p < {ALPHA})",
+                              reason="; ".join(reasons))
+        return Assessment(text, AGREES, "; ".join(tests) + f": no significant difference (p >= {ALPHA}); "
+                          + "; ".join(detectable), no_difference_found=True)
     return assess
+
+
+def _spread_reason(name: str, groups: dict[str, np.ndarray], p: float) -> str:
+    """Which settings differ, e.g. "final average is lowest at 15% (0.801) and highest at 1% (0.912), p = 0.01"."""
+    medians = {s: float(np.median(v)) for s, v in groups.items()}
+    low, high = min(medians, key=medians.get), max(medians, key=medians.get)
+    return (f"{name} is lowest at {low} ({medians[low]:.3f}) and highest at {high} ({medians[high]:.3f}), "
+            f"medians over trials, p = {p:.3g}")
+
+
+def _shape(curve: np.ndarray, what: str) -> str:
+    """A curve in words, e.g. "unique premise genes fall from 136 to 104 by generation 3, then regrow to 117"."""
+    curve = curve[~np.isnan(curve)]
+    low, high = int(np.argmin(curve)), int(np.argmax(curve))
+    first, last = curve[0], curve[-1]
+    for turn, verb, back in ((low, "fall", "regrow"), (high, "rise", "fall back")):
+        if 0 < turn < len(curve) - 1 and abs(curve[turn] - last) > 0.25 * abs(curve[turn] - first):
+            return (f"{what} {verb} from {first:.3g} to {curve[turn]:.3g} by generation {turn}, then {back} to "
+                    f"{last:.3g} (mean over trials)")
+    return f"{what} go from {first:.3g} to {last:.3g} over {len(curve)} generations (mean over trials)"
+
+
+def _outcomes_reason(table: StatisticsTable, preset: Preset) -> str:
+    """The two ways a run leaves the chapter's plateau: the measured reason behind most disagreements."""
+    final = np.concatenate([table.final(preset.name, s, "mean") for s in table.settings(preset.name)])
+    return (f"in this run {int(np.sum(final >= NEVER_KICKING))} of {len(final)} trials never spread kicking (final "
+            f"average >= {NEVER_KICKING}) and {int(np.sum(final <= SCORERS_SPREAD))} were taken over by goal scorers "
+            f"(<= {SCORERS_SPREAD}), where the chapter's populations plateau around {PLATEAU_LEVEL}")
 
 
 def improves(column: str | tuple[str, ...], what: str, increase: bool) -> Callable[[StatisticsTable, Preset], Assessment]:
@@ -173,11 +250,7 @@ def improves(column: str | tuple[str, ...], what: str, increase: bool) -> Callab
             curves = sum(table.curves(preset.name, setting, c) for c in columns)
             start, end = curves[:, 0], np.array([row[~np.isnan(row)][-1] for row in curves])
             change = end - start if increase else start - end
-            try:
-                with np.errstate(divide="ignore", invalid="ignore"):  # a handful of trials: no normal approximation
-                    p = float(stats.wilcoxon(change, alternative="greater").pvalue)
-            except ValueError:  # no change at all
-                p = 1.0
+            p = _wilcoxon_greater(change)
             measured.append(f"{setting}: {np.median(start):.3f} -> {np.median(end):.3f}")
             tests.append(f"{setting} p = {p:.3g}")
             if np.median(change) <= 0:
@@ -188,12 +261,71 @@ def improves(column: str | tuple[str, ...], what: str, increase: bool) -> Callab
                 verdicts.append(INCONCLUSIVE)
         verdict = DISAGREES if DISAGREES in verdicts else INCONCLUSIVE if INCONCLUSIVE in verdicts else AGREES
         test = f"Wilcoxon signed-rank, one-sided, first vs last generation of each trial: {'; '.join(tests)}"
-        return Assessment(f"{what} (median first -> last): {'; '.join(measured)}", verdict, test)
+        wrong = [s for s, v in zip(table.settings(preset.name), verdicts) if v == DISAGREES]
+        reason = "; ".join(f"at {s}: " + _shape(np.nanmean(sum(table.curves(preset.name, s, c) for c in columns),
+                                                            axis=0), what) for s in wrong)
+        return Assessment(f"{what} (median first -> last): {'; '.join(measured)}", verdict, test, reason=reason)
     return assess
 
 
-def trend(column: str, what: str, rising: bool, from_share: float = 0.0) -> Callable[[StatisticsTable, Preset], Assessment]:
-    """The chapter claims a steady rise (fall) of the trial-averaged curve from `from_share` of the run on."""
+def improves_then_plateaus(column: str, what: str) -> Callable[[StatisticsTable, Preset], Assessment]:
+    """The chapter claims `column` falls steadily, then plateaus: three tests, one a part. Falls: first vs
+    last generation (Wilcoxon). Steadily: the trial-averaged curve's first half trends down (Spearman).
+    Then plateaus: each trial gains less in its second half than in its first (Wilcoxon, paired)."""
+    falls = improves(column, what, increase=False)
+
+    def assess(table: StatisticsTable, preset: Preset) -> Assessment:
+        overall = falls(table, preset)
+        curves = np.concatenate([table.curves(preset.name, s, column) for s in table.settings(preset.name)])
+        middle = curves.shape[1] // 2
+        if middle < 2:
+            return Assessment(overall.measured, TOO_SMALL, overall.test, "4 generations to tell a plateau")
+        mean = np.nanmean(curves, axis=0)
+        rho, p_steady = _spearman(mean[:middle + 1])
+        last = np.array([row[~np.isnan(row)][-1] for row in curves])
+        early, late = curves[:, 0] - curves[:, middle], curves[:, middle] - last
+        p_plateau = _wilcoxon_greater(early - late)
+        parts = {"falls": overall.verdict,
+                 "steadily": _direction_verdict(rho < 0, p_steady),
+                 "then plateaus": _direction_verdict(np.median(early - late) > 0, p_plateau)}
+        verdict = (DISAGREES if DISAGREES in parts.values() else INCONCLUSIVE if INCONCLUSIVE in parts.values()
+                   else AGREES)
+        measured = (f"{overall.measured}; gain in the first half {np.median(early):.3f}, in the second "
+                    f"{np.median(late):.3f} (medians over trials)")
+        test = (f"falls: {overall.test}; steadily: Spearman rank correlation of the mean curve with the generation, "
+                f"first half, rho = {rho:+.2f}, p = {p_steady:.3g}; then plateaus: Wilcoxon signed-rank, one-sided, "
+                f"first-half gain > second-half gain, p = {p_plateau:.3g}. Parts: "
+                + ", ".join(f"{part} {v}" for part, v in parts.items()))
+        failed = [part for part, v in parts.items() if v == DISAGREES]
+        failing = f"the part {failed[0]} fails" if len(failed) == 1 else f"the parts {' and '.join(failed)} fail"
+        reason = f"{failing}: {_shape(mean, what)}" if failed else ""
+        return Assessment(measured, verdict, test, reason=reason)
+    return assess
+
+
+def _spearman(part: np.ndarray) -> tuple[float, float]:
+    if np.ptp(part) == 0 or np.isnan(part).any() or len(part) < 3:  # flat or gapped: no trend
+        return 0.0, 1.0
+    rho, p = stats.spearmanr(np.arange(len(part)), part)
+    return float(rho), float(p)
+
+
+def _wilcoxon_greater(differences: np.ndarray) -> float:
+    try:
+        with np.errstate(divide="ignore", invalid="ignore"):  # a handful of trials: no normal approximation
+            return float(stats.wilcoxon(differences, alternative="greater").pvalue)
+    except ValueError:  # no difference at all
+        return 1.0
+
+
+def _direction_verdict(right_way: bool, p: float) -> str:
+    return AGREES if right_way and p < ALPHA else DISAGREES if not right_way else INCONCLUSIVE
+
+
+def trend(column: str, what: str, rising: bool, from_share: float = 0.0,
+          untested: str = "") -> Callable[[StatisticsTable, Preset], Assessment]:
+    """The chapter claims a steady rise (fall) of the trial-averaged curve from `from_share` of the run on;
+    `untested`: the part of the claim a trend cannot test, said in the verdict's test."""
     def assess(table: StatisticsTable, preset: Preset) -> Assessment:
         curve = np.nanmean(table.curves(preset.name, table.settings(preset.name)[0], column), axis=0)
         part = curve[int(from_share * len(curve)):]
@@ -208,7 +340,10 @@ def trend(column: str, what: str, rising: bool, from_share: float = 0.0) -> Call
         right_way = rho > 0 if rising else rho < 0
         verdict = AGREES if right_way and p < ALPHA else DISAGREES if not right_way else INCONCLUSIVE
         scope = f" from generation {int(from_share * len(curve))}" if from_share else ""
-        return Assessment(measured, verdict, f"Spearman rank correlation with the generation{scope}, p = {p:.3g}")
+        note = f" (tests the trend only: {untested} is not tested)" if untested else ""
+        reason = _shape(part, what) if verdict == DISAGREES else ""
+        return Assessment(measured, verdict, f"Spearman rank correlation with the generation{scope}, p = {p:.3g}{note}",
+                          reason=reason)
     return assess
 
 
@@ -299,8 +434,10 @@ def _elitist_like_tournament(table: StatisticsTable, preset: Preset) -> Assessme
     measured = f"final best: {_medians(groups)}"
     test = f"{test}, two-sided, p = {p:.3g}"
     if p < ALPHA:
-        return Assessment(measured, DISAGREES, test + f": a significant difference (p < {ALPHA})")
-    return Assessment(measured, AGREES, test + ": no significant difference")
+        return Assessment(measured, DISAGREES, test + f": a significant difference (p < {ALPHA})",
+                          reason=_spread_reason("final best", groups, p))
+    return Assessment(measured, AGREES, test + f": no significant difference; {_detectable_text('final best', groups)}",
+                      no_difference_found=True)
 
 
 def _best_mutation_rate(table: StatisticsTable, preset: Preset) -> Assessment:
@@ -396,7 +533,7 @@ FINDINGS: tuple[Finding, ...] = (
             "individual was 3.",
             _most_goals),
     Finding("initial", "6.2, Fig. 11", "The population average fitness improves steadily, then plateaus.",
-            improves("mean", "average fitness", increase=False)),
+            improves_then_plateaus("mean", "average fitness")),
     Finding("initial", "6.2, Fig. 11", "The average fitness plateaus around 0.75 (ball kicking), not near 0.5 "
             "(goal scoring).", _plateau_level),
     Finding("initial", "6.2, Fig. 12", "Good (goal-scoring) individuals are found after very few generations.",
@@ -434,7 +571,7 @@ FINDINGS: tuple[Finding, ...] = (
     Finding("long", "6.4.5, Fig. 28", "Rules per chromosome keep growing, still increasing after 100 generations.",
             trend("rules_mean", "rules per chromosome (second half)", rising=True, from_share=0.5)),
     Finding("long", "6.4.5, Fig. 29", "The pool of unique premise genes falls slowly but steadily.",
-            trend("unique_premise_genes", "unique premise genes", rising=False)),
+            trend("unique_premise_genes", "unique premise genes", rising=False, untested="'slowly'")),
     Finding("long", "6.4.5, Fig. 29", "The pool of unique consequent genes stays reasonably constant for ~40 "
             "generations after an initial decrease.", _consequent_pool),
     Finding("random", "6.5, Fig. 31", "The GA finds better individuals than random search.",
@@ -477,9 +614,11 @@ def judged(assess: Callable[[StatisticsTable, Preset], Assessment], table: Stati
     the finding needs."""
     assessment = assess(table, preset)
     lacking = too_small(table, preset)
-    if lacking and assessment.verdict != TOO_SMALL:
+    if lacking:
         return Assessment(assessment.measured, TOO_SMALL, assessment.test, lacking)
-    return assessment
+    if assessment.verdict == DISAGREES and not assessment.reason:
+        assessment = replace(assessment, reason=_outcomes_reason(table, preset))
+    return replace(assessment, smaller=smaller_than_chapter(table, preset))
 
 
 # ---- writing --------------------------------------------------------------------------------------
@@ -487,10 +626,15 @@ METHOD = (f"Each verdict is computed from statistics.csv. Tests use one value pe
           f"level {ALPHA}: Kruskal-Wallis H (3+ settings) or Mann-Whitney U (2 settings) for differences between "
           f"settings; Wilcoxon signed-rank for a change from the first to the last generation of the same trials; "
           f"Spearman rank correlation for a trend along the run; Brown-Forsythe for a difference in consistency. "
-          f"A claimed absence of difference agrees when no significant difference is found. A run with fewer "
-          f"than {MIN_TRIALS} trials per setting, or smaller than the chapter's Table 2 control (population, "
-          f"generations, game length), is too small to judge: such verdicts say the size they need. Claims about "
-          f"a level name their tolerance. Each "
+          f"A claimed absence of difference agrees when no significant difference is found, and says the smallest "
+          f"difference its test could have detected with its trials (alpha {ALPHA}, power {POWER}): absence of "
+          f"evidence, counted apart in the summary. A claim of several parts (\"improves steadily, then "
+          f"plateaus\") is tested part by part, or its test says which part it tested. A run with fewer than "
+          f"{MIN_TRIALS} trials per setting (our minimum), or smaller than the chapter's Table 2 control "
+          f"(population, generations, game length), is too small to judge: such verdicts say the size they need; "
+          f"a run judged with fewer trials than the chapter's (20 for its initial trials, 10 otherwise) says so "
+          f"beside each verdict. Each disagreement is followed by the reason this run's data show, with the docs "
+          f"page that measured why ({WHY_PAGE}). Claims about a level name their tolerance. Each "
           f"setting's table counts the trials whose population never learned to kick (final average at or above "
           f"{NEVER_KICKING}) and those taken over by goal scorers (at or below {SCORERS_SPREAD}): the two ways a "
           f"run leaves the chapter's plateau around {PLATEAU_LEVEL}, and the measured reason behind most "
@@ -528,10 +672,13 @@ def run_size(table: StatisticsTable, bests: BestsTable, presets: list[Preset]) -
             f"10 otherwise)")
     if replays:
         text += f"; each trial's best re-played on {', '.join(map(str, replays))} fresh starts"
-    lacking = [too_small(table, p) for p in presets]
-    if any(lacking):
-        text += (f". Smaller than the chapter's ({next(filter(None, lacking))}): findings it cannot tell are "
-                 f"'{TOO_SMALL}', with the size they need")
+    smaller = list(dict.fromkeys(filter(None, (smaller_than_chapter(table, p) for p in presets))))
+    if smaller:
+        text += f". Smaller than the chapter's in: {'; '.join(smaller)}"
+        if any(too_small(table, p) for p in presets):
+            text += (f"; below our minimum ({MIN_TRIALS} trials per setting) or the chapter's population, generations "
+                     f"or game length a finding is '{TOO_SMALL}', with the size it needs")
+        text += "; every other verdict says it was judged at a smaller size"
     return text + "."
 
 
@@ -540,7 +687,7 @@ def _blocks(table: StatisticsTable, bests: BestsTable, presets: list[Preset], fi
     counts = report.verdicts()
     blocks: list = [("h1", "soccer-lab: the chapter's experiments"),
                     ("p", run_size(table, bests, presets)),
-                    ("p", "Verdicts: " + (", ".join(f"{n} {v}" for v, n in counts.items() if n) or "none")),
+                    ("p", _verdict_summary(report, counts)),
                     ("p", METHOD)]
     chapter = [p for p in presets if p.name not in BEYOND_NAMES]
     beyond = [p for p in presets if p.name in BEYOND_NAMES]
@@ -552,6 +699,8 @@ def _blocks(table: StatisticsTable, bests: BestsTable, presets: list[Preset], fi
             blocks.append(("h3", "Findings"))
             blocks.append(("table", ["chapter", "claim", "measured here", "verdict", "test"],
                            [[f.where, f.claim, a.measured, a.shown, a.test] for f, a in findings]))
+            blocks += [("p", f"Why {f.where} disagrees (\"{f.claim}\"): {a.reason}. Measured why: {WHY_PAGE}")
+                       for f, a in findings if a.verdict == DISAGREES]
     if beyond:
         from app.experiment.beyond import BEYOND_INTRODUCTION
 
@@ -567,6 +716,16 @@ def _blocks(table: StatisticsTable, bests: BestsTable, presets: list[Preset], fi
         blocks.append(("h2", "Findings not assessed (their preset was not run)"))
         blocks.append(("table", ["preset", "chapter", "claim"], [[f.preset, f.where, f.claim] for f in skipped]))
     return blocks
+
+
+def _verdict_summary(report: Report, counts: dict[str, int]) -> str:
+    text = "Verdicts: " + (", ".join(f"{n} {v}" for v, n in counts.items() if n) or "none")
+    if counts[AGREES]:
+        text += (f". Of the {counts[AGREES]} agreements, {report.no_difference_agreements()} are 'no significant "
+                 f"difference found' (absence of evidence; each states the smallest difference its test could detect)")
+    if report.judged_smaller():
+        text += f". {report.judged_smaller()} verdicts were judged at a smaller size than the chapter's"
+    return text + "."
 
 
 def _preset_blocks(table: StatisticsTable, bests: BestsTable, preset: Preset, figures: list[Figure]) -> list:
@@ -640,8 +799,8 @@ def _html(blocks: list, folder: Path) -> str:
             header, rows = block[1], block[2]
             parts.append("<table><tr>" + "".join(f"<th>{html.escape(h)}</th>" for h in header) + "</tr>")
             for row in rows:
-                parts.append("<tr>" + "".join(f"<td class='{html.escape(c)}'>{html.escape(c)}</td>" for c in row)
-                             + "</tr>")
+                parts.append("<tr>" + "".join(f"<td class='{html.escape(c.split(' ')[0])}'>{html.escape(c)}</td>"
+                                              for c in row) + "</tr>")
             parts.append("</table>")
         elif kind == "figure":
             data = base64.b64encode((folder / block[1]).read_bytes()).decode()

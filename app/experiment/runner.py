@@ -125,19 +125,21 @@ def _one_after_another(histories: list[list[dict[str, Any]]]) -> list[dict[str, 
 
 
 def best_record(result: Any, rows: list[dict[str, Any]], replay: Evaluator, seeds: list[int]) -> dict[str, Any]:
+    """The trial's best: what the GA saw, its replays (app/true_quality.py) and its rules, as a rulebase
+    file every tool opens (trials/*.best.json: the rulebase JSON with the trial's figures beside it)."""
+    from app.rulebase_files import rulebase_json
+    from app.true_quality import replayed_quality
     from fuzzy.printer import format_rulebase
-    from ga.evaluation import Evaluation
 
     best = result.best
-    with Evaluation(replay) as evaluation:
-        scores = evaluation([result.best_rulebase] * len(seeds), seeds)
-    fitness = np.array([score.fitness for score in scores])
-    goals = np.array([score.goals for score in scores])
-    return {"generation": next(row["generation"] for row in rows if row["best"] <= best.fitness),
-            "fitness_seen": best.fitness, "evaluations_seen": best.evaluations, "replays": len(seeds),
-            "replay_fitness": float(fitness.mean()), "replay_fitness_std": float(fitness.std()),
-            "replay_goals": float(goals.mean()), "replay_scoring": float(np.mean(goals > 0)),
-            "chromosome": best.chromosome.tolist(), "rules": format_rulebase(result.best_rulebase, result.vocabulary)}
+    quality = replayed_quality(result.best_rulebase, replay, seeds)
+    return {**json.loads(rulebase_json(result.best_rulebase, result.vocabulary)),
+            "generation": next(row["generation"] for row in rows if row["best"] <= best.fitness),
+            "fitness_seen": best.fitness, "evaluations_seen": best.evaluations, "replays": quality.starts,
+            "replay_fitness": quality.fitness, "replay_fitness_std": quality.fitness_std,
+            "replay_goals": quality.goals, "replay_scoring": quality.scoring,
+            "chromosome": best.chromosome.tolist(),
+            "rule_text": format_rulebase(result.best_rulebase, result.vocabulary)}
 
 
 @dataclass(frozen=True)

@@ -1,4 +1,5 @@
-"""mkdocs hook: `<!-- generated: api -->` in a page becomes the HTTP API's reference, rendered from the
+"""mkdocs hook: the `<!-- generated: api -->` block of a page
+(docs/hooks/generated_block.py) holds the HTTP API's reference, rendered from the
 OpenAPI document the FastAPI app itself builds (the one `serve` publishes at /openapi.json), as plain
 Markdown: no script, nothing fetched, so the page reads the same offline.
 """
@@ -7,7 +8,9 @@ from __future__ import annotations
 
 from typing import Any
 
-MARKER = "<!-- generated: api -->"
+from generated_block import has_block, with_block  # docs/hooks/, on sys.path as mkdocs loads hooks
+
+NAME = "api"
 METHODS = ("get", "post", "put", "patch", "delete")
 
 
@@ -108,4 +111,4 @@ def api_reference() -> str:
 
 
 def on_page_markdown(markdown: str, **_: object) -> str:
-    return markdown.replace(MARKER, api_reference()) if MARKER in markdown else markdown
+    return with_block(markdown, NAME, api_reference()) if has_block(markdown, NAME) else markdown

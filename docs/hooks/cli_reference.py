@@ -1,4 +1,5 @@
-"""mkdocs hook: `<!-- generated: cli -->` in a page becomes the reference of every `soccer-lab` command.
+"""mkdocs hook: the `<!-- generated: cli -->` block of a page
+(docs/hooks/generated_block.py) holds the reference of every `soccer-lab` command.
 
 It is typer's own generator (the one `typer app.cli utils docs` runs), called in this process on the CLI's
 click group, so every command is found as `soccer-lab --help` finds it (the root group loads its commands
@@ -7,7 +8,9 @@ only when asked) and a failure stops the build instead of leaving the page empty
 
 from __future__ import annotations
 
-MARKER = "<!-- generated: cli -->"
+from generated_block import has_block, with_block  # docs/hooks/, on sys.path as mkdocs loads hooks
+
+NAME = "cli"
 
 
 def cli_reference() -> str:
@@ -25,4 +28,4 @@ def cli_reference() -> str:
 
 
 def on_page_markdown(markdown: str, **_: object) -> str:
-    return markdown.replace(MARKER, cli_reference()) if MARKER in markdown else markdown
+    return with_block(markdown, NAME, cli_reference()) if has_block(markdown, NAME) else markdown

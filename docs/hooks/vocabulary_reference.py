@@ -1,4 +1,5 @@
-"""mkdocs hook: `<!-- generated: vocabulary -->` in a page becomes the soccer vocabulary's tables, read
+"""mkdocs hook: the `<!-- generated: vocabulary -->` block of a page
+(docs/hooks/generated_block.py) holds the soccer vocabulary's tables, read
 from the one file that defines it, fuzzy/data/soccer_vocabulary.json: the linguistic variables with each
 term's membership parameters, the objects and their inputs, the outputs, the actions with the parameters
 each uses, and the compact notation's abbreviations."""
@@ -8,7 +9,9 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-MARKER = "<!-- generated: vocabulary -->"
+from generated_block import has_block, with_block  # docs/hooks/, on sys.path as mkdocs loads hooks
+
+NAME = "vocabulary"
 VOCABULARY = Path(__file__).resolve().parents[2] / "fuzzy" / "data" / "soccer_vocabulary.json"
 
 
@@ -56,4 +59,4 @@ def vocabulary_reference() -> str:
 
 
 def on_page_markdown(markdown: str, **_: object) -> str:
-    return markdown.replace(MARKER, vocabulary_reference()) if MARKER in markdown else markdown
+    return with_block(markdown, NAME, vocabulary_reference()) if has_block(markdown, NAME) else markdown

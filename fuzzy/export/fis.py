@@ -9,9 +9,10 @@ and names one defuzzification method for all outputs. So (see fuzzy/export/layou
 - Inside one AND, each premise adds its object's visibility test; repeated tests are kept once.
   When an AND tests one input against several terms (`Ball is Near and Ball is not VeryNear`), the
   second test reads a copy of that input, `ball_distance_2`, which the consumer feeds the same value.
-- No rule fired for an output: MATLAB returns the middle of the output's range, fuzzylite NaN. Each
-  range is widened where needed so that its middle is our default (power: 0..110 for 55); terms keep
-  their own feet, so the mean of maximum is unchanged.
+- No rule fired for an output: MATLAB returns the middle of the output's range, fuzzylite its
+  `Default` key (NaN without it). Each range is widened where needed so that its middle is our default
+  (power: 0..110 for 55; terms keep their own feet, so the mean of maximum is unchanged), and each
+  output says `Default=` our default, so both give what soccer-lab gives.
 - Inputs are not clamped to their range by the .fis readers: feed values inside it.
 """
 
@@ -115,11 +116,13 @@ def fis_membership(term: Term) -> str:
     return f"'{term.name}':'trapmf',[{' '.join(number(p) for p in term.parameters)}]"
 
 
-def _variable(section: str, variable: ExportedVariable) -> list[str]:
+def _variable(section: str, variable: ExportedVariable, *, output: bool = False) -> list[str]:
+    default = [f"Default={number(variable.default)}"] if output else []  # fuzzylite's key; MATLAB: the range's middle
     return [
         f"[{section}]",
         f"Name='{variable.name}'",
         f"Range=[{number(variable.minimum)} {number(variable.maximum)}]",
+        *default,
         f"NumMFs={len(variable.terms)}",
     ] + [f"MF{i}={fis_membership(t)}" for i, t in enumerate(variable.terms, start=1)] + [""]
 
@@ -145,6 +148,6 @@ def to_fis(rulebase: Rulebase, vocabulary: Vocabulary) -> str:
     for i, variable in enumerate(table.inputs, start=1):
         lines += _variable(f"Input{i}", variable)
     for i, variable in enumerate(table.outputs, start=1):
-        lines += _variable(f"Output{i}", variable)
+        lines += _variable(f"Output{i}", variable, output=True)
     lines += ["[Rules]"] + [rule.line() for rule in rules]
     return "\n".join(lines) + "\n"

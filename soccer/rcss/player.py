@@ -145,12 +145,12 @@ class RcssPlayer:
         self.view_half_angle = VIEW_HALF_ANGLE.get(cycle.sense_body.view_width, self.view_half_angle)
         perception = self.world.perceive(cycle.sense_body.speed, self.view_half_angle)
         ball_seen, goal_seen = perception.ball_distance is not None, perception.goal_distance is not None
-        kind, value, kick_direction, self.last_action, outcome = _command(
-            *self._kernel_arguments, ball_seen,
-            perception.ball_distance if ball_seen else 0.0, perception.ball_direction if ball_seen else 0.0,
-            goal_seen, perception.goal_distance if goal_seen else 0.0, perception.goal_direction if goal_seen else 0.0,
-            perception.goal_direction_known, perception.kickable, self.world.last_ball_side, perception.speed,
-            *self.skill_set)
+        seen = (ball_seen, perception.ball_distance if ball_seen else 0.0,
+                perception.ball_direction if ball_seen else 0.0,
+                goal_seen, perception.goal_distance if goal_seen else 0.0, perception.goal_direction if goal_seen else 0.0,
+                perception.goal_direction_known, perception.kickable, self.world.last_ball_side, perception.speed)
+        kind, value, kick_direction, self.last_action, outcome = _command(*self._kernel_arguments, seen,
+                                                                          self.skill_set)
         self.world.note_command(kind, value, perception.speed)
         self.last_command = (kind, value, kick_direction, outcome)
         self.last_sent = command_text(kind, value, kick_direction, self.params) if kind in (TURN, DASH, KICK) else None
@@ -166,14 +166,17 @@ class RcssPlayer:
 
 
 @numba.njit(cache=True)
-def _command(inputs, visible, rulebases, scratch, strengths, outputs, layout, constants, ball_seen, ball_distance,
-             ball_direction, goal_seen, goal_distance, goal_direction, goal_direction_known, kickable, last_ball_side,
-             speed, assisted, goal_in_view_only):
+def _command(inputs, visible, rulebases, scratch, strengths, outputs, layout, constants, seen, skill_set):
     """The body command (kind, value, direction) of the skill the fuzzy controller selects on what is
     perceived (HUNT when no rule fires), the selected action (NO_ACTION: none fired, the hunt) and why the
     skill gave that command (soccer/skills.py's outcome code);
     `inputs` and `visible` are its work arrays. The named tuples
-    arrive plain (soccer.engine.plain) and are named here."""
+    arrive plain (soccer.engine.plain) and are named here. `seen`: this cycle's perception (ball seen, distance,
+    direction; goal seen, distance, direction, direction known; kickable, the ball's last side, speed);
+    `skill_set`: (assisted, goal in view only)."""
+    (ball_seen, ball_distance, ball_direction, goal_seen, goal_distance, goal_direction, goal_direction_known,
+     kickable, last_ball_side, speed) = seen
+    assisted, goal_in_view_only = skill_set
     rulebases = CompiledRulebases(*(rulebases[:-1] + (VocabularyTables(*rulebases[-1]),)))
     scratch, layout, constants = Scratch(*scratch), VocabularyLayout(*layout), WorldConstants(*constants)
     inputs[layout.ball_distance], inputs[layout.ball_direction] = ball_distance, ball_direction

@@ -134,7 +134,7 @@ def test_the_best_is_replayed_on_fresh_starts_one_game_each():
     seeds = spec.replay_seeds()
     assert len(set(seeds)) == 6 and spec.seed not in seeds
     rulebase = ChromosomeCodec(SOCCER_VOCABULARY).decode(np.array(best["chromosome"], dtype=np.int8).reshape(-1, 5))
-    assert best["rules"] == format_rulebase(rulebase, SOCCER_VOCABULARY)
+    assert best["rule_text"] == format_rulebase(rulebase, SOCCER_VOCABULARY)
     games = play_games([rulebase] * 6, seeds, GameConfig(max_ticks=400), SOCCER_VOCABULARY) if len(rulebase) else []
     fitness = [g.fitness for g in games] or [1.0] * 6
     assert best["replay_fitness"] == pytest.approx(np.mean(fitness))
@@ -156,7 +156,7 @@ def test_a_shrunk_preset_beyond_the_chapter_answers_too_small_with_its_figures(t
     assert "## Beyond the chapter" in markdown and f"({name})" in markdown
     ((question, answer),) = outcome.report.answers
     assert question.preset == name and answer.verdict == TOO_SMALL
-    assert "needs 5 trials per setting (here 2), population 200 (here 6)" in answer.shown
+    assert "needs 5 trials per setting, our minimum (here 2), population 200 (here 6)" in answer.shown
     assert "its best re-played on 4 fresh starts (median)" in markdown
     assert outcome.report.findings == []  # no finding of the chapter belongs to these presets
 

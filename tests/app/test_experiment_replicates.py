@@ -146,3 +146,15 @@ def test_help_names_only_options_the_command_has(cli):
     assert text.count("For the robocup and transfer presets:") == 3
     for named in ("--replicates", "--seeds", "--replays", "uniform-crossover", "games-per-evaluation", "all-plus"):
         assert named in text
+
+
+def test_the_verdict_grid_never_labels_two_rows_alike():
+    """Rows of the grid once repeated "initial 6.2, Fig. 11" for the two findings of that figure."""
+    from app.experiment.replicates import Row, row_labels
+    from app.experiment.report import FINDINGS
+
+    rows = [Row(f.preset, f.where, f.claim, ["agrees"] * 3, "agrees in 3 of 3", "agrees") for f in FINDINGS]
+    labels = row_labels(rows)
+    assert len(set(labels)) == len(labels) == len(FINDINGS)
+    twins = [Row("initial", "6.2, Fig. 11", "The same claim", ["agrees"], "agrees in 1 of 1", "agrees")] * 2
+    assert len(set(row_labels(twins))) == 2

@@ -93,8 +93,9 @@ def test_too_few_trials_are_too_small_to_judge_and_say_what_they_need(tmp_path):
              for s in ("one-point", "two-point")}
     report = write_report(StatisticsTable(fabricated("crossover", alike)), [crossover], tmp_path)
     (assessment,) = [a for f, a in report.findings if f.preset == "crossover"]
-    assert assessment.verdict == TOO_SMALL and assessment.needs == "5 trials per setting (here 2)"
-    assert "| too small to judge (needs 5 trials per setting (here 2)) |" in (tmp_path / REPORT_MD).read_text()
+    assert assessment.verdict == TOO_SMALL and assessment.needs == "5 trials per setting, our minimum (here 2)"
+    markdown = (tmp_path / REPORT_MD).read_text()
+    assert "| too small to judge (needs 5 trials per setting, our minimum (here 2)) |" in markdown
 
 
 @pytest.mark.parametrize("shrunk, needs", [
@@ -102,7 +103,7 @@ def test_too_few_trials_are_too_small_to_judge_and_say_what_they_need(tmp_path):
     ({"generations": 3}, "generations 25 (here 3)"),
     ({"max_ticks": 300}, "game length 1000 (here 300)"),
     ({"trials": 3, "population": 50, "generations": 10},
-     "5 trials per setting (here 3), population 200 (here 50), generations 25 (here 10)"),
+     "5 trials per setting, our minimum (here 3), population 200 (here 50), generations 25 (here 10)"),
 ])
 def test_a_shrunk_run_never_disagrees_it_is_too_small_with_the_size_it_needs(tmp_path, shrunk, needs):
     """Data that would contradict the chapter at its size is "too small to judge" in a smaller run, the
@@ -122,16 +123,17 @@ def test_a_shrunk_run_never_disagrees_it_is_too_small_with_the_size_it_needs(tmp
     assert report.verdicts()[TOO_SMALL] == 5 and report.verdicts()[DISAGREES] == 0
     markdown = (tmp_path / REPORT_MD).read_text()
     assert "final average fitness 0.4" in markdown  # what was measured is still shown
-    assert "(the chapter's: 200, 25, 1000)" in markdown and f"Smaller than the chapter's ({needs})" in markdown
+    assert "(the chapter's: 200, 25, 1000)" in markdown and "Smaller than the chapter's in: " in markdown
+    assert needs.split(", our minimum")[-1].lstrip(", ") in markdown
 
 
 def test_a_run_at_the_chapters_size_says_so_in_its_header(tmp_path):
     rng = np.random.default_rng(8)
-    kicking = {"Table 2": {"mean": falling(0.95, 0.76, rng), "best": falling(0.6, 0.3, rng)}}
-    write_report(StatisticsTable(fabricated("initial", kicking)), [preset("initial", OPTIONS)], tmp_path)
+    kicking = {"Table 2": {"mean": falling(0.95, 0.76, rng, trials=20), "best": falling(0.6, 0.3, rng, trials=20)}}
+    write_report(StatisticsTable(fabricated("initial", kicking)), [preset("initial", ExperimentOptions())], tmp_path)
     markdown = (tmp_path / REPORT_MD).read_text()
     assert ("Size: Table 2's control at population 200, 25 generations, games of 1000 ticks (the chapter's: 200, "
-            "25, 1000); 10 trials per setting") in markdown
+            "25, 1000); 20 trials per setting (the chapter's: 20 for its initial trials, 10 otherwise)") in markdown
     assert "Smaller than the chapter's" not in markdown and TOO_SMALL not in markdown.split("Each verdict")[0]
 
 
@@ -215,3 +217,107 @@ def test_generation_axes_tick_whole_generations_and_histogram_bars_sit_on_them()
     bars = figure.axes[0].patches
     assert sorted({round(bar.get_x() + bar.get_width() / 2, 9) for bar in bars}) == [0, 1, 2]  # centred on each
     assert max(bar.get_y() + bar.get_height() for bar in bars) == pytest.approx(100)  # stacked to the whole population
+
+
+def test_fewer_trials_than_the_chapter_is_said_beside_each_verdict_and_in_the_summary(tmp_path):
+    """A run judged with 10 trials of the chapter's 20 (initial) once read "agrees" with no word of it."""
+    rng = np.random.default_rng(9)
+    kicking = {"Table 2": {"mean": falling(0.95, 0.76, rng), "best": falling(0.6, 0.3, rng)}}
+    report = write_report(StatisticsTable(fabricated("initial", kicking)), [preset("initial", OPTIONS)], tmp_path)
+    smaller = "10 trials per setting (the chapter's 20)"
+    assert all(a.smaller == smaller for f, a in report.findings if f.preset == "initial")
+    markdown = (tmp_path / REPORT_MD).read_text()
+    assert f"Smaller than the chapter's in: {smaller}" in markdown
+    assert f"(at a smaller size than the chapter's: {smaller})" in markdown
+    assert f"{report.judged_smaller()} verdicts were judged at a smaller size" in markdown
+    assert "(the chapter's: 20 for its initial trials, 10 otherwise)" in markdown
+
+
+def test_no_difference_states_the_smallest_difference_its_test_could_detect(tmp_path):
+    from app.experiment.report import detectable_difference
+
+    rng = np.random.default_rng(10)
+    crossover = preset("crossover", OPTIONS)
+    alike = {s: {"mean": falling(0.9, 0.7, rng), "best": falling(0.6, 0.4, rng)} for s in ("one-point", "two-point")}
+    report = write_report(StatisticsTable(fabricated("crossover", alike)), [crossover], tmp_path)
+    (assessment,) = [a for f, a in report.findings if f.preset == "crossover"]
+    assert assessment.verdict == AGREES and assessment.no_difference_found
+    finals = {s: alike[s]["mean"][:, -1] for s in alike}
+    difference, deviations, trials = detectable_difference(finals)
+    assert trials == 10 and 1.2 < deviations < 1.35  # (1.96 + 0.84) * sqrt(2 / (10 * 0.955))
+    assert f"could have detected a difference of about {difference:.3f} in final average" in assessment.test
+    markdown = (tmp_path / REPORT_MD).read_text()
+    assert f"Of the {report.verdicts()[AGREES]} agreements, {report.no_difference_agreements()} are 'no significant" \
+           in markdown and report.no_difference_agreements() == 1
+
+
+def test_then_plateaus_is_tested_not_only_first_against_last(tmp_path):
+    rng = np.random.default_rng(11)
+    initial = preset("initial", ExperimentOptions(trials=10, generations=25))
+    generations = np.arange(25)
+    plateauing = 0.76 + 0.2 * np.exp(-generations / 4) + rng.normal(0, 0.005, (10, 25))
+    accelerating = 0.96 - 0.2 * (generations / 24) ** 3 + rng.normal(0, 0.005, (10, 25))  # falls faster at the end
+    claim = "The population average fitness improves steadily, then plateaus"
+    for curve, expected in ((plateauing, AGREES), (accelerating, DISAGREES)):
+        table = StatisticsTable(fabricated("initial", {"Table 2": {"mean": curve, "best": curve - 0.3}}))
+        report = write_report(table, [initial], tmp_path)
+        (assessment,) = [a for f, a in report.findings if f.claim.startswith(claim)]
+        assert assessment.verdict == expected, assessment.test
+        assert "then plateaus: Wilcoxon signed-rank" in assessment.test
+    assert "then plateaus fails" in assessment.reason
+
+
+def test_each_disagreement_is_explained_under_it_from_the_runs_data(tmp_path):
+    rng = np.random.default_rng(12)
+    long = preset("long", OPTIONS)
+    generations = np.arange(100)
+    regrowing = 136 - 30 * np.minimum(generations, 3) / 3 + 0.15 * np.maximum(generations - 3, 0)
+    curves = {"unique_premise_genes": regrowing + rng.normal(0, 0.5, (10, 100)),
+              "mean": falling(0.95, 0.8, rng, generations=100), "best": falling(0.6, 0.4, rng, generations=100)}
+    report = write_report(StatisticsTable(fabricated("long", {"100 generations": curves})), [long], tmp_path)
+    (assessment,) = [a for f, a in report.findings if f.claim.startswith("The pool of unique premise genes")]
+    assert assessment.verdict == DISAGREES
+    assert "'slowly' is not tested" in assessment.test
+    assert "by generation 3, then regrow" in assessment.reason
+    markdown = (tmp_path / REPORT_MD).read_text()
+    assert "Why 6.4.5, Fig. 29 disagrees" in markdown
+    assert "docs/research/calibration.md#why-the-disagreements" in markdown
+    disagreements = [f for f, a in report.findings if a.verdict == DISAGREES]
+    assert markdown.count("Measured why: ") == len(disagreements) and all(a.reason for f, a in report.findings
+                                                                          if a.verdict == DISAGREES)
+
+
+@pytest.mark.parametrize("name", ["initial", "max-length", "long"])
+def test_legends_stand_beside_the_data_and_axes_say_means_or_medians(name):
+    """Legends once covered the initial goal histogram and the max-length chromosome lengths; curves were
+    means over trials beside tables of medians, unlabelled."""
+    from app.experiment.figures import DRAWERS, draw_figure
+
+    rng = np.random.default_rng(13)
+    chosen = preset(name, OPTIONS)
+    curves = {"mean": falling(0.9, 0.8, rng), "best": falling(0.6, 0.5, rng), "goals_0": np.full((10, 10), 0.7),
+              "goals_1": np.full((10, 10), 0.3), "genes_mean": falling(20, 40, rng),
+              "valid_rules_mean": falling(2, 6, rng), "unique_premise_genes": falling(130, 110, rng)}
+    table = StatisticsTable(fabricated(name, {s.label: curves for s in chosen.settings}))
+    for kind in (k for k in chosen.figures if k in DRAWERS):
+        figure, _ = draw_figure(kind, table, chosen)
+        (axes,) = figure.axes
+        figure.canvas.draw()
+        legend, plot = axes.get_legend(), axes.get_window_extent()
+        assert legend is None or legend.get_window_extent().x0 >= plot.x1, f"{name} {kind}: the legend covers the data"
+        label = axes.get_ylabel()
+        assert any(word in label for word in ("median over trials", "mean over trials", "averaged over trials",
+                                              "each trial")), f"{name} {kind}: {label!r}"
+
+
+def test_a_fitness_figure_ends_at_the_median_its_table_gives(tmp_path):
+    from app.experiment.figures import draw_figure
+
+    rng = np.random.default_rng(14)
+    crossover = preset("crossover", OPTIONS)
+    skewed = {s: {"mean": falling(0.9, 0.8, rng) ** 3, "best": falling(0.6, 0.5, rng)}
+              for s in ("one-point", "two-point")}
+    table = StatisticsTable(fabricated("crossover", skewed))
+    figure, _ = draw_figure("mean_fitness", table, crossover)
+    for line in figure.axes[0].lines:
+        assert line.get_ydata()[-1] == pytest.approx(np.median(table.final("crossover", line.get_label(), "mean")))

@@ -1,14 +1,17 @@
 """The docs site builds with `mkdocs build --strict` (a broken link, a missing page or a page left out of the
 nav fails), its generated reference pages hold what they are generated from, it fetches nothing from the
-internet, and the commands its ```console examples show give the output they show."""
+internet, the commands its ```console examples show give the output they show, and its ```pycon (Python)
+examples too."""
 
 from __future__ import annotations
 
+import doctest
 import os
 import re
 import shutil
 import subprocess
 import sys
+import tempfile
 from pathlib import Path
 
 import pytest
@@ -16,6 +19,9 @@ import pytest
 REPOSITORY = Path(__file__).resolve().parents[2]
 DOCUMENTS = sorted((REPOSITORY / "docs").rglob("*.md")) + [REPOSITORY / "README.md"]
 CONSOLE_BLOCK = re.compile(r"^```console\n(.*?)^```", re.MULTILINE | re.DOTALL)
+# A reference page's generated block (docs/hooks/generated_block.py) shows usage lines, not examples to run
+GENERATED_BLOCK = re.compile(r"<!-- generated: (\w+) -->.*?<!-- end of generated: \1 -->", re.DOTALL)
+PYCON_BLOCK = re.compile(r"^```pycon\n(.*?)^```", re.MULTILINE | re.DOTALL)
 EXTERNAL_ASSET = re.compile(r"<(?:script|link|img)\b[^>]*\b(?:src|href)=\"(?:https?:)?//", re.IGNORECASE)
 pytest.importorskip("mkdocs", reason="mkdocs is not installed: pip install -e '.[test]' (scripts/test does)")
 
@@ -79,7 +85,8 @@ def test_the_site_fetches_nothing_from_the_internet(site):
 def console_examples() -> list:
     examples = []
     for document in DOCUMENTS:
-        for number, block in enumerate(CONSOLE_BLOCK.findall(document.read_text(encoding="utf-8")), start=1):
+        text = GENERATED_BLOCK.sub("", document.read_text(encoding="utf-8"))
+        for number, block in enumerate(CONSOLE_BLOCK.findall(text), start=1):
             name = f"{document.relative_to(REPOSITORY)}#{number}"
             examples.append(pytest.param(block, id=name))
     return examples
@@ -125,3 +132,36 @@ def test_console_example_prints_what_it_shows(block, scratch):
         shown = done.stdout + done.stderr
         assert matches(expected, shown), f"$ {command}\nshown in the docs:\n" + "\n".join(expected) + \
             f"\nprinted:\n{shown}"
+
+
+# ---- the Python examples --------------------------------------------------------------------------------------
+def pycon_pages() -> list:
+    return [pytest.param(document, id=str(document.relative_to(REPOSITORY))) for document in DOCUMENTS
+            if PYCON_BLOCK.search(document.read_text(encoding="utf-8"))]
+
+
+def pycon_only(page: str) -> str:
+    """The page with every line outside its ```pycon blocks blanked: a failure names the page's own line."""
+    inside, lines = False, []
+    for line in page.splitlines():
+        fence = line.startswith("```")
+        lines.append(line if inside and not fence else "")
+        if fence:
+            inside = line.strip() == "```pycon"
+    return "\n".join(lines) + "\n"
+
+
+@pytest.mark.parametrize("document", pycon_pages())
+def test_python_examples_print_what_they_show(document, scratch, monkeypatch):
+    """A page's ```pycon blocks run in order, in one namespace, as doctests (`...` in an output stands for
+    any text), in a scratch copy of the repository's folder (a command they run is the venv's)."""
+    monkeypatch.chdir(scratch)
+    monkeypatch.setenv("PATH", f"{Path(sys.executable).parent}{os.pathsep}{os.environ.get('PATH', '')}")
+    monkeypatch.setenv("SOCCER_LAB_DATA", str(scratch / "data"))
+    monkeypatch.setattr(tempfile, "tempdir", str(scratch))  # the runs made without a folder
+    name = str(document.relative_to(REPOSITORY))
+    test = doctest.DocTestParser().get_doctest(pycon_only(document.read_text(encoding="utf-8")), {}, name, name, 0)
+    runner = doctest.DocTestRunner(optionflags=doctest.ELLIPSIS | doctest.NORMALIZE_WHITESPACE)
+    report: list[str] = []
+    runner.run(test, out=report.append)
+    assert runner.failures == 0, "".join(report)

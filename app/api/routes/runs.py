@@ -11,7 +11,7 @@ from fastapi.responses import FileResponse
 
 from app.api.models import BestOut, ErrorBody, RunOut, RunRename, RunStart
 from app.api.routes.dependencies import RecordId, RunsDependency, StoreDependency
-from app.run_outputs import RunFolder
+from app.run_outputs import RunFolder, best_quality_of
 from app.served_files import regular_file_inside
 from app.access import ScopedStore
 from app.store import NotFound, RunRecord
@@ -82,9 +82,10 @@ def resume(run_id: RecordId, runs: RunsDependency, store: StoreDependency, reque
     return _out(runs.resume(run_id), store, request)
 
 
-@router.get("/{run_id}/best", summary="The best individual so far: rule text, chromosome, fitness")
+@router.get("/{run_id}/best", summary="The best individual so far: rule text, chromosome, fitness and its true quality")
 def best(run_id: RecordId, store: StoreDependency) -> BestOut:
-    return BestOut.of(store.best_individual(run_id))
+    best = store.best_individual(run_id)
+    return BestOut.of(best, best_quality_of(store.get_run(run_id).folder, best.fitness))
 
 
 @router.get(

@@ -12,6 +12,7 @@ import viser.uplot
 
 from app.access import ScopedRuns, ScopedStore
 from app.environments import RCSS, RCSS_WORKERS, default_workers
+from app.run_outputs import run_replayed_note
 from app.runs import RunEvent, RunStateError, SampledPlayer, describe_place
 from app.store import NotFound, RunStatus
 from app.ui import style
@@ -235,7 +236,8 @@ class EvolvePanel:
         except (NotFound, ValueError) as exc:
             self.status.content = self._status_html(f"No best player yet: {exc}", error=True)
             return
-        name = f"run #{self.run_id} best (gen {best.generation}, fitness {best.fitness:.3f})"
+        quality = run_replayed_note(self.store, self.run_id, best.fitness)
+        name = f"run #{self.run_id} best (gen {best.generation}, fitness {best.fitness:.3f}{quality})"
         self.on_load(rulebase, name, self.run_id)
 
     def close(self) -> None:
@@ -265,7 +267,8 @@ class EvolvePanel:
             self.within.content = ""  # until the next generation's first chunk
             self.status.content = self._status_html(
                 f"Run #{event.run_id}: generation {generation} of 0–{total - 1} done — best so far "
-                f"{self.best_so_far[-1]:.3f}; this generation: best {stats['best']:.3f}, mean {stats['mean']:.3f}; "
+                f"{self.best_so_far[-1]:.3f}{run_replayed_note(self.store, event.run_id)}"
+                f"; this generation: best {stats['best']:.3f}, mean {stats['mean']:.3f}; "
                 f"{stats.get('evaluations', 0)} games played"
             )
         elif event.status.pending:

@@ -1,0 +1,91 @@
+"""What re-playing the best so far costs a Table 2 trial (target: at most 5% of its wall time). A run
+re-plays its best on app/true_quality.py's common starts each time the best changes (one batch of
+TRUE_QUALITY_STARTS single games); this plays the Table 2 trial of benchmarks/trial.py --full (population
+200 x 25 generations, every generation run, 2 workers) as a run with its folder's outputs and times the
+re-plays inside it, so the cost is measured without the noise of the games around it.
+
+    nice -n 19 python benchmarks/true_quality.py [--rounds 3] [--record]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import statistics
+import subprocess
+import sys
+from pathlib import Path
+
+from results import Figure, add_record_option, load_average, record, this_command
+
+HERE = Path(__file__).resolve().parent.parent
+
+TRIAL = r"""
+import json, tempfile, time
+from pathlib import Path
+import app.run as run_module
+import app.true_quality as true_quality
+from app.run import Run, RunSettings
+from ga.config import GAConfig
+from soccer.config import GameConfig
+from soccer.demo import demo_rulebase
+from soccer.engine import play_games
+spent = {"replays": 0.0, "count": 0}
+original = true_quality.replayed_quality
+def timed(*args, **kwargs):
+    started = time.perf_counter()
+    try:
+        return original(*args, **kwargs)
+    finally:
+        spent["replays"] += time.perf_counter() - started
+        spent["count"] += 1
+true_quality.replayed_quality = timed
+config = GAConfig(workers=2, target_fitness=0.0)
+game = GameConfig()
+play_games([demo_rulebase()], [0], game)  # the compiled kernels loaded before the clock starts
+with tempfile.TemporaryDirectory() as folder:
+    started = time.perf_counter()
+    run = Run.create(RunSettings(config, game), Path(folder) / "run")
+    with run.evaluator() as evaluate:
+        result = run.play(evaluate)
+    wall = time.perf_counter() - started
+print(json.dumps({"wall": wall, **spent, "starts": true_quality.TRUE_QUALITY_STARTS}))
+"""
+
+
+def trial() -> dict:
+    before = load_average()
+    done = subprocess.run([sys.executable, "-c", TRIAL], cwd=HERE, capture_output=True, text=True, check=True)
+    return {**json.loads(done.stdout.strip().splitlines()[-1]), "load": [before[0], load_average()[0]]}
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--rounds", type=int, default=3)
+    add_record_option(parser)
+    args = parser.parse_args()
+    load_before = load_average()
+    trial()  # unmeasured: compiles the kernels
+    runs = []
+    for r in range(args.rounds):
+        runs.append(trial())
+        print(f"  round {r + 1}: trial {runs[-1]['wall']:.2f} s, {runs[-1]['count']} re-plays "
+              f"{runs[-1]['replays']:.3f} s (load {runs[-1]['load']})", file=sys.stderr)
+    shares = [run["replays"] / run["wall"] for run in runs]
+    starts = runs[0]["starts"]
+    figures = [
+        Figure(f"re-playing the best so far on {starts} fresh starts, share of a Table 2 run (200 x 25, 2 workers)",
+               round(100 * statistics.median(shares), 2), "%", "<= 5 %", note=f"median of {args.rounds} runs"),
+        Figure("re-plays per Table 2 run (each time the best changed)", statistics.median(r["count"] for r in runs)),
+        Figure("time re-playing per Table 2 run", round(statistics.median(r["replays"] for r in runs), 3), "s"),
+        Figure("one Table 2 run with its folder's outputs", round(statistics.median(r["wall"] for r in runs), 2), "s"),
+    ]
+    for figure in figures:
+        print(f"{figure.name}: {figure.value} {figure.unit}  {figure.note}")
+    print(f"load average before {load_before}, after {load_average()}")
+    if args.record:
+        record("true_quality", figures, this_command(), load_before)
+
+
+if __name__ == "__main__":
+    main()
