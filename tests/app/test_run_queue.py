@@ -31,6 +31,9 @@ def store(tmp_path):
 def classroom(store, tmp_path):
     runs = RunManager(store, tmp_path, max_concurrent_runs=2, queue_runs=True)
     yield runs
+    for record in store.list_runs():  # stopped, not cut off: no run thread writes to the store once it closes
+        if runs.is_pending(record.id):
+            runs.stop(record.id)
     runs.shutdown()
 
 
