@@ -371,7 +371,11 @@ class RunManager:
         active = self._active.get(run_id)
         if active is not None:
             active.thread.join(None if deadline is None else max(0.0, deadline - time.monotonic()))
-        return self.store.get_run(run_id)
+        # a run that has just left the active runs writes its end status a moment later
+        while (record := self.store.get_run(run_id)).status.pending and not self.is_pending(run_id) \
+                and (deadline is None or time.monotonic() < deadline):
+            time.sleep(QUEUE_POLL_SECONDS)
+        return record
 
     def delete(self, run_id: int) -> None:
         """Forget a run that is not running: its rows, and its folder when that lies inside this
