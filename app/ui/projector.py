@@ -1,0 +1,165 @@
+"""The projector view of one tab: the pitch fills the window, the score, the tick, the action and what the
+player did in the world stand in large type in a band above it, and the side panels fold into their rails.
+A floating panel holds the band and, in its other tabs, the class round's table (classroom mode) and the
+population grid drawn larger, so a teacher can show them without leaving the view.
+
+The side panels are the server's (app/ui/layout.py); folding them for one tab only sends that tab the
+placement command viser's own `main_panel` handle sends (a client-scoped command for a panel every client
+renders). The key "P" is the page's (app/api/ui_page.py, PROJECTOR_KEY_SCRIPT): it clicks the button.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Callable
+
+import viser
+from viser._gui_handles import _PlacementMixin  # the placement commands main_panel's handle sends
+
+from app.ui import style
+from app.ui.game import Game
+from app.ui.panels.rules import HUNT_TEXT, parameters_text
+from app.ui.panels.svg import escape
+from app.ui.pitch import CAMERA_FOV, PitchView
+
+TOGGLE_LABEL = "Projector view (P)"
+LEAVE_LABEL = "Leave projector view (P)"
+
+
+class _ClientPlacement(_PlacementMixin):
+    """Placement commands for a server panel, sent to one client only (as viser's MainPanelHandle does)."""
+
+    def __init__(self, gui: viser.GuiApi, panel_id: str):
+        self._placement_uuid = panel_id
+        self._placement_gui_api = gui
+
+    def _placement_removed(self) -> bool:
+        return False
+
+
+class ProjectorView:
+    """`right_panel_id`: the right panel's (folded with the main panel while on); `on_toggle()`: redraw after a
+    switch."""
+
+    def __init__(self, client: viser.ClientHandle, pitch: PitchView, right_panel_id: str,
+                 on_toggle: Callable[[], None]):
+        self.client = client
+        self.pitch = pitch
+        self.on = False
+        self._sides = (client.gui.main_panel, _ClientPlacement(client.gui, right_panel_id))
+        self._on_toggle = on_toggle
+        gui = client.gui
+        # The band: one tab, so a plain header and the large type (its height is style.PROJECTOR_BAND).
+        self.band = gui.add_panel(visible=False)
+        with self.band.add_tab("Projector view"):
+            self.status = gui.add_html("")
+        # The rest, folded at the bottom right until the teacher opens it over the pitch.
+        self.more = gui.add_panel(visible=False)
+        with self.more.add_tab("View"):
+            leave = gui.add_button(LEAVE_LABEL)
+            leave.on_click(lambda _: self.toggle())
+        with self.more.add_tab("Population"):
+            self.population = gui.add_html("")
+        self._population_shown: str | None = None
+
+    def class_tab(self) -> viser.GuiTabHandle:
+        """The tab the class round's table goes in (classroom mode)."""
+        return self.more.add_tab("Class")
+
+    def toggle(self) -> None:
+        self.on = not self.on
+        for side in self._sides:
+            side.minimize() if self.on else side.expand()
+        self.band.visible = self.more.visible = self.on
+        if self.on:
+            self._place()
+            self.more.float(x=-style.PROJECTOR_GAP, y=-style.PROJECTOR_GAP, width=style.PROJECTOR_MORE_WIDTH)
+            self.more.minimize()
+        self.fit_camera()
+        self._on_toggle()
+
+    def canvas_changed(self) -> None:
+        """The canvas took a new shape (a panel folded, a window resized): the band and the pitch follow."""
+        if self.on:
+            self._place()
+        self.fit_camera()
+
+    def _place(self) -> None:
+        width = self.client.camera.image_width or 960
+        self.band.float(x=style.PROJECTOR_GAP, y=style.PROJECTOR_GAP, width=max(width - 2 * style.PROJECTOR_GAP, 320))
+
+    def fit_camera(self) -> None:
+        """The whole pitch in view; in the projector view, below the band."""
+        camera = self.client.camera
+        if not self.on or camera.image_height <= style.PROJECTOR_BAND:
+            self.pitch.fit_camera(camera)
+            return
+        band = style.PROJECTOR_BAND / camera.image_height  # of the canvas's height
+        self.pitch.fit_camera(camera)
+        g = self.pitch.geometry
+        half_x = g.half_length + style.PITCH_MARGIN + g.goal_depth
+        half_y = g.half_width + style.PITCH_MARGIN
+        aspect = camera.aspect / (1.0 - band)  # of the canvas under the band
+        half_height = max(half_y, half_x / aspect) * 1.01 / (1.0 - band)  # the whole canvas's, in metres
+        distance = half_height / math.tan(CAMERA_FOV / 2)
+        shift = band * half_height  # the pitch's centre moves down by half the band
+        camera.far = distance * 2
+        camera.position = (g.goal_depth / 2, shift, distance)
+        camera.look_at = (g.goal_depth / 2, shift, 0.0)
+
+    def show(self, game: Game) -> None:
+        if not self.on:
+            return
+        html = projector_html(game)
+        if self.status.content != html:
+            self.status.content = html
+
+    def show_population(self, grid_html: str) -> None:
+        """The population grid, larger than in its panel (style.PROJECTOR_ZOOM)."""
+        if not self.on or grid_html == self._population_shown:
+            return
+        self._population_shown = grid_html
+        self.population.content = (f'<div class="projector-population" style="zoom:{style.PROJECTOR_ZOOM}">'
+                                   f"{grid_html}</div>")
+
+
+def projector_html(game: Game) -> str:
+    """Goals, tick, the action and what the player did in the world, in type a class reads from the back."""
+    s, inference = game.state, game.inference()
+    selected = inference.selected
+    action = (f"{escape(game.vocabulary.display(selected.action))} "
+              f'<span style="font-weight:400">{escape(parameters_text(game.vocabulary, selected.parameters))}</span>'
+              if selected is not None else escape(HUNT_TEXT))
+    outcome = game.outcome_text()
+    refused = game.outcome_refused()
+    world = f"Then in the world: {outcome}" if outcome is not None else "Then in the world: nothing yet."
+    over = ""
+    if game.done:
+        over = (f'<span class="projector-over" style="color:{style.ERROR}"> · game over: '
+                f"{escape(game.end_sentence())}</span>")
+    big = style.PROJECTOR_FONT_SIZE
+    return (
+        f'<div class="projector-status" data-tick="{s.tick}" style="{style.FONT}; color:{style.INK}; '
+        f'font-size:{big}px; line-height:1.25">'
+        f'<div><b class="projector-score">Goals {s.goals}</b> <span class="projector-tick">· tick {s.tick} / '
+        f'{game.config.max_ticks} ·</span> <span class="projector-action" style="font-weight:700; '
+        f'color:{style.SELECTED}">{action}</span>{over}</div>'
+        f'<div class="projector-world" style="font-weight:600; color:{style.ERROR if refused else style.FIRED}">'
+        f"{escape(world)}</div></div>"
+    )
+
+
+# The page's key for the view (viser has no keys of its own): "P" clicks whichever of the two buttons is
+# shown, unless the user is typing (a rule, a name).
+PROJECTOR_KEY_SCRIPT = """
+document.addEventListener("keydown", (event) => {
+  if (event.key !== "p" && event.key !== "P") return;
+  if (event.ctrlKey || event.metaKey || event.altKey || event.repeat) return;
+  const typing = event.target;
+  if (typing && (typing.isContentEditable || /^(INPUT|TEXTAREA|SELECT)$/.test(typing.tagName))) return;
+  const labels = [%s];
+  const button = [...document.querySelectorAll("button")].find(
+    (b) => labels.includes(b.textContent.trim()) && b.offsetParent !== null);
+  if (button) { event.preventDefault(); button.click(); }
+});
+""" % ", ".join(f'"{label}"' for label in (LEAVE_LABEL, TOGGLE_LABEL))
