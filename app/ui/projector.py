@@ -1,7 +1,7 @@
 """The projector view of one tab: the pitch fills the window, the score, the tick, the action and what the
 player did in the world stand in large type in a band above it, and the side panels fold into their rails.
-A floating panel holds the band and, in its other tabs, the class round's table (classroom mode) and the
-population grid drawn larger, so a teacher can show them without leaving the view.
+The band's other tabs hold the population grid drawn larger and the class round's table (classroom mode),
+so a teacher can show them without leaving the view.
 
 The side panels are the server's (app/ui/layout.py); folding them for one tab only sends that tab the
 placement command viser's own `main_panel` handle sends (a client-scoped command for a panel every client
@@ -24,6 +24,7 @@ from app.ui.pitch import CAMERA_FOV, PitchView
 
 TOGGLE_LABEL = "Projector view (P)"
 LEAVE_LABEL = "Leave projector view (P)"
+TOGGLE_TAB, LEAVE_TAB = "Play", "View"  # the tabs the two buttons are on
 
 
 class _ClientPlacement(_PlacementMixin):
@@ -39,7 +40,8 @@ class _ClientPlacement(_PlacementMixin):
 
 class ProjectorView:
     """`right_panel_id`: the right panel's (folded with the main panel while on); `on_toggle()`: redraw after a
-    switch."""
+    switch. The band (a floating panel over the canvas's top PROJECTOR_BAND px) has the tabs Game (the large
+    type), Population and, in classroom mode, Class; beside it a small panel holds the way back."""
 
     def __init__(self, client: viser.ClientHandle, pitch: PitchView, right_panel_id: str,
                  on_toggle: Callable[[], None]):
@@ -49,22 +51,22 @@ class ProjectorView:
         self._sides = (client.gui.main_panel, _ClientPlacement(client.gui, right_panel_id))
         self._on_toggle = on_toggle
         gui = client.gui
-        # The band: one tab, so a plain header and the large type (its height is style.PROJECTOR_BAND).
+        # The band: the large type, and in its other tabs what the teacher opens over the pitch.
         self.band = gui.add_panel(visible=False)
-        with self.band.add_tab("Projector view"):
+        with self.band.add_tab("Game"):
             self.status = gui.add_html("")
-        # The rest, folded at the bottom right until the teacher opens it over the pitch.
-        self.more = gui.add_panel(visible=False)
-        with self.more.add_tab("View"):
-            leave = gui.add_button(LEAVE_LABEL)
-            leave.on_click(lambda _: self.toggle())
-        with self.more.add_tab("Population"):
+        with self.band.add_tab("Population"):
             self.population = gui.add_html("")
         self._population_shown: str | None = None
+        # Beside it, the way back.
+        self.more = gui.add_panel(visible=False)
+        with self.more.add_tab(LEAVE_TAB):
+            leave = gui.add_button(LEAVE_LABEL)
+            leave.on_click(lambda _: self.toggle())
 
     def class_tab(self) -> viser.GuiTabHandle:
-        """The tab the class round's table goes in (classroom mode)."""
-        return self.more.add_tab("Class")
+        """The band's tab the class round's table goes in (classroom mode)."""
+        return self.band.add_tab("Class")
 
     def toggle(self) -> None:
         self.on = not self.on
@@ -73,8 +75,6 @@ class ProjectorView:
         self.band.visible = self.more.visible = self.on
         if self.on:
             self._place()
-            self.more.float(x=-style.PROJECTOR_GAP, y=-style.PROJECTOR_GAP, width=style.PROJECTOR_MORE_WIDTH)
-            self.more.minimize()
         self.fit_camera()
         self._on_toggle()
 
@@ -85,8 +85,10 @@ class ProjectorView:
         self.fit_camera()
 
     def _place(self) -> None:
+        gap, more = style.PROJECTOR_GAP, style.PROJECTOR_MORE_WIDTH
         width = self.client.camera.image_width or 960
-        self.band.float(x=style.PROJECTOR_GAP, y=style.PROJECTOR_GAP, width=max(width - 2 * style.PROJECTOR_GAP, 320))
+        self.band.float(x=gap, y=gap, width=max(width - more - 3 * gap, 320))
+        self.more.float(x=-gap, y=gap, width=more)
 
     def fit_camera(self) -> None:
         """The whole pitch in view; in the projector view, below the band."""
@@ -149,17 +151,21 @@ def projector_html(game: Game) -> str:
     )
 
 
-# The page's key for the view (viser has no keys of its own): "P" clicks whichever of the two buttons is
-# shown, unless the user is typing (a rule, a name).
+# The page's key for the view (viser has no keys of its own): "P" clicks the button that enters or leaves it,
+# first opening the tab it is on (viser mounts only the open tab), unless the user is typing (a rule, a name).
 PROJECTOR_KEY_SCRIPT = """
 document.addEventListener("keydown", (event) => {
   if (event.key !== "p" && event.key !== "P") return;
   if (event.ctrlKey || event.metaKey || event.altKey || event.repeat) return;
   const typing = event.target;
   if (typing && (typing.isContentEditable || /^(INPUT|TEXTAREA|SELECT)$/.test(typing.tagName))) return;
-  const labels = [%s];
-  const button = [...document.querySelectorAll("button")].find(
-    (b) => labels.includes(b.textContent.trim()) && b.offsetParent !== null);
-  if (button) { event.preventDefault(); button.click(); }
+  const on = document.querySelector(".projector-status") !== null;
+  const [label, tab] = on ? [%r, %r] : [%r, %r];
+  const find = (selector, text) => [...document.querySelectorAll(selector)].find((e) => e.textContent.trim() === text);
+  event.preventDefault();
+  const button = find("button", label);
+  if (button) { button.click(); return; }
+  const opener = find('[role="tab"]', tab);
+  if (opener) { opener.click(); setTimeout(() => { const b = find("button", label); if (b) b.click(); }, 150); }
 });
-""" % ", ".join(f'"{label}"' for label in (LEAVE_LABEL, TOGGLE_LABEL))
+""" % (LEAVE_LABEL, LEAVE_TAB, TOGGLE_LABEL, TOGGLE_TAB)

@@ -445,7 +445,8 @@ class Session:
         if self._closed.is_set():  # a control's callback may still arrive from a closed tab
             return
         game = self.game
-        # Two batches: the browser applies panel-only updates at once, scene updates at its next frame.
+        # One batch: the pitch, its label, the panels and the status line arrive together and show one tick
+        # (in two, the panels showed a tick the pitch had not drawn yet: "dash 100" beside "Dribble: kick 8").
         with self.client.atomic():
             self.controls.show_status(game.status_html())
             self.projector.show(game)
@@ -454,7 +455,4 @@ class Session:
                                     game.outcome_refused(), tick=int(game.state.tick))
                 self.projector.show_population(self.population.grid.content)
                 self.policy.show_current(game.inputs())
-        if self._closed.is_set():
-            return
-        with self.client.atomic():
             self.pitch.show(game.frame())
