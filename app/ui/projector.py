@@ -91,23 +91,25 @@ class ProjectorView:
         self.more.float(x=-gap, y=gap, width=more)
 
     def fit_camera(self) -> None:
-        """The whole pitch in view; in the projector view, below the band."""
+        """The whole pitch in view; in the projector view, its lines below the band (which may cover the grass's
+        margin above them): the pitch as large as the rest of the canvas allows."""
         camera = self.client.camera
         if not self.on or camera.image_height <= style.PROJECTOR_BAND:
             self.pitch.fit_camera(camera)
             return
+        self.pitch.fit_camera(camera)  # lens, far plane, up: as in the panels' view
         band = style.PROJECTOR_BAND / camera.image_height  # of the canvas's height
-        self.pitch.fit_camera(camera)
-        g = self.pitch.geometry
-        half_x = g.half_length + style.PITCH_MARGIN + g.goal_depth
-        half_y = g.half_width + style.PITCH_MARGIN
-        aspect = camera.aspect / (1.0 - band)  # of the canvas under the band
-        half_height = max(half_y, half_x / aspect) * 1.01 / (1.0 - band)  # the whole canvas's, in metres
+        g, margin = self.pitch.geometry, style.PITCH_MARGIN
+        grass_length = 2 * (g.half_length + margin) + g.goal_depth
+        below_band = 2 * g.half_width + margin  # metres from the top line to the grass's bottom edge
+        half_height = max(below_band / (1.0 - band), grass_length / camera.aspect) * 1.01 / 2  # the canvas's
         distance = half_height / math.tan(CAMERA_FOV / 2)
-        shift = band * half_height  # the pitch's centre moves down by half the band
+        # The middle of those metres (scene y = -margin / 2: the scene's y is the world's, flipped) in the
+        # middle of the canvas under the band.
+        centre = -margin / 2 + half_height * band
         camera.far = distance * 2
-        camera.position = (g.goal_depth / 2, shift, distance)
-        camera.look_at = (g.goal_depth / 2, shift, 0.0)
+        camera.position = (g.goal_depth / 2, centre, distance)
+        camera.look_at = (g.goal_depth / 2, centre, 0.0)
 
     def show(self, game: Game) -> None:
         if not self.on:

@@ -14,7 +14,9 @@ import numpy as np
 import pytest
 
 from app.ui import style
+from app.ui.pitch import PitchGeometry
 from app.ui.projector import PROJECTOR_KEY_SCRIPT
+from soccer.config import GameConfig
 from tests.app.test_ui_browser import (CHROMIUM, browser, choose, dismiss_notifications,  # noqa: F401 (fixtures)
                                        session_of, shot, ui, wait_until)
 
@@ -42,14 +44,16 @@ def open_tab(ui, browser, viewport):
     return page, session_of(ui)
 
 
-def grass_box(png: bytes) -> tuple[int, int, int, int]:
-    """(left, top, right, bottom) of the grass's colours in a screenshot."""
+def grass_box(png: bytes, below: float = 0) -> tuple[int, int, int, int]:
+    """(left, top, right, bottom) of the grass's colours in a screenshot, under the row `below` (the band's
+    green sentence is the grass's colour)."""
     from PIL import Image
 
     pixels = np.asarray(Image.open(io.BytesIO(png)).convert("RGB")).astype(int)
     green = np.zeros(pixels.shape[:2], bool)
     for colour in (style.GRASS, style.GRASS_STRIPE):
         green |= (np.abs(pixels - np.array(colour)) <= COLOUR_TOLERANCE).all(axis=2)
+    green[: int(np.ceil(below))] = False
     rows, columns = np.nonzero(green)
     return int(columns.min()), int(rows.min()), int(columns.max()) + 1, int(rows.max()) + 1
 
@@ -83,19 +87,29 @@ def test_projector_view_fills_the_window_with_large_type(ui, browser, viewport):
         wait_until(lambda: not page.locator(".game-status").is_visible())  # the panels are folded
         assert not page.locator(".inference-decision").is_visible()
         width = viewport["width"]
-        wait_until(lambda: grass_box(page.screenshot())[2] - grass_box(page.screenshot())[0] >= PITCH_SHARE * width,
-                   timeout=30)
+        band = box(page, ".projector-status")
+        under = band["y"] + band["height"]
+
+        def grass_width() -> int:
+            left, _, right, _ = grass_box(page.screenshot(), below=under)
+            return right - left
+
+        wait_until(lambda: grass_width() >= PITCH_SHARE * width, timeout=30)
         time.sleep(0.5)  # the camera's last move drawn
-        png = page.screenshot()
-        left, top, right, bottom = grass_box(png)
+        left, top, right, bottom = grass_box(page.screenshot(), below=under)
         shot(page, f"projector-{width}x{viewport['height']}")
+        print(f"grass {right - left} px of {width} ({(right - left) / width:.3f}), from y {top} to {bottom}")
         assert right - left >= PITCH_SHARE * width, (left, right)
-        assert bottom <= viewport["height"] + 1
+        assert top - under < style.PITCH_MARGIN * (bottom - top) / 78, "a gap between the band and the pitch"
         for part in (".projector-score", ".projector-tick", ".projector-action", ".projector-world"):
             assert font_px(page, part) >= LARGE_TYPE, part
-        band = box(page, ".projector-status")
-        assert band["y"] + band["height"] <= top + style.PITCH_MARGIN * (bottom - top) / 78, "band over the lines"
-        assert band["width"] <= width
+        # The band ends above the pitch's lines, at most over the grass's margin: where the grass's top would be
+        # (from its width and shape, in metres), the lines begin PITCH_MARGIN lower.
+        x0, x1, y0, y1 = PitchGeometry.from_world(GameConfig().world).grass
+        pixels_per_metre = (right - left) / (x1 - x0)
+        lines_top = bottom - (y1 - y0 - style.PITCH_MARGIN) * pixels_per_metre
+        assert under <= lines_top, f"the band (to y {under}) covers the pitch's lines (from y {lines_top:.0f})"
+        assert band["x"] + band["width"] <= width
 
         page.keyboard.press("p")  # and back: the panels return
         page.locator(".game-status").wait_for(state="visible")
