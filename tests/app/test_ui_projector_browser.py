@@ -65,11 +65,11 @@ def box(page, selector: str) -> dict:
 
 
 def band_tab(page, name: str):
-    """The band's tab `name` (the folded right panel has tabs of the same names, on its rail)."""
-    band = box(page, ".projector-status")
+    """The band's tab `name`: the folded right panel has tabs of the same names on its rail, at the right edge."""
+    width = page.viewport_size["width"]
     tabs = page.get_by_role("tab", name=name, exact=True)
     return next(tabs.nth(i) for i in range(tabs.count())
-                if (b := tabs.nth(i).bounding_box()) and b["x"] < band["x"] + band["width"] and b["y"] < band["y"])
+                if (b := tabs.nth(i).bounding_box()) and b["x"] + b["width"] < width - 100)
 
 
 def font_px(page, selector: str) -> float:
