@@ -39,12 +39,12 @@ class _ClientPlacement(_PlacementMixin):
 
 
 class ProjectorView:
-    """`right_panel_id`: the right panel's (folded with the main panel while on); `on_toggle()`: redraw after a
-    switch. The band (a floating panel over the canvas's top PROJECTOR_BAND px) has the tabs Game (the large
+    """`right_panel_id`: the right panel's (folded with the main panel while on); `on_leave()`: the way back's
+    click (the session toggles under its lock); `on_toggle()`: redraw after a switch. The band (a floating panel over the canvas's top PROJECTOR_BAND px) has the tabs Game (the large
     type), Population and, in classroom mode, Class; beside it a small panel holds the way back."""
 
     def __init__(self, client: viser.ClientHandle, pitch: PitchView, right_panel_id: str,
-                 on_toggle: Callable[[], None]):
+                 on_leave: Callable[[], None], on_toggle: Callable[[], None]):
         self.client = client
         self.pitch = pitch
         self.on = False
@@ -59,10 +59,10 @@ class ProjectorView:
             self.population = gui.add_html("")
         self._population_shown: str | None = None
         # Beside it, the way back.
-        self.more = gui.add_panel(visible=False)
-        with self.more.add_tab(LEAVE_TAB):
+        self.way_back = gui.add_panel(visible=False)
+        with self.way_back.add_tab(LEAVE_TAB):
             leave = gui.add_button(LEAVE_LABEL)
-            leave.on_click(lambda _: self.toggle())
+            leave.on_click(lambda _: on_leave())
 
     def class_tab(self) -> viser.GuiTabHandle:
         """The band's tab the class round's table goes in (classroom mode)."""
@@ -71,8 +71,11 @@ class ProjectorView:
     def toggle(self) -> None:
         self.on = not self.on
         for side in self._sides:
-            side.minimize() if self.on else side.expand()
-        self.band.visible = self.more.visible = self.on
+            if self.on:
+                side.minimize()
+            else:
+                side.expand()
+        self.band.visible = self.way_back.visible = self.on
         if self.on:
             self._place()
         self.fit_camera()
@@ -85,10 +88,10 @@ class ProjectorView:
         self.fit_camera()
 
     def _place(self) -> None:
-        gap, more = style.PROJECTOR_GAP, style.PROJECTOR_MORE_WIDTH
+        gap, way_back = style.PROJECTOR_GAP, style.PROJECTOR_WAY_BACK_WIDTH
         width = self.client.camera.image_width or 960
-        self.band.float(x=gap, y=gap, width=max(width - more - 3 * gap, 320))
-        self.more.float(x=-gap, y=gap, width=more)
+        self.band.float(x=gap, y=gap, width=max(width - way_back - 3 * gap, 320))
+        self.way_back.float(x=-gap, y=gap, width=way_back)
 
     def fit_camera(self) -> None:
         """The whole pitch in view; in the projector view, its lines below the band (which may cover the grass's

@@ -148,7 +148,8 @@ class Session:
     def _build_play_tab(self) -> None:
         """The score, the tick counter and the play controls: all a tab needs to play."""
         gui = self.client.gui
-        self.projector = ProjectorView(self.client, self.pitch, self.layout.right_panel_id, on_toggle=self._render)
+        self.projector = ProjectorView(self.client, self.pitch, self.layout.right_panel_id,
+                                       on_leave=self.toggle_projector, on_toggle=self._render)
         # Tabs and buttons without icons: viser reads each icon from a 2 MB zip file the first time it
         # is used, seconds that the first visitor after a start would wait for.
         self._tabs = gui.add_tab_group()
