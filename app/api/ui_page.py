@@ -19,6 +19,7 @@ from fastapi import APIRouter, Request
 from fastapi.responses import HTMLResponse, RedirectResponse, Response
 
 from app.pitch_link import LINK_PARAMETER, LinkError, decode_link
+from app.ui.projector import PROJECTOR_KEY_SCRIPT
 
 UI_PATH = "/ui/"
 CLIENT_PAGE = Path(viser.__file__).resolve().parent / "client" / "build" / "index.html"
@@ -29,7 +30,7 @@ def ui_router(websocket_url: str) -> APIRouter:
     """GET /ui/: viser's client page, told to connect to `websocket_url`'s port (e.g. ws://127.0.0.1:8080) on
     the host name the page was opened under."""
     router = APIRouter(include_in_schema=False)
-    page = CLIENT_PAGE.read_bytes()
+    page = with_projector_key(CLIENT_PAGE.read_bytes())
     ui_port = urlsplit(websocket_url).port
 
     @router.get("/ui", include_in_schema=False)
@@ -51,6 +52,12 @@ def ui_router(websocket_url: str) -> APIRouter:
         return HTMLResponse(page, headers={"Cache-Control": "no-cache"})
 
     return router
+
+
+def with_projector_key(page: bytes) -> bytes:
+    """viser's page with the projector view's key (app/ui/projector.py)."""
+    script = f"<script>{PROJECTOR_KEY_SCRIPT}</script></body>".encode()
+    return page.replace(b"</body>", script, 1)
 
 
 def bad_link_page(reason: str) -> HTMLResponse:

@@ -126,17 +126,24 @@ class Game:
             f'height:6px; background:{style.ERROR}; border-radius:3px"></div></div></div>'
         )
 
+    def end_sentence(self) -> str:
+        """Why the game ended, in words (the game is over)."""
+        s, config = self.state, self.config
+        return end_reason_sentence(s.end_reason, config.max_ticks, config.goal_cap, config.idle_ticks)
+
     def _end_html(self) -> str:
         if not self.done:
             return ""
-        s, config = self.state, self.config
-        why = end_reason_sentence(s.end_reason, config.max_ticks, config.goal_cap, config.idle_ticks)
+        s = self.state
+        why = self.end_sentence()
         last = self.outcome_text()
         tried = f" Last it did: {escape(last)}." if last and s.end_reason == "idle" else ""
         return (
             f'<div class="game-over" data-reason="{escape(s.end_reason)}" style="margin-top:4px; '
             f'font-size:{style.FONT_SIZE}px; color:{style.ERROR}; font-weight:600">Game over: {escape(why)}.'
-            f'<span style="font-weight:400; color:{style.INK}">{tried}</span></div>'
+            f'<span style="font-weight:400; color:{style.INK}">{tried}</span>'
+            f'<div class="next-game" style="font-weight:400; color:{style.INK}">The game stays over: <b>New random '
+            f"start</b> or <b>Restart this seed</b> (Play tab) plays the next one.</div></div>"
         )
 
 

@@ -25,6 +25,7 @@ class Layout:
         gui.main_panel.set_width(style.LEFT_PANEL_WIDTH)
         right = gui.add_panel()
         self._right_tabs = {name: right.add_tab(name) for name in RIGHT_TABS}
+        self.right_panel_id = right._impl.uuid  # the projector view folds it for one tab (app/ui/projector.py)
         right.dock_right()
         right.set_width(style.RIGHT_PANEL_WIDTH)
         # A tab is one `with` context at a time: sessions built at once take turns.

@@ -36,6 +36,7 @@ from app.ui.panels.policy_view import PolicyPanel
 from app.ui.panels.population import PopulationPanel
 from app.store import NotFound
 from app.ui.pitch import PitchGeometry, PitchView
+from app.ui.projector import ProjectorView
 from fuzzy.printer import format_rulebase
 from fuzzy.rule import Rulebase
 from soccer.config import GameConfig
@@ -44,7 +45,6 @@ if TYPE_CHECKING:
     from app.classroom.tournament import Tournament
 
 log = logging.getLogger(__name__)
-GAME_OVER_PAUSE = 2.0  # seconds the final position stays on screen before the next start
 MAX_CATCH_UP = 0.25  # seconds of play made up at most after a stall (a busy machine): no bursts
 DUE_EARLY = 0.02  # of a tick: a wake-up this early still plays it, not a frame later
 IDLE_WAKE = 0.1  # seconds: paused or slow, the loop still looks for a finished generation this often
@@ -78,7 +78,6 @@ class Session:
         self._inspecting = threading.Lock()
         self.playing = True  # the first minute: the demo player is already playing
         self._tick_budget = 0.0
-        self._game_over_since: float | None = None
         self._closed = threading.Event()
         self._pitch_seen = threading.Event()
         self.ready = threading.Event()  # every panel is built (the game plays from the Play tab's)
@@ -126,6 +125,7 @@ class Session:
     # The pitch first, the panels after (docs/design.md, "First paint"): a browser without a GPU
     # spends seconds laying out the panels, and would draw the pitch only after them.
     def _show_pitch(self) -> None:
+        self.projector: ProjectorView | None = None  # built with the Play tab
         self.pitch = PitchView(self.client.scene, PitchGeometry.from_world(self.context.game.world))
         self.pitch.show(self.game.frame())
         self._aspect = self.client.camera.aspect
@@ -137,7 +137,10 @@ class Session:
             self._pitch_seen.set()
             if abs(camera.aspect - self._aspect) > 0.01:
                 self._aspect = camera.aspect
-                self.pitch.fit_camera(camera)
+                if self.projector is not None:
+                    self.projector.canvas_changed()
+                else:
+                    self.pitch.fit_camera(camera)
 
         self.pitch.fit_camera(self.client.camera)
         self.client.flush()
@@ -145,13 +148,16 @@ class Session:
     def _build_play_tab(self) -> None:
         """The score, the tick counter and the play controls: all a tab needs to play."""
         gui = self.client.gui
+        self.projector = ProjectorView(self.client, self.pitch, self.layout.right_panel_id,
+                                       on_leave=self.toggle_projector, on_toggle=self._render)
         # Tabs and buttons without icons: viser reads each icon from a 2 MB zip file the first time it
         # is used, seconds that the first visitor after a start would wait for.
         self._tabs = gui.add_tab_group()
         with self._tabs.add_tab("Play"):
             self.controls = PlayControls(
                 gui, on_play=self.set_playing, on_step=self.step_once, on_new_start=self.new_start,
-                on_reset_view=lambda: self.pitch.fit_camera(self.client.camera), on_skills=self.set_skills,
+                on_reset_view=self.projector.fit_camera, on_skills=self.set_skills,
+                on_projector=self.toggle_projector,
                 skills=self.game.config.skills, make_link=self.pitch_link, notice=self.link_problem,
             )
             if self.opened_link is not None:
@@ -184,6 +190,10 @@ class Session:
                 self.classroom = ClassPanel(gui, self.tournament, self.visitor, context.vocabulary,
                                             current=lambda: (self.game.rulebase, self.game.name),
                                             on_watch=self.watch_entry)
+            with self.projector.class_tab():  # the round's table and "Watch this game" in the projector view too
+                self.projector_class = ClassPanel(gui, self.tournament, self.visitor, context.vocabulary,
+                                                  current=lambda: (self.game.rulebase, self.game.name),
+                                                  on_watch=self.watch_entry)
         # The panels themselves (docked, sized, the right one's tabs) are the server's: see layout.py.
         with self.layout.right_tab("Inference"):
             self.inference = InferencePanel(gui, context.vocabulary, on_change=self.refresh,
@@ -207,6 +217,10 @@ class Session:
         self._render()
 
     # ---- controls -------------------------------------------------------------------------
+    def toggle_projector(self) -> None:
+        with self.lock:
+            self.projector.toggle()
+
     def set_playing(self, playing: bool) -> None:
         with self.lock:
             self.playing = playing
@@ -222,7 +236,6 @@ class Session:
     def new_start(self, seed: int) -> None:
         with self.lock:
             self.game.restart(seed)
-            self._game_over_since = None
             self._render()
 
     def set_skills(self, skills: str) -> None:
@@ -232,7 +245,6 @@ class Session:
             self.skills = skills
             config = self.game.config.model_copy(update={"skills": skills})
             self.game = Game(self.context, self.game.rulebase, self.game.name, self.game.seed, config)
-            self._game_over_since = None
             self.controls.show_skills(skills)
             self._render()
 
@@ -266,7 +278,6 @@ class Session:
         with self.lock:
             self.game = Game(self.context, rulebase, name, seed, config)
             self.controls.seed.value = seed
-            self._game_over_since = None
             self._show_rulebase(rulebase, name)
 
     def _runs_changed(self) -> None:
@@ -344,6 +355,7 @@ class Session:
         self.evolve.close()
         if self.tournament is not None:
             self.classroom.close()
+            self.projector_class.close()
 
     def join(self, timeout: float) -> bool:
         """Wait for the loop to end after close(); whether it has."""
@@ -396,8 +408,7 @@ class Session:
             self.breeding.advance(ticks)
         if ticks == 0:
             return
-        if self.game.done:
-            self._restart_after_pause()
+        if self.game.done:  # the end stays on screen, with its reason, until the teacher starts the next game
             return
         # Up to the tab's frame rate (FRAME_RATE, less with many tabs open: frame_share.py), every tick goes
         # to the browser (a late wake-up sends two in a row); faster, each frame's last.
@@ -431,29 +442,18 @@ class Session:
         due_in = (1.0 - DUE_EARLY - self._tick_budget) / self._tick_rate()
         return min(max(due_in, frame), max(IDLE_WAKE, frame))
 
-    def _restart_after_pause(self) -> None:
-        """Leave the final position on screen for a moment, then start the next game (the next seed)."""
-        now = time.perf_counter()
-        if self._game_over_since is None:
-            self._game_over_since = now
-        elif now - self._game_over_since > GAME_OVER_PAUSE:
-            self._game_over_since = None
-            self.controls.seed.value = self.game.seed + 1
-            self.game.restart(self.game.seed + 1)
-            self._render()
-
     def _render(self) -> None:
         if self._closed.is_set():  # a control's callback may still arrive from a closed tab
             return
         game = self.game
-        # Two batches: the browser applies panel-only updates at once, scene updates at its next frame.
+        # One batch: the pitch, its label, the panels and the status line arrive together and show one tick
+        # (in two, the panels showed a tick the pitch had not drawn yet: "dash 100" beside "Dribble: kick 8").
         with self.client.atomic():
             self.controls.show_status(game.status_html())
+            self.projector.show(game)
             if self.ready.is_set():
                 self.inference.show(game.inputs(), game.rule_texts, game.inference(), game.outcome_text(),
-                                    game.outcome_refused())
+                                    game.outcome_refused(), tick=int(game.state.tick))
+                self.projector.show_population(self.population.grid.content)
                 self.policy.show_current(game.inputs())
-        if self._closed.is_set():
-            return
-        with self.client.atomic():
             self.pitch.show(game.frame())

@@ -82,6 +82,12 @@ RULE_EDITOR_MIN_LINES = 6
 RULE_EDITOR_MAX_HEIGHT = "70vh"
 RULE_EDITOR_LINE_HEIGHT = 1.45  # em
 RIGHT_PANEL_WIDTH = 500
+# The projector view (app/ui/projector.py): a band of large type above the pitch, which fills the rest.
+PROJECTOR_FONT_SIZE = 26  # px: the score, the tick, the action and what the player did
+PROJECTOR_BAND = 130  # px of the canvas's height above the pitch, for the band's floating panel
+PROJECTOR_GAP = 8  # px between the band's panel and the canvas's edges
+PROJECTOR_WAY_BACK_WIDTH = 250  # px: the panel beside the band, with the way back
+PROJECTOR_ZOOM = 1.6  # the population grid in the projector view, this many times its size in the panel
 POLICY_REFRESH_SECONDS = 0.2  # the policy map's marker follows the player at 5 Hz (the map is ~12 kB)
 POPULATION_GRID = (3, 4)  # columns, rows of small pitches in the population view
 POPULATION_REFRESH_SECONDS = 0.1  # the small pitches redraw at 10 Hz

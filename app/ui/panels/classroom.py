@@ -144,10 +144,13 @@ class ClassPanel:
             self.refresh_entries()
         elif event.kind == "finished":
             self.show_round(event.round)
+            # the line said "A round is being played …": it must not outlive the round
+            self._say(f"Round {event.round.id} finished: its table is below." if event.round is not None
+                      else "The round finished.")
         elif event.kind == "started":
             self._say(f"A round is being played: {event.message} …")
-        elif event.kind == "failed" and self.visitor.teacher:
-            self._say(event.message, error=True)
+        elif event.kind == "failed":  # a pupil's line said the round was being played: it is not any more
+            self._say(event.message if self.visitor.teacher else "The round stopped without a table.", error=True)
 
     def refresh_entries(self) -> None:
         entries = self.tournament.entries()

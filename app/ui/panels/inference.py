@@ -46,10 +46,10 @@ class InferencePanel:
         self._shown: dict[str, str] = {}
 
     def show(self, inputs: Mapping[str, float | None], rule_texts: Sequence[str], inference: Inference,
-             outcome: str | None = None, refused: bool = False) -> None:
+             outcome: str | None = None, refused: bool = False, tick: int | None = None) -> None:
         """`outcome`: what the player then did (a sentence, None before its first decision); `refused`: the
         skill could not do what the action asks."""
-        self._set(self.decision, "decision", decision_html(self.vocabulary, inference, outcome, refused))
+        self._set(self.decision, "decision", decision_html(self.vocabulary, inference, outcome, refused, tick))
         self._set(self.rules, "rules", rules_html(rule_texts, inference, self.only_fired.value, self.usage))
         self._set(self.outputs, "outputs", outputs_html(self.vocabulary, inference))
         for name, handle in self.membership.items():

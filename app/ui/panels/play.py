@@ -10,6 +10,7 @@ import viser
 from app.ui import style
 from app.ui.number_field import FieldError, NumberField
 from app.ui.panels.svg import escape
+from app.ui.projector import TOGGLE_LABEL
 from ga.config import SEED_BOUND
 from soccer.config import SKILL_SET_NAMES
 from soccer.outcome import skill_set_sentence
@@ -25,6 +26,7 @@ class PlayControls:
         on_new_start: Callable[[int], None],
         on_reset_view: Callable[[], None],
         on_skills: Callable[[str], None],
+        on_projector: Callable[[], None],
         skills: str,
         make_link: Callable[[], str] | None = None,
         notice: str | None = None,
@@ -44,6 +46,9 @@ class PlayControls:
                                        hint="What the player's actions do in the world (soccer/skills.py)")
         self.skills_note = gui.add_html("")
         self.show_skills(skills)
+        projector = gui.add_button(TOGGLE_LABEL, hint="The pitch fills the window; score, tick, action and what "
+                                                      "the player did in large type; the panels fold away")
+        projector.on_click(lambda _: on_projector())
         reset_view = gui.add_button("Fit pitch to view", color="gray")
         if make_link is not None:
             share = gui.add_button("Link to this pitch", color="gray",

@@ -28,18 +28,20 @@ def outcome_html(outcome: str | None, refused: bool) -> str:
 
 
 def decision_html(vocabulary: Vocabulary, inference: Inference, outcome: str | None = None,
-                  refused: bool = False) -> str:
+                  refused: bool = False, tick: int | None = None) -> str:
     """The chosen action with its parameters, what the player then did (`outcome`, a sentence), then every
-    fired action with its support."""
+    fired action with its support. `tick`: the game's tick it explains (data-tick: the page can check that the
+    panel and the pitch show the same one)."""
+    tick_mark = f' data-tick="{tick}"' if tick is not None else ""
     selected = inference.selected
     did = outcome_html(outcome, refused)
     if selected is None:
         head = f'<div class="decision" data-action="HUNT" style="color:{style.MUTED}">{escape(HUNT_TEXT)}</div>'
-        return f'<div style="{style.FONT}; font-size:{style.FONT_SIZE}px">{head}{did}</div>'
+        return f'<div class="inference-decision"{tick_mark} style="{style.FONT}; font-size:{style.FONT_SIZE}px">{head}{did}</div>'
     head = (
         f'<div class="decision" data-action="{escape(selected.action)}" style="font-size:{style.FONT_SIZE + 6}px; '
         f'font-weight:700; color:{style.SELECTED}">{escape(vocabulary.display(selected.action))} '
-        f'<span style="font-weight:400; color:{style.INK}">{escape(_parameters(vocabulary, selected.parameters))}'
+        f'<span style="font-weight:400; color:{style.INK}">{escape(parameters_text(vocabulary, selected.parameters))}'
         f"</span></div>"
     )
     others = "".join(
@@ -48,13 +50,13 @@ def decision_html(vocabulary: Vocabulary, inference: Inference, outcome: str | N
         for a in inference.fired
     )
     return (
-        f'<div style="{style.FONT}; font-size:{style.FONT_SIZE}px">{head}{did}'
+        f'<div class="inference-decision"{tick_mark} style="{style.FONT}; font-size:{style.FONT_SIZE}px">{head}{did}'
         f'<div style="color:{style.MUTED}; font-size:{style.SMALL_FONT_SIZE + 1}px">support of fired actions: '
         f"{others}</div></div>"
     )
 
 
-def _parameters(vocabulary: Vocabulary, parameters: dict[str, float]) -> str:
+def parameters_text(vocabulary: Vocabulary, parameters: dict[str, float]) -> str:
     return "  ".join(
         f"{name} {format_value(value, vocabulary.output_variable(name).unit)}" for name, value in parameters.items()
     )
