@@ -3,7 +3,8 @@
 A name is NFKC-normalised (full-width letters, ligatures and compatibility spaces become plain ones) and
 refused when it holds a character that shows nothing or shows as something else: format characters (zero
 width spaces and joiners, Unicode category Cf), spaces other than the plain one, line and paragraph
-separators, private-use and unassigned code points, and combining marks that do not follow a letter.
+separators, private-use and unassigned code points, letters that show blank (Hangul fillers, the blank
+braille pattern), and combining marks that do not follow a letter (or pile up on one).
 
 Two names are one when their confusable skeletons are equal (Unicode TR39, section 4: "B\u043eb" with a
 Cyrillic o is "Bob"). The standard library has no confusables table and the packages that carry one ship
@@ -31,6 +32,8 @@ MULTI_CHARACTER = (("rn", "m"), ("vv", "w"), ("cl", "d"))  # TR39: pairs that re
 REFUSED_CATEGORIES = {"Cc": "a control character", "Cf": "an invisible format character",
                       "Cs": "a surrogate", "Co": "a private-use character", "Cn": "an unassigned character",
                       "Zl": "a line separator", "Zp": "a paragraph separator"}
+# letters and symbols that show as blank (TR39's default-ignorable and blank lookalikes outside Cf)
+BLANK = frozenset("\u115f\u1160\u3164\uffa0\u2800")
 MAX_MARKS = 2  # combining marks on one letter: more pile up over the next line (zalgo text)
 
 
@@ -47,6 +50,8 @@ def display_name(name: str) -> str:
         problem = REFUSED_CATEGORIES.get(category)
         if category == "Zs" and character != " ":
             problem = "a space other than the plain one"
+        if character in BLANK:
+            problem = "a character that shows as blank"
         if category in ("Mn", "Me"):
             marks += 1
             if position == 1 or not unicodedata.category(name[position - 2]).startswith(("L", "M")):
