@@ -69,6 +69,12 @@ class Serve:
         token = re.search(r"teacher token\s+(\S+)", self.printed)
         self.teacher_token = token.group(1) if token else None
         self.url = f"http://127.0.0.1:{self.port}"
+        while True:  # serve prints its addresses just before uvicorn listens
+            try:
+                socket.create_connection(("127.0.0.1", self.port), timeout=1).close()
+                break
+            except OSError:
+                time.sleep(0.1)
 
     def stop(self) -> None:
         self.process.send_signal(signal.SIGINT)
