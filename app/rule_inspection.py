@@ -22,18 +22,21 @@ DEFAULT_USAGE_GAMES = 100
 # The API's and UI's limits: a request plays its games while the client waits (docs/reference/limits.md)
 MAX_GAMES = 1000
 MAX_RULES = 1000  # rules in a rulebase to play or simplify (an evolved one has at most max_length / 2)
-# A request's work: (rules + TICK_COST_RULES) x games x max_ticks x plays. A game tick costs the world's part
-# (physics, observation, skills) and each rule's inference; the world's part is worth TICK_COST_RULES rules.
-# Simplification plays its games twice (the original recorded, then the candidate compared tick for tick).
-# Both measured by benchmarks/request_cost.py: MAX_WORK is about 2 s here, well under 5 s on a slower
-# machine, and it bounds the rows simplification keeps (one per game tick of each play).
+# A request's work: (rules + TICK_COST_RULES) x games x (max_ticks + GAME_COST_TICKS) x plays. A game tick
+# costs the world's part (physics, observation, skills) and each rule's inference; the world's part is worth
+# TICK_COST_RULES rules. A game costs as much again to set up (its world, its engine with the rules): worth
+# GAME_COST_TICKS ticks, so a thousand one-tick games are not counted as free. Simplification plays its
+# games twice (the original recorded, then the candidate compared tick for tick). All measured by
+# benchmarks/request_cost.py: MAX_WORK is about 2 s here, well under 5 s on a slower machine, and it bounds
+# the rows simplification keeps (one per game tick of each play).
 TICK_COST_RULES = 60
+GAME_COST_TICKS = 500
 MAX_WORK = 60_000_000
 USAGE_PLAYS, SIMPLIFY_PLAYS = 1, 2
 
 
 def request_work(rules: int, games: int, max_ticks: int, plays: int) -> int:
-    return (rules + TICK_COST_RULES) * games * max_ticks * plays
+    return (rules + TICK_COST_RULES) * games * (max_ticks + GAME_COST_TICKS) * plays
 
 
 def affordable_games(rules: int, max_ticks: int, plays: int) -> int:

@@ -194,3 +194,17 @@ def test_a_pupils_runs_count_against_the_pupil_whatever_their_names(room):
     owners = {run.owner for run in room.store.list_runs()}
     student = room.store.list_students()
     assert len(student) == 1 and owners == {student[0].id}  # one browser, one account: the runs' owner
+
+
+def test_one_tick_games_count_their_setup(client):
+    """A thousand one-tick games with a thousand rules took 10.1 s at the documented limit: the bound now
+    counts each game's setup, so that request is refused and the most allowed is far fewer games."""
+    from app.rule_inspection import GAME_COST_TICKS, MAX_WORK, USAGE_PLAYS, affordable_games, request_work
+
+    assert request_work(1000, 1, 1, USAGE_PLAYS) >= 1000 * GAME_COST_TICKS
+    thousand = "\n".join(["if Ball is not At then GoToBall VeryHigh"] * 1000)
+    response = client.post("/api/rules/usage", json={"text": thousand, "games": 1000,
+                                                     "game": {"max_ticks": 1, "goal_cap": 1, "idle_ticks": 1}})
+    most = affordable_games(1000, 1, USAGE_PLAYS)
+    assert response.status_code == 422 and f"at most {most:,} such games" in response.json()["detail"]
+    assert most * request_work(1000, 1, 1, USAGE_PLAYS) <= MAX_WORK and most < 200
