@@ -15,6 +15,8 @@ from fastapi.testclient import TestClient
 from app.api import create_app
 from app.api.errors import MAX_ERROR_BYTES, MAX_ERRORS
 from app.classroom.names import display_name, skeleton
+from app.classroom.rate import RateLimiter
+from app.classroom.settings import REQUEST_BURST, REQUESTS_PER_SECOND
 from app.origins import SiteAddresses
 from app.paths import DATABASE_FILE
 from app.runs import RunManager
@@ -133,7 +135,13 @@ def test_ipv6_loopback_host_is_accepted(tmp_path):
 
 
 # ---- classroom: cost-weighted rate, names, one browser one place ---------------------------------------------
+def frozen_rate(room) -> None:
+    """The class's rate limit with time standing still: nothing refills however slow the machine."""
+    room.classroom.rate = RateLimiter(REQUESTS_PER_SECOND, REQUEST_BURST, clock=lambda: 0.0)
+
+
 def test_a_big_body_costs_a_pupil_more_than_a_get(room):
+    frozen_rate(room)
     pupil = room.student("Ada")
     body = json.dumps({"text": "x" * 240_000}).encode()  # a 240 KB body: sixty requests' worth
     assert pupil.post("/api/rules/parse", content=body, headers={"Content-Type": "application/json"}).status_code \
@@ -143,6 +151,7 @@ def test_a_big_body_costs_a_pupil_more_than_a_get(room):
 
 
 def test_ten_megabyte_bodies_at_once_spend_one_pupils_rate_not_the_class(room):
+    frozen_rate(room)
     pupil, teacher = room.student("Ada"), room.teacher()
     statuses = [pupil.post("/api/rules/parse", content=flood_of_keys(), headers={"Content-Type": "application/json"})
                 .status_code for _ in range(10)]
@@ -198,8 +207,8 @@ def test_a_pupils_runs_count_against_the_pupil_whatever_their_names(room):
 
 def test_one_tick_games_count_their_setup(client):
     """A thousand one-tick games with a thousand rules took 10.1 s at the documented limit: the bound now
-    counts each game's setup, so that request is refused and the most allowed is far fewer games."""
-    from app.rule_inspection import GAME_COST_TICKS, MAX_WORK, USAGE_PLAYS, affordable_games, request_work
+    counts each game's setup, so that request is refused and the most allowed is fewer games."""
+    from app.rule_inspection import GAME_COST_TICKS, MAX_GAMES, MAX_WORK, USAGE_PLAYS, affordable_games, request_work
 
     assert request_work(1000, 1, 1, USAGE_PLAYS) >= 1000 * GAME_COST_TICKS
     thousand = "\n".join(["if Ball is not At then GoToBall VeryHigh"] * 1000)
@@ -207,4 +216,16 @@ def test_one_tick_games_count_their_setup(client):
                                                      "game": {"max_ticks": 1, "goal_cap": 1, "idle_ticks": 1}})
     most = affordable_games(1000, 1, USAGE_PLAYS)
     assert response.status_code == 422 and f"at most {most:,} such games" in response.json()["detail"]
-    assert most * request_work(1000, 1, 1, USAGE_PLAYS) <= MAX_WORK and most < 200
+    assert most * request_work(1000, 1, 1, USAGE_PLAYS) <= MAX_WORK and most < MAX_GAMES  # it was MAX_GAMES
+
+
+def test_rules_of_many_premises_weigh_more(client):
+    """A hundred rules of forty premises were counted as a hundred light rules; their premises count now."""
+    from app.rule_inspection import USAGE_PLAYS, affordable_games
+
+    premises = " and ".join(["Ball is not At", "Goal is not At"] * 20)
+    heavy = "\n".join([f"if {premises} then GoToBall VeryHigh"] * 100)
+    most = affordable_games(100, 1000, USAGE_PLAYS, premises=4_000)
+    assert most < affordable_games(100, 1000, USAGE_PLAYS) // 2
+    response = client.post("/api/rules/usage", json={"text": heavy, "games": most + 1, "game": {"max_ticks": 1000}})
+    assert response.status_code == 422 and "4,000 premises" in response.json()["detail"]
