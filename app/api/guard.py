@@ -24,7 +24,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 from urllib.parse import quote
 
-from starlette.responses import JSONResponse, RedirectResponse, Response
+from starlette.responses import RedirectResponse, Response
 from starlette.types import ASGIApp, Message, Receive, Scope, Send
 
 from app.api.errors import MAX_BODY_BYTES, error_response
@@ -124,11 +124,12 @@ class RequestGuard:
         wait = classroom.rate.take(key, request_cost(path, headers, classroom.rate.burst))
         if wait is not None:
             seconds = max(1, round(wait + 0.5))
-            return JSONResponse({"detail": f"too many requests: at most {classroom.rate.per_second:g} a second each "
-                                           f"(a game-playing request counts {PLAYING_REQUEST_COST}, a join attempt "
-                                           f"{JOIN_ATTEMPT_COST}, a body one more per {BODY_BYTES_PER_REQUEST:,} "
-                                           f"bytes); try again in {seconds} s", "errors": [], "error_count": 0},
-                                status_code=429, headers={"Retry-After": str(seconds)})
+            refusal = error_response(429, f"too many requests: at most {classroom.rate.per_second:g} a second each (a "
+                                          f"game-playing request counts {PLAYING_REQUEST_COST}, a join attempt "
+                                          f"{JOIN_ATTEMPT_COST}, a body one more per {BODY_BYTES_PER_REQUEST:,} bytes); "
+                                          f"try again in {seconds} s")
+            refusal.headers["Retry-After"] = str(seconds)
+            return refusal
         if (method, path) in OPEN_TO_ALL:
             return None
         if visitor is None:
@@ -136,8 +137,8 @@ class RequestGuard:
                 query = scope.get("query_string", b"").decode("latin-1")
                 back = path + (f"?{query}" if query else "")  # e.g. a pitch link: opened once joined
                 return RedirectResponse(f"{JOIN_PAGE}?next={quote(back, safe='')}", status_code=303)
-            return JSONResponse({"detail": f"join the class first: open {classroom.address}{JOIN_PAGE} and enter "
-                                           "the class's join code", "errors": []}, status_code=401)
+            return error_response(401, f"join the class first: open {classroom.address}{JOIN_PAGE} and enter the "
+                                       "class's join code")
         scope.setdefault("state", {})["visitor"] = visitor
         return None
 

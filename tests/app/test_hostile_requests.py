@@ -229,3 +229,17 @@ def test_rules_of_many_premises_weigh_more(client):
     assert most < affordable_games(100, 1000, USAGE_PLAYS) // 2
     response = client.post("/api/rules/usage", json={"text": heavy, "games": most + 1, "game": {"max_ticks": 1000}})
     assert response.status_code == 422 and "4,000 premises" in response.json()["detail"]
+
+
+def test_every_refusal_of_the_class_has_the_usual_shape(room):
+    frozen_rate(room)
+    shapes = [room.browser().post("/api/class/join", json={"code": "WRONG1", "name": "Eve"}),  # 400
+              room.browser().get("/api/class")]  # 401
+    pupil = room.student("Ada")
+    shapes.append(pupil.post("/api/rules/parse", json={"text": "x" * 300_000}))  # 422: over the field's limit
+    shapes.append(pupil.get("/api/class"))
+    while shapes[-1].status_code != 429:
+        shapes.append(pupil.get("/api/class"))
+    for response in shapes:
+        assert set(response.json()) == {"detail", "errors", "error_count"}, response.status_code
+    assert shapes[-1].headers["retry-after"].isdigit()

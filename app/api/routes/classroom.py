@@ -10,6 +10,7 @@ from fastapi.responses import JSONResponse
 from app.access import Visitor
 from app.api.class_models import (ClassOut, EntryOut, EntrySubmit, JoinRequest, RoundOut, RoundStart, RoundStarted,
                                   StudentOut, TeacherRequest, VisitorOut)
+from app.api.errors import error_response
 from app.api.models import ErrorBody
 from app.api.routes.dependencies import RecordId, RunsDependency, StoreDependency, VisitorDependency
 from app.classroom.admission import Classroom, JoinRefused, set_cookie_headers
@@ -44,7 +45,7 @@ def join(body: JoinRequest, request: Request) -> JSONResponse:
     try:
         student, cookies = _classroom(request).join(body.code, body.name, request.headers.get("cookie"))
     except JoinRefused as exc:
-        return JSONResponse({"detail": str(exc), "errors": []}, status_code=400)
+        return error_response(400, str(exc))
     return _admitted(cookies, {"name": student.name, "teacher": False})
 
 
@@ -54,7 +55,7 @@ def teacher(body: TeacherRequest, request: Request) -> JSONResponse:
     try:
         cookies = _classroom(request).teacher_login(body.token)
     except JoinRefused as exc:
-        return JSONResponse({"detail": str(exc), "errors": []}, status_code=400)
+        return error_response(400, str(exc))
     return _admitted(cookies, {"name": "teacher", "teacher": True})
 
 
