@@ -243,3 +243,12 @@ def test_every_refusal_of_the_class_has_the_usual_shape(room):
     for response in shapes:
         assert set(response.json()) == {"detail", "errors", "error_count"}, response.status_code
     assert shapes[-1].headers["retry-after"].isdigit()
+
+
+def test_the_class_settings_take_numbers_as_numbers(room):
+    teacher = room.teacher()
+    refused = teacher.put("/api/class/settings", json={"max_run_games": "100"})
+    assert refused.status_code == 422 and "max_run_games" in refused.json()["detail"]
+    changed = teacher.put("/api/class/settings", json={"max_run_games": 100, "starts": 5})
+    assert changed.status_code == 200 and room.classroom.settings.max_run_games == 100
+    assert type(room.classroom.settings).__name__ == "ClassSettings"

@@ -9,7 +9,7 @@ from fastapi.responses import JSONResponse
 
 from app.access import Visitor
 from app.api.class_models import (ClassOut, EntryOut, EntrySubmit, JoinRequest, RoundOut, RoundStart, RoundStarted,
-                                  StudentOut, TeacherRequest, VisitorOut)
+                                  SettingsChange, StudentOut, TeacherRequest, VisitorOut)
 from app.api.errors import error_response
 from app.api.models import ErrorBody
 from app.api.routes.dependencies import RecordId, RunsDependency, StoreDependency, VisitorDependency
@@ -144,10 +144,10 @@ def settings(request: Request) -> ClassSettings:
 
 
 @router.put("/settings", summary="Change the class's settings (the teacher's)", responses={422: {"model": ErrorBody}})
-def change_settings(body: ClassSettings, request: Request, visitor: VisitorDependency) -> ClassSettings:
+def change_settings(body: SettingsChange, request: Request, visitor: VisitorDependency) -> ClassSettings:
     visitor.require_teacher("change the class's settings")
-    _classroom(request).settings = body
-    return body
+    _classroom(request).settings = body.settings()
+    return _classroom(request).settings
 
 
 @router.get("/students", summary="The students who joined (the teacher's)")
