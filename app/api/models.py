@@ -69,8 +69,11 @@ def _number_kind(annotation: Any) -> type | None:
 
 # ---- errors ------------------------------------------------------------------------------
 class ErrorBody(BaseModel):
+    """At most 16 KB (app/api/errors.py): the first 20 problems in `errors`, all of them counted."""
+
     detail: str
     errors: list[dict[str, Any]] = []
+    error_count: int = 0
 
 
 # ---- rules -------------------------------------------------------------------------------
