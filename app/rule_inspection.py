@@ -27,15 +27,15 @@ MAX_RULES = 1000  # rules in a rulebase to play or simplify (an evolved one has 
 # TICK_COST_RULES rules. A rule's inference grows with its premises: the rules' weight counts every
 # PREMISES_PER_RULE premises past a rule's first as one rule more (a hundred rules of forty premises are no
 # lighter than a thousand short ones). A game costs some more to set up (its world, its engine with the
-# rules): worth GAME_COST_TICKS ticks (measured 45 to 150 on a busy machine, the largest taken: the setup-heavy
+# rules): worth GAME_COST_TICKS ticks (measured 40 to 150 as the load varied, the largest taken: the setup-heavy
 # requests were the slowest at the limit), so a thousand one-tick games are not counted as nearly free.
 # Simplification plays its games twice (the original recorded, then the candidate compared tick for tick).
-# All measured by benchmarks/request_cost.py: MAX_WORK is about 2 s here, well under 5 s on a slower
+# All measured by benchmarks/request_cost.py: MAX_WORK is about 1.5 s here, under 5 s on a slower
 # machine, and it bounds the rows simplification keeps (one per game tick of each play).
 TICK_COST_RULES = 60
 PREMISES_PER_RULE = 5
 GAME_COST_TICKS = 150
-MAX_WORK = 60_000_000
+MAX_WORK = 50_000_000
 USAGE_PLAYS, SIMPLIFY_PLAYS = 1, 2
 
 
