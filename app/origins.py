@@ -33,8 +33,13 @@ def _names_for(host: str) -> frozenset[str]:
     return frozenset({host})
 
 
+NOT_IN_AUTHORITY = frozenset("@/?#\\ \t")  # userinfo (evil@host), a path or a query: not a plain host[:port]
+
+
 def _split(authority: str) -> tuple[str, int | None] | None:
-    """(name, port) of 'name[:port]' (IPv6 in brackets); None when it cannot be read."""
+    """(name, port) of 'name[:port]' (IPv6 in brackets); None when it cannot be read or is more than that."""
+    if NOT_IN_AUTHORITY.intersection(authority):
+        return None
     try:
         parts = urlsplit(f"//{authority}")
         return (parts.hostname or "").lower(), parts.port

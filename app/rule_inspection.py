@@ -22,35 +22,49 @@ DEFAULT_USAGE_GAMES = 100
 # The API's and UI's limits: a request plays its games while the client waits (docs/reference/limits.md)
 MAX_GAMES = 1000
 MAX_RULES = 1000  # rules in a rulebase to play or simplify (an evolved one has at most max_length / 2)
-# A request's work: (rules + TICK_COST_RULES) x games x max_ticks x plays. A game tick costs the world's part
-# (physics, observation, skills) and each rule's inference; the world's part is worth TICK_COST_RULES rules.
+# A request's work: (weight + TICK_COST_RULES) x games x (max_ticks + GAME_COST_TICKS) x plays. A game tick
+# costs the world's part (physics, observation, skills) and each rule's inference; the world's part is worth
+# TICK_COST_RULES rules. A rule's inference grows with its premises: the rules' weight counts every
+# PREMISES_PER_RULE premises past a rule's first as one rule more (a hundred rules of forty premises are no
+# lighter than a thousand short ones). A game costs some more to set up (its world, its engine with the
+# rules): worth GAME_COST_TICKS ticks (measured 40 to 150 as the load varied, the largest taken: the setup-heavy
+# requests were the slowest at the limit), so a thousand one-tick games are not counted as nearly free.
 # Simplification plays its games twice (the original recorded, then the candidate compared tick for tick).
-# Both measured by benchmarks/request_cost.py: MAX_WORK is about 2 s here, well under 5 s on a slower
+# All measured by benchmarks/request_cost.py: MAX_WORK is about 1.5 s here, under 5 s on a slower
 # machine, and it bounds the rows simplification keeps (one per game tick of each play).
 TICK_COST_RULES = 60
-MAX_WORK = 60_000_000
+PREMISES_PER_RULE = 5
+GAME_COST_TICKS = 150
+MAX_WORK = 50_000_000
 USAGE_PLAYS, SIMPLIFY_PLAYS = 1, 2
 
 
-def request_work(rules: int, games: int, max_ticks: int, plays: int) -> int:
-    return (rules + TICK_COST_RULES) * games * max_ticks * plays
+def rules_weight(rules: int, premises: int = 0) -> int:
+    """`rules` rules of `premises` premises in all, in rules of one premise."""
+    return rules + max(0, premises - rules) // PREMISES_PER_RULE
 
 
-def affordable_games(rules: int, max_ticks: int, plays: int) -> int:
-    """The most games of `max_ticks` a request with `rules` rules may play (`plays` times each)."""
-    return min(MAX_GAMES, MAX_WORK // request_work(rules, 1, max_ticks, plays))
+def request_work(rules: int, games: int, max_ticks: int, plays: int, premises: int = 0) -> int:
+    return (rules_weight(rules, premises) + TICK_COST_RULES) * games * (max_ticks + GAME_COST_TICKS) * plays
 
 
-def checked_cost(rules: int, games: int, max_ticks: int, plays: int = USAGE_PLAYS) -> None:
-    """ValueError naming the limit when playing `games` games of `max_ticks` with `rules` rules costs too much."""
+def affordable_games(rules: int, max_ticks: int, plays: int, premises: int = 0) -> int:
+    """The most games of `max_ticks` a request with `rules` rules (`premises` in all) may play (`plays` times
+    each)."""
+    return min(MAX_GAMES, MAX_WORK // request_work(rules, 1, max_ticks, plays, premises))
+
+
+def checked_cost(rules: int, games: int, max_ticks: int, plays: int = USAGE_PLAYS, premises: int = 0) -> None:
+    """ValueError naming the limit when playing `games` games of `max_ticks` with `rules` rules (`premises`
+    premises in all) costs too much."""
     if rules > MAX_RULES:
         raise ValueError(f"the rulebase has {rules:,} rules; at most {MAX_RULES:,} are played or simplified")
-    if request_work(rules, games, max_ticks, plays) > MAX_WORK:
-        most = affordable_games(rules, max_ticks, plays)
+    if request_work(rules, games, max_ticks, plays, premises) > MAX_WORK:
+        most = affordable_games(rules, max_ticks, plays, premises)
         doing = "simplified on" if plays == SIMPLIFY_PLAYS else "played"
         allowed = f"at most {most:,} such games can be {doing}" if most else "not one such game fits: fewer ticks"
-        raise ValueError(f"{games:,} games of {max_ticks:,} ticks with {rules:,} rules are more than a request plays "
-                         f"while you wait (docs/reference/limits.md): {allowed}")
+        counted = f" ({premises:,} premises)" if premises else ""
+        raise ValueError(f"{games:,} games of {max_ticks:,} ticks with {rules:,} rules{counted} are more than a request plays while you wait (docs/reference/limits.md): {allowed}")
 
 
 def seeds_from(seed: int, games: int) -> list[int]:

@@ -43,6 +43,7 @@ class ServeOptions:
     join_code: str | None = None  # classroom mode: the class's join code (default: a new random one)
     ray: bool = False  # classroom mode: the queue's runs play their games on Ray (app/run_games.py)
     ray_address: str | None = None  # that Ray cluster (default: a local Ray started by serve)
+    trusted_proxy: str | None = None  # the one address whose X-Forwarded-For names the visitor (default: none)
 
     def url(self, port: int) -> str:
         host = f"[{self.host}]" if ":" in self.host else self.host
@@ -154,7 +155,7 @@ def serve(options: ServeOptions, echo: Callable[[str], None] = print) -> None:
         ui_url = f"{api_url}{UI_PATH}"
         # rerun's viewer is served by the app (/viewer/): in classroom mode behind the class's code like the rest
         app = create_app(store, runs, ui_url=ui_url, api_url=api_url, viewer_files=viewer, site=site,
-                         ui_websocket=f"ws://{options.host}:{options.ui_port}", classroom=classroom,
+                         ui_websocket=options.url(options.ui_port).replace("http://", "ws://", 1), classroom=classroom,
                          tournament=tournament)
         viewer_line = viewer_home(api_url) if viewer else "not available: " + viewer_problem
         if classroom is not None:
@@ -177,8 +178,12 @@ def serve(options: ServeOptions, echo: Callable[[str], None] = print) -> None:
         if runs.interrupted_at_start:
             listed = ", ".join(map(str, runs.interrupted_at_start))
             echo(f"  runs cut off last time, now interrupted and resumable: {listed}")
+        # uvicorn believes X-Forwarded-For from loopback by default: a script could then be any visitor it
+        # names (a new rate limit per request); only a proxy the user names is believed
         config = uvicorn.Config(app, host=options.host, port=options.port, log_level="warning",
-                                timeout_graceful_shutdown=GRACEFUL_SHUTDOWN_SECONDS)
+                                timeout_graceful_shutdown=GRACEFUL_SHUTDOWN_SECONDS,
+                                proxy_headers=options.trusted_proxy is not None,
+                                forwarded_allow_ips=options.trusted_proxy or "")
         if threading.current_thread() is threading.main_thread():
             signal.signal(signal.SIGTERM, _cleanup_after_sigterm)
         Server(config, on_exit=runs.interrupt_all).run()

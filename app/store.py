@@ -504,6 +504,20 @@ class Store:
             student_id = cursor.lastrowid
         return StudentRecord(student_id, name, stamp)
 
+    def rename_student(self, student_id: int, name: str) -> StudentRecord:
+        """A student's browser joined again under another name: the same student, renamed (StoreError when
+        the name is taken)."""
+        name = valid_name(name)
+        with self._transaction() as cursor:
+            try:
+                cursor.execute("UPDATE students SET name = ?, name_key = ? WHERE id = ?",
+                               (name, name_key(name), _valid_id(student_id)))
+            except sqlite3.IntegrityError:
+                raise StoreError(f"the name {name!r} is taken in this class: choose another") from None
+            if cursor.rowcount == 0:
+                raise NotFound("student", student_id)
+        return self.get_student(student_id)
+
     def student_by_token(self, token_hash: str) -> StudentRecord | None:
         rows = self._query("SELECT id, name, created FROM students WHERE token_hash = ?", (token_hash,))
         return StudentRecord(**dict(rows[0])) if rows else None

@@ -23,8 +23,13 @@ def describe_problem(error: Mapping[str, Any], where: Callable[[Location], str] 
     """One error of `ValidationError.errors()`; the value given is shown when it is a plain value."""
     place = where(tuple(error.get("loc", ())))
     given = error.get("input")
-    shown = f" (got {given!r})" if place and "input" in error and not isinstance(given, (dict, list)) else ""
+    shown = f" (got {_short(repr(given))})" if place and "input" in error and not isinstance(given, (dict, list)) else ""
     return f"{place}: {problem_message(error)}{shown}" if place else f"{problem_message(error)}{shown}"
+
+
+def _short(text: str, characters: int = 80) -> str:
+    """A value given, shown in part: an error never echoes a long input whole."""
+    return text if len(text) <= characters else f"{text[:characters]}... ({len(text):,} characters)"
 
 
 def describe_problems(errors: Iterable[Mapping[str, Any]], where: Callable[[Location], str] = dotted) -> str:

@@ -10,7 +10,7 @@ from fastapi_offline import FastAPIOffline
 from fastapi.staticfiles import StaticFiles
 
 from app.api.docs_pages import install_redoc
-from app.api.errors import MAX_BODY_BYTES, BodySizeLimit, install_error_handlers
+from app.api.errors import MAX_BODY_BYTES, BodyGuard, install_error_handlers
 from app.api.guard import RequestGuard
 from app.api.models import ServerInfo
 from app.api.routes import classroom as classroom_routes
@@ -63,7 +63,7 @@ def create_app(
     app.state.tournament = tournament
     install_redoc(app)
     install_error_handlers(app)
-    app.add_middleware(BodySizeLimit, limit=max_body_bytes)
+    app.add_middleware(BodyGuard, limit=max_body_bytes)
     app.add_middleware(RequestGuard, site=site, classroom=classroom)  # outermost: checked before anything else
 
     api = APIRouter(prefix=API_PREFIX)

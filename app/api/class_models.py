@@ -7,7 +7,7 @@ from typing import Any
 from pydantic import BaseModel, Field, model_validator
 
 from app.api.models import Name, Strict
-from app.classroom.settings import ENTRY_MAX_CHARACTERS, MAX_STARTS
+from app.classroom.settings import ENTRY_MAX_CHARACTERS, MAX_STARTS, ClassSettings
 from app.store import EntryRecord, RoundRecord
 
 
@@ -18,6 +18,13 @@ class JoinRequest(Strict):
 
 class TeacherRequest(Strict):
     token: str = Field(max_length=1000)
+
+
+class SettingsChange(ClassSettings, Strict):
+    """The class's settings as the teacher sends them: numbers as JSON numbers."""
+
+    def settings(self) -> ClassSettings:
+        return ClassSettings(**self.model_dump())
 
 
 class VisitorOut(BaseModel):

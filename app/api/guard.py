@@ -12,8 +12,11 @@ In classroom mode (`classroom` given) every request must also come from a browse
 (app/classroom/admission.py: the join code's cookie, compared in constant time, and a student's or the
 teacher's); only the join page, its style and icon, and the join requests themselves are open. A page asked
 for without them is sent to the join page (303, with the page to come back to), anything else is refused
-(401). Every visitor's request rate is bounded (429 with Retry-After); a join attempt costs
-JOIN_ATTEMPT_COST requests, so the code cannot be guessed quickly. The admitted visitor is left in the request's state for the routes.
+(401). Every visitor's request rate is bounded (429 with Retry-After), each request weighed by its cost
+before it is paid: a join attempt costs JOIN_ATTEMPT_COST requests (the code cannot be guessed quickly), a
+game-playing one PLAYING_REQUEST_COST, and a body one more per BODY_BYTES_PER_REQUEST bytes (a 1 MB body a
+visitor's whole burst). A visitor is their class cookie's, else the address that connected: forwarded-for
+headers count only from the proxy `serve --trusted-proxy` names (uvicorn's setting, app/server.py). The admitted visitor is left in the request's state for the routes.
 """
 
 from __future__ import annotations
@@ -21,10 +24,11 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 from urllib.parse import quote
 
-from starlette.responses import JSONResponse, RedirectResponse, Response
+from starlette.responses import RedirectResponse, Response
 from starlette.types import ASGIApp, Message, Receive, Scope, Send
 
-from app.api.errors import error_response
+from app.api.errors import MAX_BODY_BYTES, error_response
+from app.classroom.admission import JOIN_ATTEMPT_COST
 from app.origins import SiteAddresses
 
 if TYPE_CHECKING:
@@ -46,6 +50,16 @@ JOIN_REQUESTS = frozenset({"/api/class/join", "/api/class/teacher"})
 # Requests that play games (seconds of CPU each) cost this many requests of a visitor's rate
 PLAYING_REQUESTS = frozenset({"/api/rules/usage", "/api/rules/simplify"})
 PLAYING_REQUEST_COST = 30
+BODY_BYTES_PER_REQUEST = 4_000
+
+
+def request_cost(path: str, headers: dict[str, str], most: float) -> float:
+    """What a request costs of its visitor's rate, known before its body is read: its kind, and its body's
+    declared size (a body without Content-Length, streamed, is charged as the largest); at most `most`."""
+    kind = JOIN_ATTEMPT_COST if path in JOIN_REQUESTS else PLAYING_REQUEST_COST if path in PLAYING_REQUESTS else 1
+    declared = headers.get("content-length", "")
+    size = int(declared) if declared.isdigit() else MAX_BODY_BYTES if "transfer-encoding" in headers else 0
+    return min(most, kind + size // BODY_BYTES_PER_REQUEST)
 
 
 class RequestGuard:
@@ -100,8 +114,6 @@ class RequestGuard:
         return None
 
     def _class_refusal(self, scope: Scope, headers: dict[str, str]) -> Response | None:
-        from app.classroom.admission import JOIN_ATTEMPT_COST
-
         classroom = self.classroom
         path, method = scope["path"], scope.get("method", "GET")
         visitor = classroom.admit(headers.get("cookie"))
@@ -109,14 +121,15 @@ class RequestGuard:
             key = f"address:{(scope.get('client') or ('?',))[0]}"
         else:
             key = "teacher" if visitor.teacher else f"student:{visitor.student_id}"
-        cost = JOIN_ATTEMPT_COST if path in JOIN_REQUESTS else PLAYING_REQUEST_COST if path in PLAYING_REQUESTS else 1
-        wait = classroom.rate.take(key, cost)
+        wait = classroom.rate.take(key, request_cost(path, headers, classroom.rate.burst))
         if wait is not None:
             seconds = max(1, round(wait + 0.5))
-            return JSONResponse({"detail": f"too many requests: at most {classroom.rate.per_second:g} a second each "
-                                           f"(a game-playing request counts {PLAYING_REQUEST_COST}, a join attempt "
-                                           f"{JOIN_ATTEMPT_COST}); try again in {seconds} s", "errors": []},
-                                status_code=429, headers={"Retry-After": str(seconds)})
+            refusal = error_response(429, f"too many requests: at most {classroom.rate.per_second:g} a second each (a "
+                                          f"game-playing request counts {PLAYING_REQUEST_COST}, a join attempt "
+                                          f"{JOIN_ATTEMPT_COST}, a body one more per {BODY_BYTES_PER_REQUEST:,} bytes); "
+                                          f"try again in {seconds} s")
+            refusal.headers["Retry-After"] = str(seconds)
+            return refusal
         if (method, path) in OPEN_TO_ALL:
             return None
         if visitor is None:
@@ -124,8 +137,8 @@ class RequestGuard:
                 query = scope.get("query_string", b"").decode("latin-1")
                 back = path + (f"?{query}" if query else "")  # e.g. a pitch link: opened once joined
                 return RedirectResponse(f"{JOIN_PAGE}?next={quote(back, safe='')}", status_code=303)
-            return JSONResponse({"detail": f"join the class first: open {classroom.address}{JOIN_PAGE} and enter "
-                                           "the class's join code", "errors": []}, status_code=401)
+            return error_response(401, f"join the class first: open {classroom.address}{JOIN_PAGE} and enter the "
+                                       "class's join code")
         scope.setdefault("state", {})["visitor"] = visitor
         return None
 

@@ -3,7 +3,8 @@
 from __future__ import annotations
 
 import math
-from typing import Annotated, Any
+import types
+from typing import Annotated, Any, Union, get_args, get_origin
 
 from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 
@@ -24,15 +25,55 @@ RuleText = Annotated[str, Field(max_length=RULE_TEXT_MAX_LENGTH)]
 
 
 class Strict(BaseModel):
-    """Requests name every field they mean: an unknown field is an error, not silently dropped."""
+    """Requests name every field they mean: an unknown field is an error, not silently dropped. A number is
+    a JSON number: "5" or true for a number is an error too (pydantic's lax mode would take them), here and in
+    the settings models a request holds (ga, game, trial)."""
 
     model_config = ConfigDict(extra="forbid")
+
+    @model_validator(mode="before")
+    @classmethod
+    def numbers_are_numbers(cls, data: Any) -> Any:
+        if wrong := not_numbers(cls, data):
+            raise ValueError("; ".join(wrong[:5]))
+        return data
+
+
+def not_numbers(model: type[BaseModel], data: Any, place: tuple[str, ...] = ()) -> list[str]:
+    """Where `data` (a request's JSON) gives something other than a number for a number of `model`'s, looking
+    into the models it holds (the outermost request names the whole path: "ga.population_size")."""
+    if not isinstance(data, dict):
+        return []
+    found = []
+    for name, field in model.model_fields.items():
+        key = field.alias or name
+        if key not in data:
+            continue
+        value, where = data[key], ".".join((*place, key))
+        kind = _number_kind(field.annotation)
+        if kind is not None and (isinstance(value, (str, bool)) or (kind is int and isinstance(value, float))):
+            found.append(f"{where}: {'a whole number' if kind is int else 'a number'}, not {value!r:.40}")
+        nested = field.annotation if isinstance(field.annotation, type) else None
+        if nested is not None and issubclass(nested, BaseModel):
+            found += not_numbers(nested, value, (*place, key))
+    return found
+
+
+def _number_kind(annotation: Any) -> type | None:
+    """int or float when a field holds a number (or null), else None."""
+    if get_origin(annotation) in (Union, types.UnionType):
+        kinds = [_number_kind(a) for a in get_args(annotation) if a is not type(None)]
+        return kinds[0] if len(kinds) == 1 else None
+    return annotation if annotation in (int, float) else None
 
 
 # ---- errors ------------------------------------------------------------------------------
 class ErrorBody(BaseModel):
+    """At most 16 KB (app/api/errors.py): the first 20 problems in `errors`, all of them counted."""
+
     detail: str
     errors: list[dict[str, Any]] = []
+    error_count: int = 0
 
 
 # ---- rules -------------------------------------------------------------------------------

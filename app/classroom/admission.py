@@ -14,11 +14,13 @@ from __future__ import annotations
 import hashlib
 import hmac
 import secrets
+import threading
 from dataclasses import dataclass, field
 
 from starlette.requests import cookie_parser
 
 from app.access import Visitor
+from app.classroom.names import NameRefused, display_name, skeleton
 from app.classroom.rate import RateLimiter
 from app.classroom.settings import DISPLAY_NAME_MAX_LENGTH, MAX_STUDENTS, REQUEST_BURST, REQUESTS_PER_SECOND, ClassSettings
 from app.store import Store, StoreError, StudentRecord, name_key, valid_name
@@ -62,6 +64,7 @@ class Classroom:
     address: str  # the class's address as students open it: http://192.168.1.20:8000
     settings: ClassSettings = field(default_factory=ClassSettings)
     rate: RateLimiter = field(default_factory=lambda: RateLimiter(REQUESTS_PER_SECOND, REQUEST_BURST))
+    _joining: threading.Lock = field(default_factory=threading.Lock)  # a name checked and taken in one step
 
     def admit(self, cookie_header: str | None) -> Visitor | None:
         """The visitor whose browser sent these cookies, or None when it has not joined (no code, a wrong code,
@@ -76,23 +79,43 @@ class Classroom:
         return None if student is None else Visitor(student.id, student.name, teacher=False)
 
     def join(self, code: str, name: str, cookie_header: str | None) -> tuple[StudentRecord, dict[str, str]]:
-        """A student joins under `name`: their record and the cookies to set. A browser that already joined
-        under the same name (the code changed with a restart of serve) keeps its identity."""
+        """A student joins under `name`: their record and the cookies to set. A browser holds one place: one
+        that already joined (its student cookie) keeps its place and identity, renamed when the name differs,
+        so one pupil is one account (`owner` of their runs) whatever names they try."""
         if not same_secret(code.strip().upper(), self.join_code):
             raise JoinRefused("that is not this class's join code: check it on the teacher's screen")
         name = valid_display_name(name)
         token = cookie_parser(cookie_header or "").get(STUDENT_COOKIE)
-        known = self.store.student_by_token(token_hash(token)) if token else None
-        if known is not None and name_key(known.name) == name_key(name):
-            return known, {JOIN_COOKIE: self.join_code, STUDENT_COOKIE: token}
-        if len(self.store.list_students()) >= MAX_STUDENTS:
-            raise JoinRefused(f"the class has {MAX_STUDENTS} students, its limit: the teacher may remove some")
-        token = secrets.token_urlsafe(32)
+        with self._joining:
+            known = self.store.student_by_token(token_hash(token)) if token else None
+            self._check_unlike_others(name, known)
+            if known is not None:
+                if name_key(known.name) != name_key(name) or known.name != name:
+                    known = self._renamed(known, name)
+                return known, {JOIN_COOKIE: self.join_code, STUDENT_COOKIE: token}
+            if len(self.store.list_students()) >= MAX_STUDENTS:
+                raise JoinRefused(f"the class has {MAX_STUDENTS} students, its limit: the teacher may remove some")
+            token = secrets.token_urlsafe(32)
+            try:
+                student = self.store.add_student(name, token_hash(token))
+            except StoreError as exc:
+                raise JoinRefused(str(exc)) from None
+        return student, {JOIN_COOKIE: self.join_code, STUDENT_COOKIE: token}
+
+    def _check_unlike_others(self, name: str, own: StudentRecord | None) -> None:
+        """JoinRefused when `name` looks like another student's (their confusable skeletons are equal)."""
+        look = skeleton(name)
+        for student in self.store.list_students():
+            if (own is None or student.id != own.id) and (skeleton(student.name) == look
+                                                         or name_key(student.name) == name_key(name)):
+                raise JoinRefused(f"the name {name!r} is taken in this class, or looks like {student.name!r}: "
+                                  "choose another")
+
+    def _renamed(self, student: StudentRecord, name: str) -> StudentRecord:
         try:
-            student = self.store.add_student(name, token_hash(token))
+            return self.store.rename_student(student.id, name)
         except StoreError as exc:
             raise JoinRefused(str(exc)) from None
-        return student, {JOIN_COOKIE: self.join_code, STUDENT_COOKIE: token}
 
     def teacher_login(self, token: str) -> dict[str, str]:
         if not same_secret(token.strip(), self.teacher_token):
@@ -101,15 +124,19 @@ class Classroom:
 
 
 def valid_display_name(name: object) -> str:
-    """A display name: one line of plain text (the store's rule for names), at most DISPLAY_NAME_MAX_LENGTH."""
-    if isinstance(name, str) and len(name.strip()) > DISPLAY_NAME_MAX_LENGTH:
-        raise JoinRefused(f"a display name is at most {DISPLAY_NAME_MAX_LENGTH} characters")
-    if isinstance(name, str) and name_key(name) == TEACHER_NAME:
-        raise JoinRefused("choose another name ('teacher' is the teacher's)")
+    """A display name: one line of plain text (the store's rule for names), NFKC-normalised, nothing invisible
+    or misleading in it (app/classroom/names.py), at most DISPLAY_NAME_MAX_LENGTH; not the teacher's, nor
+    one that looks like it."""
     try:
-        return valid_name(name)  # the store's own check, so the message is the same everywhere
-    except StoreError as exc:
+        name = valid_name(name)  # the store's own check, so the message is the same everywhere
+        name = display_name(name)
+    except (StoreError, NameRefused) as exc:
         raise JoinRefused(str(exc)) from None
+    if len(name) > DISPLAY_NAME_MAX_LENGTH:
+        raise JoinRefused(f"a display name is at most {DISPLAY_NAME_MAX_LENGTH} characters")
+    if name_key(name) == TEACHER_NAME or skeleton(name) == skeleton(TEACHER_NAME):
+        raise JoinRefused("choose another name ('teacher' is the teacher's)")
+    return name
 
 
 def set_cookie_headers(cookies: dict[str, str]) -> list[str]:

@@ -48,6 +48,9 @@ def serve_command(
         None, help="Folder of the database and the runs' files. (default: $SOCCER_LAB_DATA, else "
         "$XDG_DATA_HOME/soccer-lab, else ~/.local/share/soccer-lab)", show_default=False
     ),
+    trusted_proxy: Optional[str] = typer.Option(
+        None, help="The address of a reverse proxy in front of the app: its X-Forwarded-For header then names the "
+        "visitor (rate limits are per visitor). (default: none; the header is ignored)", show_default=False),
     rcssserver: Optional[Path] = typer.Option(
         None, help="The rcssserver executable that runs on rcssserver start their servers from (each run its "
         "own, stopped when it ends). (default: $RCSSSERVER, else rcssserver on PATH)", show_default=False
@@ -69,6 +72,8 @@ def serve_command(
     if ray_address is not None and executor != RAY:
         fail("--ray-address needs --executor ray")
     host = host if host is not None else (CLASS_HOST if classroom else DEFAULT_HOST)
+    if trusted_proxy is not None and not _ip_address(trusted_proxy):
+        fail(f"--trusted-proxy {trusted_proxy}: an IP address (the proxy's, e.g. 127.0.0.1)")
     if rcssserver is not None:
         from soccer.rcss.servers import RcssLaunchError, find_rcssserver
 
@@ -79,7 +84,7 @@ def serve_command(
     options = ServeOptions(host, port, ui_port, data_dir or default_data_dir(), rcssserver,
                            classroom=classroom, address=address,
                            join_code=join_code.upper() if join_code is not None else None,
-                           ray=executor == RAY, ray_address=ray_address)
+                           ray=executor == RAY, ray_address=ray_address, trusted_proxy=trusted_proxy)
     try:
         serve(options, echo=typer.echo)
     except (ServeError, StoreError) as exc:
@@ -87,6 +92,14 @@ def serve_command(
     except KeyboardInterrupt:
         typer.echo("stopped")
     _exit_now()
+
+
+def _ip_address(text: str) -> bool:
+    try:
+        ipaddress.ip_address(text)
+        return True
+    except ValueError:
+        return False
 
 
 def _loopback(host: str) -> bool:

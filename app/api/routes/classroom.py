@@ -9,7 +9,8 @@ from fastapi.responses import JSONResponse
 
 from app.access import Visitor
 from app.api.class_models import (ClassOut, EntryOut, EntrySubmit, JoinRequest, RoundOut, RoundStart, RoundStarted,
-                                  StudentOut, TeacherRequest, VisitorOut)
+                                  SettingsChange, StudentOut, TeacherRequest, VisitorOut)
+from app.api.errors import error_response
 from app.api.models import ErrorBody
 from app.api.routes.dependencies import RecordId, RunsDependency, StoreDependency, VisitorDependency
 from app.classroom.admission import Classroom, JoinRefused, set_cookie_headers
@@ -44,7 +45,7 @@ def join(body: JoinRequest, request: Request) -> JSONResponse:
     try:
         student, cookies = _classroom(request).join(body.code, body.name, request.headers.get("cookie"))
     except JoinRefused as exc:
-        return JSONResponse({"detail": str(exc), "errors": []}, status_code=400)
+        return error_response(400, str(exc))
     return _admitted(cookies, {"name": student.name, "teacher": False})
 
 
@@ -54,7 +55,7 @@ def teacher(body: TeacherRequest, request: Request) -> JSONResponse:
     try:
         cookies = _classroom(request).teacher_login(body.token)
     except JoinRefused as exc:
-        return JSONResponse({"detail": str(exc), "errors": []}, status_code=400)
+        return error_response(400, str(exc))
     return _admitted(cookies, {"name": "teacher", "teacher": True})
 
 
@@ -143,10 +144,10 @@ def settings(request: Request) -> ClassSettings:
 
 
 @router.put("/settings", summary="Change the class's settings (the teacher's)", responses={422: {"model": ErrorBody}})
-def change_settings(body: ClassSettings, request: Request, visitor: VisitorDependency) -> ClassSettings:
+def change_settings(body: SettingsChange, request: Request, visitor: VisitorDependency) -> ClassSettings:
     visitor.require_teacher("change the class's settings")
-    _classroom(request).settings = body
-    return body
+    _classroom(request).settings = body.settings()
+    return _classroom(request).settings
 
 
 @router.get("/students", summary="The students who joined (the teacher's)")
