@@ -54,17 +54,18 @@ def affordable_games(rules: int, max_ticks: int, plays: int, premises: int = 0) 
     return min(MAX_GAMES, MAX_WORK // request_work(rules, 1, max_ticks, plays, premises))
 
 
-def checked_cost(rules: int, games: int, max_ticks: int, plays: int = USAGE_PLAYS, premises: int = 0) -> None:
-    """ValueError naming the limit when playing `games` games of `max_ticks` with `rules` rules (`premises`
-    premises in all) costs too much."""
+def checked_cost(rulebase: Rulebase, games: int, max_ticks: int, plays: int = USAGE_PLAYS) -> None:
+    """ValueError naming the limit when playing `games` games of `max_ticks` with `rulebase` costs too much (its
+    rules and their premises counted: docs/reference/limits.md)."""
+    rules, premises = len(rulebase), premise_count(rulebase)
     if rules > MAX_RULES:
         raise ValueError(f"the rulebase has {rules:,} rules; at most {MAX_RULES:,} are played or simplified")
     if request_work(rules, games, max_ticks, plays, premises) > MAX_WORK:
         most = affordable_games(rules, max_ticks, plays, premises)
         doing = "simplified on" if plays == SIMPLIFY_PLAYS else "played"
         allowed = f"at most {most:,} such games can be {doing}" if most else "not one such game fits: fewer ticks"
-        counted = f" ({premises:,} premises)" if premises else ""
-        raise ValueError(f"{games:,} games of {max_ticks:,} ticks with {rules:,} rules{counted} are more than a request plays while you wait (docs/reference/limits.md): {allowed}")
+        raise ValueError(f"{games:,} games of {max_ticks:,} ticks with {rules:,} rules ({premises:,} premises) are "
+                         f"more than a request plays while you wait (docs/reference/limits.md): {allowed}")
 
 
 def seeds_from(seed: int, games: int) -> list[int]:

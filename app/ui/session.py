@@ -311,7 +311,7 @@ class Session:
         with self.lock:
             rulebase, seed, config = self.game.rulebase, self.game.seed, self.game.config
         try:
-            checked_cost(len(rulebase), games, config.max_ticks)
+            checked_cost(rulebase, games, config.max_ticks)
             with self._inspection():
                 usage = rule_usage(rulebase, self.context.vocabulary, games, seed, config)
         except ValueError as exc:
@@ -327,7 +327,7 @@ class Session:
         """The rules simplified: exact steps, then checked on `games` games from the pitch's seed."""
         with self.lock:
             seed, config = self.game.seed, self.game.config
-        checked_cost(len(rulebase), games, config.max_ticks, SIMPLIFY_PLAYS)  # ValueError naming the limit
+        checked_cost(rulebase, games, config.max_ticks, SIMPLIFY_PLAYS)  # ValueError naming the limit
         with self._inspection():
             return simplification(rulebase, self.context.vocabulary, games, seed, config)
 

@@ -24,7 +24,6 @@ from app.api.rule_text import VOCABULARY, parse, playable, rule_out
 from app.rule_inspection import (SIMPLIFY_PLAYS, USAGE_PLAYS, checked_cost, rule_usage, simplification,
                                  simplification_document, usage_document)
 from fuzzy.engine import ActionOutput, Engine
-from fuzzy.simplify import premise_count
 from fuzzy.rule import Rulebase
 from fuzzy.printer import format_rule, format_rulebase
 
@@ -94,7 +93,7 @@ def _rulebase(body: RulebaseSource, store) -> Rulebase:
 
 def _affordable(rulebase: Rulebase, games: int, max_ticks: int, plays: int) -> Rulebase:
     try:
-        checked_cost(len(rulebase), games, max_ticks, plays, premise_count(rulebase))
+        checked_cost(rulebase, games, max_ticks, plays)
     except ValueError as exc:
         raise RequestValidationError([{"type": "value_error", "loc": ("body", "games"), "input": games,
                                        "msg": str(exc)}]) from None
