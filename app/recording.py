@@ -36,6 +36,7 @@ import rerun as rr
 import rerun.blueprint as rrb
 import rerun_bindings
 
+from app.lineage import plural
 from app.pitch_markings import CENTRE_CIRCLE_RADIUS
 from ga.statistics import NOT_MEASURED
 from soccer.config import WorldConfig
@@ -259,7 +260,7 @@ class RunRecorder:
             raise ValueError("this recording has no world to draw replays in")
         log_replay(self.stream, trace, self.world, entity=replay_entity(generation), generation=generation,
                    pitch=False)
-        self.replays.append((generation, f"generation {generation} ({result.goals} goals)"))
+        self.replays.append((generation, f"generation {generation} ({plural(result.goals, 'goal')})"))
         if len(self.replays) & (len(self.replays) - 1) == 0:  # 1, 2, 4, 8 ... tabs: see _blueprint_sent
             self._send_blueprint()
         self.stream.flush()
