@@ -29,6 +29,7 @@ DRAWN_WITHIN_SECONDS = 180.0
 SCREENSHOT_TIMEOUT_MS = 60_000  # the viewer renders in software (no GPU in headless Chromium)
 COLOUR_TOLERANCE = 12  # per channel: anti-aliased edges blend, the insides of lines and discs do not
 ENOUGH_PIXELS = 20
+PLAYER_SHADING = 24  # per channel: the viewer shades a point's disc like a sphere
 POLL_SECONDS = 5.0  # longer than a frame: two equal screenshots in a row mean the viewer rests
 
 
@@ -75,8 +76,8 @@ def app_url(recorded_run, tmp_path):
     store.close()
 
 
-def pixels_near(image: np.ndarray, colour: tuple[int, ...]) -> int:
-    return int((np.abs(image[..., :3].astype(int) - np.array(colour[:3])) <= COLOUR_TOLERANCE).all(axis=-1).sum())
+def pixels_near(image: np.ndarray, colour: tuple[int, ...], tolerance: int = COLOUR_TOLERANCE) -> int:
+    return int((np.abs(image[..., :3].astype(int) - np.array(colour[:3])) <= tolerance).all(axis=-1).sum())
 
 
 def test_the_recording_opens_in_the_viewer_as_its_blueprint_lays_it_out(app_url):
@@ -252,4 +253,5 @@ def test_a_recording_opens_in_the_viewer_without_a_warning_and_shows_the_player(
     findings = [m for m in messages if not any(known in m for known in ENVIRONMENT_MESSAGES)]
     assert findings == []
     if source != "experiment":  # an experiment's trials record statistics only, no replays
-        assert pixels_near(image[:, : image.shape[1] // 2], PLAYER_COLOUR) >= 60  # a disc, not a pixel or two
+        # a shaded disc 20 points across, not the pixel or two of the player's true size (0.3 m on a 105 m pitch)
+        assert pixels_near(image[:, : image.shape[1] // 2], PLAYER_COLOUR, PLAYER_SHADING) >= 60
