@@ -29,8 +29,8 @@ def membership_html(vocabulary: Vocabulary, inputs: Mapping[str, float | None],
                     reaches: Mapping[str, float] | None = None) -> str:
     """Every input's block after the shared term outlines (what the panel shows, in one piece)."""
     reaches = reaches or {}
-    blocks = [input_html(vocabulary, input_name, inputs.get(input_name), reaches.get(input_name))
-              for input_name in input_names(vocabulary)]
+    names = input_names(vocabulary)
+    blocks = [input_html(vocabulary, name, inputs.get(name), reaches.get(name)) for name in names]
     return terms_html(vocabulary) + "".join(blocks)
 
 
