@@ -269,8 +269,9 @@ def describe_birth(birth: Birth | None, generation: int, vocabulary: Vocabulary,
     return ", then ".join(parts)
 
 
-def plural(count: int, word: str) -> str:
-    return f"{count} {word}{'' if count == 1 else 's'}"
+def plural(count: int, word: str, many: str | None = None) -> str:
+    """'1 rule', '2 rules'; `many` for a word that is not made plural with an s ('entry', 'entries')."""
+    return f"{count} {word if count == 1 else many or word + 's'}"
 
 
 # ---- as data (the API) ------------------------------------------------------------------------

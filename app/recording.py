@@ -27,7 +27,6 @@ for the process (`send_blueprint`), and closing a recording sweeps its stream aw
 from __future__ import annotations
 
 import math
-import threading
 from pathlib import Path
 from typing import Any, Mapping, Sequence
 
@@ -36,6 +35,7 @@ import rerun as rr
 import rerun.blueprint as rrb
 import rerun_bindings
 
+from app.lineage import plural
 from app.pitch_markings import CENTRE_CIRCLE_RADIUS
 from ga.statistics import NOT_MEASURED
 from soccer.config import WorldConfig
@@ -91,32 +91,30 @@ PLAYER_COLOUR = (30, 120, 255)
 BALL_COLOUR = (255, 255, 255)
 VIEW_CONE_COLOUR = (30, 120, 255, 90)
 LINE_RADIUS = 0.12
+# The player and the ball are drawn with these radii in UI points whatever the zoom (rerun reads a negative radius
+# as UI points): at their true sizes (0.3 m, 0.085 m) on a 105 m pitch they were a pixel or two at the
+# default zoom, and the replay looked empty.
+PLAYER_MARKER_POINTS = 10.0
+BALL_MARKER_POINTS = 6.0
 CONE_RADIUS = 0.05
 HUNT = "HUNT"  # the label of ticks where no rule fired and the player hunted
 
 
-_blueprint_stream: rr.RecordingStream | None = None
-_blueprint_lock = threading.Lock()
-
-
-def _blueprint_storage(blueprint: rrb.Blueprint) -> object:
-    """`blueprint` as rerun's in-memory messages, made with the process's one blueprint stream (rerun's own
-    helper makes a stream per blueprint, whose threads are never ended)."""
-    global _blueprint_stream
-    with _blueprint_lock:
-        if _blueprint_stream is None:
-            _blueprint_stream = rr.RecordingStream._from_native(rerun_bindings.new_blueprint(
-                application_id=APPLICATION_ID, make_default=False, make_thread_default=False, default_enabled=True))
-        storage = _blueprint_stream.memory_recording()  # a fresh sink: only this blueprint's messages
-        _blueprint_stream.set_time("blueprint", sequence=0)
-        blueprint._log_to_stream(_blueprint_stream)
-        return storage.storage
-
-
 def send_blueprint(stream: rr.RecordingStream, blueprint: rrb.Blueprint, *, make_active: bool = True) -> None:
-    """What `stream.send_blueprint` does, without leaving two threads behind each time."""
-    rerun_bindings.send_blueprint(_blueprint_storage(blueprint), make_active=make_active, make_default=True,
+    """What `stream.send_blueprint` does, without leaving threads behind. Each blueprint gets a blueprint store
+    of its own, as rerun's own helper makes it: blueprints sent into one store (a recording sends one as it
+    opens and more as its replays come) pile up there, and the viewer warns, in a toast over the views, that
+    the earlier ones' containers are "broken references" no longer reachable from the root."""
+    blueprint_stream = rr.RecordingStream._from_native(rerun_bindings.new_blueprint(
+        application_id=APPLICATION_ID, make_default=False, make_thread_default=False, default_enabled=True))
+    storage = blueprint_stream.memory_recording()  # only this blueprint's messages
+    blueprint_stream.set_time("blueprint", sequence=0)
+    blueprint._log_to_stream(blueprint_stream)
+    rerun_bindings.send_blueprint(storage.storage, make_active=make_active, make_default=True,
                                   recording=stream.to_native())
+    blueprint_stream.disconnect()
+    del blueprint_stream, storage  # the last references: the sweep ends the stream's threads
+    rerun_bindings.flush_and_cleanup_orphaned_recordings()
 
 
 def open_stream(path: str | Path, recording_id: str | None = None,
@@ -233,7 +231,7 @@ class RunRecorder:
         self.world = world
         self.replays: list[tuple[int, str]] = []  # (generation, tab name) of each replay logged
         self.best_so_far = math.inf
-        self._blueprint_sent = 0  # replay tabs in the last blueprint sent
+        self._blueprint_sent: int | None = None  # replay tabs in the last blueprint sent active (None: none yet)
         self.stream = open_stream(self.path, recording_id, run_blueprint())
         log_series_styles(self.stream)
         if world is not None:
@@ -259,7 +257,7 @@ class RunRecorder:
             raise ValueError("this recording has no world to draw replays in")
         log_replay(self.stream, trace, self.world, entity=replay_entity(generation), generation=generation,
                    pitch=False)
-        self.replays.append((generation, f"generation {generation} ({result.goals} goals)"))
+        self.replays.append((generation, f"generation {generation} ({plural(result.goals, 'goal')})"))
         if len(self.replays) & (len(self.replays) - 1) == 0:  # 1, 2, 4, 8 ... tabs: see _blueprint_sent
             self._send_blueprint()
         self.stream.flush()
@@ -274,8 +272,10 @@ class RunRecorder:
 
     def close(self) -> None:
         stream = self.stream
-        if stream is not None and self.world is not None and self.replays and self._blueprint_sent != len(self.replays):
-            self._send_blueprint()  # every replay's tab, at the end
+        if stream is not None and self._blueprint_sent != len(self.replays):
+            # every replay's tab, at the end; and sent active at least once: rerun's web viewer lays a recording
+            # whose only blueprint is the file's default (open_stream's) out in its automatic grid instead
+            self._send_blueprint()
         self.stream = None
         if stream is not None:
             stream.flush()
@@ -347,7 +347,8 @@ def log_replay(stream: rr.RecordingStream, trace: Any, world: WorldConfig, *, en
         stream.send_columns(f"{entity}/{path}", indexes=timeline, columns=columns)
 
     send("player", rr.Points2D.columns(
-        positions=player, radii=np.full(ticks, world.player_size), colors=np.tile(PLAYER_COLOUR, (ticks, 1)),
+        positions=player, radii=np.full(ticks, rr.Radius.ui_points(PLAYER_MARKER_POINTS)),
+        colors=np.tile(PLAYER_COLOUR, (ticks, 1)),
         labels=[labels[a + 1] for a in np.asarray(trace.action).tolist()]))
     send("player/facing", rr.Arrows2D.columns(
         origins=player, vectors=FACING_LENGTH * np.column_stack([np.cos(facing), np.sin(facing)]),
@@ -356,5 +357,5 @@ def log_replay(stream: rr.RecordingStream, trace: Any, world: WorldConfig, *, en
         strips=list(cones), colors=np.tile(VIEW_CONE_COLOUR, (ticks, 1)), radii=np.full(ticks, CONE_RADIUS)))
     send("ball", rr.Points2D.columns(
         positions=np.column_stack([trace.ball_x, trace.ball_y]).astype(float),
-        radii=np.full(ticks, world.ball_size), colors=np.tile(BALL_COLOUR, (ticks, 1))))
+        radii=np.full(ticks, rr.Radius.ui_points(BALL_MARKER_POINTS)), colors=np.tile(BALL_COLOUR, (ticks, 1))))
     send("score/goals", rr.Scalars.columns(scalars=np.asarray(trace.goals, dtype=float)))

@@ -172,7 +172,7 @@ def serve(options: ServeOptions, echo: Callable[[str], None] = print) -> None:
             echo("soccer-lab is running (Ctrl+C to stop)")
             echo(f"  home          {api_url}/")
             echo(f"  UI            {ui_url}")
-            echo(f"  API           {api_url}/api   docs: {api_url}/docs")
+            echo(f"  API docs      {api_url}/docs   (the JSON API answers under /api/)")
             echo(f"  rerun viewer  {viewer_line}")
             echo(f"  data          {options.data_dir.resolve()}")
         if runs.interrupted_at_start:

@@ -11,6 +11,8 @@ from pathlib import Path
 from fuzzy.parser import parse_rulebase
 from fuzzy.rule import Rulebase
 from fuzzy.vocabulary import Vocabulary
+from soccer.config import GameConfig
+from soccer.engine import GameBatch
 
 EXAMPLES_DIR = Path(__file__).parent / "data" / "examples"
 ORDER = ("demo", "striker", "dribbler", "hunter")  # as a teacher meets them
@@ -51,3 +53,16 @@ def example(name: str) -> Example:
         if candidate.name == name:
             return candidate
     raise KeyError(f"no example {name!r} (the examples are {', '.join(ORDER)})")
+
+
+AT_THE_BALL = 5.0  # metres: a game that ends idle with the ball this close stalled at it, not lost it
+
+
+def games_stalled_at_ball(rulebase: Rulebase, seeds: list[int], config: GameConfig, vocabulary: Vocabulary) -> list[int]:
+    """The seeds whose game (one batch of all) ended by the idle limit with the ball within AT_THE_BALL metres
+    of the player: a player standing still at the ball it does not kick."""
+    batch = GameBatch([rulebase] * len(seeds), seeds, config, vocabulary)
+    results = batch.run()
+    gaps = batch.state.last_ball - batch.state.last_player
+    return [seed for seed, result, (dx, dy) in zip(seeds, results, gaps)
+            if result.end_reason == "idle" and (dx * dx + dy * dy) ** 0.5 < AT_THE_BALL]

@@ -76,7 +76,8 @@ def create_app(
     def server() -> ServerInfo:
         viewer = viewer_files is not None and api_url is not None
         return ServerInfo(ui=ui_url, viewer=f"{api_url}{VIEWER_PATH}" if viewer else None,
-                          viewer_home=viewer_home(api_url) if viewer else None, docs=DOCS_URL)
+                          viewer_home=viewer_home(api_url) if viewer else None, docs=DOCS_URL,
+                          classroom=classroom is not None)
 
     app.include_router(api)
     if ui_websocket:

@@ -434,3 +434,4 @@ class ServerInfo(BaseModel):
     viewer: str | None  # rerun's web viewer, served by the app (/viewer/)
     viewer_home: str | None  # the viewer without rerun's welcome screen; a recording: `<viewer_home>&url=<recording URL>`
     docs: str
+    classroom: bool = False  # serve --class: the class's routes (/api/class...) exist and the pages show them

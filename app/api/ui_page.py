@@ -24,13 +24,31 @@ from app.ui.projector import PROJECTOR_KEY_SCRIPT
 UI_PATH = "/ui/"
 CLIENT_PAGE = Path(viser.__file__).resolve().parent / "client" / "build" / "index.html"
 WEBSOCKET_PARAMETER = "websocket"  # viser's client connects where this query parameter says
+SERVER_CHECK_MS = 3000
+# viser's client only greys out when its server goes: this line says so. The UI's page and its websocket come
+# from the same serve process, so the page asks the API whether it still answers (the websocket itself may
+# live in viser's worker, out of the page's reach); any answer, even a refusal, means it runs.
+STOPPED_NOTICE = f"""<div id="server-stopped" role="alert" hidden style="position:fixed; top:0; left:0; right:0;
+ z-index:2147483647; padding:8px 12px; background:#c62828; color:#fff; font:600 16px system-ui, sans-serif;
+ text-align:center">The soccer-lab server has stopped: start it again (soccer-lab serve), then reload this page.</div>
+<script>
+(() => {{
+  const notice = document.getElementById("server-stopped");
+  async function check() {{
+    try {{ await fetch("/api/server", {{cache: "no-store"}}); notice.hidden = true; }}
+    catch (error) {{ notice.hidden = false; }}
+  }}
+  setInterval(check, {SERVER_CHECK_MS});
+}})();
+</script>
+</body>""".encode()
 
 
 def ui_router(websocket_url: str) -> APIRouter:
     """GET /ui/: viser's client page, told to connect to `websocket_url`'s port (e.g. ws://127.0.0.1:8080) on
     the host name the page was opened under."""
     router = APIRouter(include_in_schema=False)
-    page = with_projector_key(CLIENT_PAGE.read_bytes())
+    page = with_projector_key(CLIENT_PAGE.read_bytes()).replace(b"</body>", STOPPED_NOTICE, 1)
     ui_port = urlsplit(websocket_url).port
 
     @router.get("/ui", include_in_schema=False)

@@ -26,6 +26,7 @@ from typing import Any, Callable
 
 from app.access import Forbidden, Visitor
 from app.classroom.settings import ENTRY_MAX_CHARACTERS, ENTRY_MAX_RULES, MAX_ENTRIES, MAX_STARTS, ClassSettings
+from app.lineage import plural
 from app.runs import RunStateError
 from app.store import EntryRecord, NotFound, RoundRecord, Store, StoreError, name_key
 from fuzzy.parser import parse_rulebase
@@ -142,7 +143,8 @@ class Tournament:
             self._playing = threading.Thread(target=self._play_round, args=(entries, starts, seed, game),
                                              name="class-round", daemon=True)
             self._playing.start()
-        self._notify(TournamentEvent("started", message=f"{len(entries)} entries x {starts} starts"))
+        message = f"{plural(len(entries), 'entry', 'entries')} x {plural(starts, 'start')}"
+        self._notify(TournamentEvent("started", message=message))
         return {"entries": len(entries), "starts": starts, "seed": seed, "game": game.model_dump()}
 
     @property

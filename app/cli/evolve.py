@@ -18,6 +18,7 @@ from app.cli.play import (ENV_PANEL, CountTouchesOption, EnvOption, FitnessOptio
                           rcss_servers, trial_config)
 from app.environments import RCSS, RCSS_WORKERS, SIMPLE, checked_workers, default_workers
 from app.experiment.executors import LOCAL, RAY
+from app.lineage import plural
 from ga.config import GAConfig
 from soccer.config import GameConfig
 
@@ -338,8 +339,10 @@ def _replay_line(run: "Run") -> str:
                else "its seed was not kept by the run it comes from")
         line = f"the best player's first {played} cannot be replayed ({why})"
     else:
-        line = (f"replay of the best player's first {played} (seed {game.seed}) in the recording: {game.result.goals} "
-                f"goals, {game.result.kicks} kicks, {game.result.ticks} ticks, fitness {game.result.fitness:.4f}")
+        result = game.result
+        line = (f"replay of the best player's first {played} (seed {game.seed}) in the recording: "
+                f"{plural(result.goals, 'goal')}, {plural(result.kicks, 'kick')}, {plural(result.ticks, 'tick')}, "
+                f"fitness {result.fitness:.4f}")
     if rcss:
         settings = run.settings
         servers = " ".join(f"--server {server}" for server in settings.servers)

@@ -14,6 +14,7 @@ import typer
 from app.cli.common import TYPER_SETTINGS, CommandList, OneLineErrors, fail
 from app.cli.play import (CountTouchesOption, FitnessOption, GoalCapOption, IdleTicksOption, MaxTicksOption,
                           NoiseOption, SkillsOption, game_config)
+from app.lineage import plural
 from app.rule_inspection import DEFAULT_USAGE_GAMES
 from app.rulebase_files import JSON_SUFFIX, legacy_trial_rules
 from fuzzy.engine import Engine, Inference
@@ -286,8 +287,8 @@ def _write(path: Path, rulebase: Rulebase, vocabulary: Vocabulary) -> None:
 
 def usage_lines(usage: Usage, vocabulary: Vocabulary) -> list[str]:
     seeds = usage.seeds
-    lines = [f"rule usage over {len(seeds)} games (seeds {seeds[0]}-{seeds[-1]}), {usage.ticks} ticks; "
-             f"the player hunted (no rule fired) {_percent(usage.hunt_share)} of them",
+    lines = [f"rule usage over {plural(len(seeds), 'game')} (seeds {seeds[0]}-{seeds[-1]}), "
+             f"{plural(usage.ticks, 'tick')}; the player hunted (no rule fired) {_percent(usage.hunt_share)} of them",
              f"{'rule':>4} {'fired':>7} {'won':>7} {'decided':>7} {'strength':>8}  text"]
     ticks = usage.ticks or 1
     for i, (rule, u) in enumerate(zip(usage.rulebase, usage.rules)):
@@ -341,7 +342,7 @@ def _step_outcome(step) -> str:
 def _results_line(results: tuple[GameResult, ...]) -> str:
     if not results:
         return "no games"
-    return (f"{len(results)} games: mean goals {fmean(r.goals for r in results):.2f}, "
+    return (f"{plural(len(results), 'game')}: mean goals {fmean(r.goals for r in results):.2f}, "
             f"mean fitness {fmean(r.fitness for r in results):.4f}")
 
 

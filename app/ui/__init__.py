@@ -18,6 +18,8 @@ token). It reads viser's `_live_connections`; if an upgrade changes that, the UI
 
 from __future__ import annotations
 
+import contextlib
+import io
 import logging
 import threading
 import warnings
@@ -71,6 +73,14 @@ class Handshake:
     visitor: Visitor
     origin: str | None
     link: str | None
+
+
+def _viser_server_without_banner(host: str, port: int) -> viser.ViserServer:
+    """viser's server, without the box it always prints (verbose=False does not stop it): the box names viser's
+    bare address, whose page is refused by the origin check and stays on "Connecting...", so it must not be the
+    first address a teacher reads (serve prints the UI's own)."""
+    with contextlib.redirect_stdout(io.StringIO()):
+        return viser.ViserServer(host=host, port=port, label=TITLE, verbose=False)
 
 
 def admit_only(server: viser.ViserServer, site: SiteAddresses, classroom: Classroom | None = None,
@@ -177,7 +187,7 @@ def start_ui(
 
     warnings.filterwarnings("ignore", message=CLOSED_TAB_WARNING, category=UserWarning)
     context = UiContext(store, runs, vocabulary, game or GameConfig(), api_url=api_url, viewer_problem=viewer_problem)
-    server = viser.ViserServer(host=host, port=port, label=TITLE, verbose=False)
+    server = _viser_server_without_banner(host, port)
     if server.get_port() != port:
         server.stop()
         raise PortBusyError(f"port {port} on {host} is busy (choose another with --ui-port)")

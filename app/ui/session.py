@@ -197,7 +197,7 @@ class Session:
         # The panels themselves (docked, sized, the right one's tabs) are the server's: see layout.py.
         with self.layout.right_tab("Inference"):
             self.inference = InferencePanel(gui, context.vocabulary, on_change=self.refresh,
-                                            on_usage=self.measure_usage)
+                                            on_usage=self.measure_usage, world=context.game.world)
         with self.layout.right_tab("Policy map"):
             self.policy = PolicyPanel(gui, context.vocabulary, self.game.rulebase, self.game.view_half_angle,
                                       on_change=self.refresh)

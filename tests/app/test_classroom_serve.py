@@ -231,11 +231,16 @@ def test_a_class_in_the_browser(served, browser):
     from playwright.sync_api import expect
 
     SCREENSHOTS.mkdir(parents=True, exist_ok=True)
-    # The teacher signs in with the printed link (the token in the fragment, never sent to a server)
+    # The teacher opens the printed sign-in link (the token in the fragment, never sent to a server) and lands
+    # signed in on the home page, the token nowhere on the projected screen
     desk = new_page(browser, 1280, 800)
+    desk.goto(f"{served.url}/join.html#teacher=NOT{served.teacher_token}")  # mistyped: refused, the form empty
+    expect(desk.locator("#teacher-refusal")).not_to_be_empty()
+    assert desk.url == f"{served.url}/join.html#teacher" and desk.locator("#token").input_value() == ""
+    assert served.teacher_token not in desk.content()
     desk.goto(f"{served.url}/join.html#teacher={served.teacher_token}")
-    desk.click("#teacher button")
     desk.wait_for_url(f"{served.url}/")
+    assert served.teacher_token not in desk.url + desk.content()
     expect(desk.locator("#class-code")).to_have_text(CODE)
     expect(desk.locator("#class-address")).to_have_text(served.url)
     expect(desk.locator("#class-you")).to_have_text("You are the teacher.")
@@ -244,10 +249,13 @@ def test_a_class_in_the_browser(served, browser):
     assert qr.evaluate("image => image.naturalWidth") > 100  # the SVG drawn by the app, not a broken image
     desk.screenshot(path=str(SCREENSHOTS / "classroom-home.png"))
 
-    # A pupil: a wrong code says so in one line; the right one lands on the home page, the name as text
+    # A pupil: no teacher card; a wrong code says so in one line; the right one lands on the home page, the name
+    # as text
     pupil = new_page(browser, 1280, 800)
     pupil.goto(f"{served.url}/")
     pupil.wait_for_url(re.compile(r"/join\.html"))
+    expect(pupil.locator("#teacher")).to_be_hidden()
+    assert "teacher" not in pupil.locator("main").inner_text().lower()
     pupil.fill("#code", "WRONG1")
     pupil.fill("#name", INJECTED)
     pupil.click("#join button")
@@ -264,12 +272,15 @@ def test_a_class_in_the_browser(served, browser):
     pupil.get_by_role("button", name="Enter the rules on my pitch").click()
     expect(pupil.locator(".class-message")).to_contain_text("Entered as")
     expect(pupil.locator(".class-entries")).to_contain_text(INJECTED)
+    expect(pupil.locator(".class-entries")).to_contain_text("1 entry")
 
-    # The teacher enters the library's demo under a name, starts a round; everyone sees the table
+    # The teacher enters the demo (the Entry name left empty: the rules' own name), starts a round; everyone
+    # sees the table
     desk.goto(f"{served.url}/ui/")
     open_class_tab(desk)
     desk.get_by_role("button", name="Enter the rules on my pitch").click()
-    expect(desk.locator(".class-entries")).to_contain_text("GA best")
+    expect(desk.locator(".class-entries")).to_contain_text("demo (built in)")
+    expect(desk.locator(".class-entries")).to_contain_text("2 entries")
     desk.get_by_role("button", name="Start a round").click()
     expect(desk.locator(".class-table tbody tr")).to_have_count(2, timeout=TIMEOUT_MS)
     expect(pupil.locator(".class-table tbody tr")).to_have_count(2, timeout=TIMEOUT_MS)

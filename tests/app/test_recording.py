@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import csv
 import math
+import uuid
 from datetime import datetime
 from types import SimpleNamespace
 
@@ -193,19 +194,58 @@ def test_the_blueprint_lays_a_run_out_like_the_chapters_figures_with_a_tab_per_r
     assert shown["Mean distance between two players' rule sets (1: no rule shared)"] == (
         "TimeSeries", series(DISTANCE_SERIES))
     for generation, game in enumerate(games):
-        tab = shown[f"generation {generation} ({game.goals} goals)"]
+        tab = shown[f"generation {generation} ({game.goals} goal{'' if game.goals == 1 else 's'})"]
         assert tab == ("2D", ["+ $origin/pitch/**", "+ $origin/goal/**", f"+ /replay/generation_{generation}/**"])
     assert len(shown) == 7 + len(games)  # nothing else: no automatic views either
     viewport = latest["/viewport"]
     assert viewport["ViewportBlueprint:auto_views"] == [False] and viewport["ViewportBlueprint:auto_layout"] == [False]
     tabs = next(row for row in latest.values() if row.get("ContainerBlueprint:active_tab"))
     assert tabs["ContainerBlueprint:contents"][-1] == tabs["ContainerBlueprint:active_tab"][0]  # the latest replay open
-    # One blueprint store (the process's blueprint stream: app/recording.py), sent again with each replay.
-    assert len(blueprints) == 1
+    # A store per blueprint sent (the file's default, then each replay's): one store sent again would pile up
+    # unreachable containers, which rerun's viewer shows as "broken references".
+    assert len(blueprints) == 3
     # The replays: each under its own generation, on the tick timeline and at its generation.
     ball = columns(path, "/replay/generation_1/ball")
     assert ball["tick"] == list(range(games[1].ticks)) and set(ball["generation"]) == {1}
     assert columns(path, "/replay/pitch")["LineStrips2D:strips"]  # one pitch, drawn once for every replay
+
+
+def unreachable_containers(blueprint: dict[str, dict]) -> set[str]:
+    """The blueprint's containers that its viewport's root container does not reach."""
+    (root,) = blueprint["/viewport"]["ViewportBlueprint:root_container"]  # the root's UUID, as 16 bytes
+    reached, todo = set(), [f"container/{uuid.UUID(bytes=bytes(root))}"]
+    while todo:
+        path = "/" + todo.pop()
+        if path not in reached:
+            reached.add(path)
+            todo += blueprint.get(path, {}).get("ContainerBlueprint:contents") or []
+    return {path for path in blueprint if path.startswith("/container/") and path.count("/") == 2} - reached
+
+
+def test_no_blueprint_holds_a_container_its_root_does_not_reach(tmp_path):
+    # rerun's viewer greeted every UI run with "Blueprint ... has broken references: /container/...": each
+    # blueprint was sent into one store, where the earlier ones' containers stayed, unreachable.
+    config = GameConfig(max_ticks=30)
+    path = tmp_path / "run.rrd"
+    recorder = RunRecorder(path, world=config.world)
+    for generation in range(5):
+        recorder.on_generation(stats(generation, 0.5))
+        result, trace = play_game(demo_rulebase(), seed=generation, config=config)
+        recorder.log_generation_replay(generation, trace, result)
+    recorder.close()
+    blueprints = blueprint_rows(path)
+    assert len(blueprints) >= 4
+    assert [unreachable_containers(blueprint) for blueprint in blueprints] == [set()] * len(blueprints)
+
+
+def test_a_recording_without_replays_sends_its_layout_active(tmp_path):
+    # An experiment's trial records statistics only: its only blueprint was the file's default, which rerun's
+    # web viewer set aside for its automatic grid of one small view per series.
+    path = tmp_path / "trial.rrd"
+    recorder = RunRecorder(path)
+    recorder.on_generation(stats(0, 0.5))
+    recorder.close()
+    assert len(blueprint_rows(path)) == 2  # the default, then the same layout sent active
 
 
 # ---- the run folder --------------------------------------------------------------------------

@@ -8,10 +8,12 @@ import re
 import numpy as np
 import pytest
 
-from app.ui.panels.membership import membership_html
+from app.ui.panels import membership as membership_module
+from app.ui.panels.membership import kick_reach, membership_html
 from app.ui.panels.outputs import outputs_html
 from app.ui.panels.policy import COLUMNS, ROWS, policy_grid, policy_map_html
 from app.ui.panels.rules import HUNT_TEXT, decision_html, rules_html
+from app.ui.panels.svg import Axis
 from app.ui.pitch import PitchGeometry, to_scene, yaw_quaternion
 from app.ui.pitch_pictures import marking_segments
 from fuzzy.batched import NO_ACTION
@@ -32,6 +34,19 @@ INPUTS = {"ball_distance": 5.0, "ball_direction": -20.0, "goal_distance": None, 
 def degrees_of(html: str, input_name: str) -> dict[str, float]:
     block = html.split(f'data-input="{input_name}"', 1)[1].split('class="membership-input"', 1)[0]
     return {name: float(value) for value, name in re.findall(r'data-degree="([0-9.]+)"[^>]*>([A-Za-z0-9]+) ', block)}
+
+
+def test_ball_distance_chart_marks_where_the_ball_becomes_kickable():
+    # "Ball is At" reaches 2 m, a kick only 1.085 m: without the mark the chart hid why "At 0.7" did not kick.
+    world = WorldConfig()
+    html = membership_html(VOCABULARY, INPUTS, kick_reach(VOCABULARY, world))
+    ball_block = html.split('data-input="ball_distance"', 1)[1].split('class="membership-input"', 1)[0]
+    mark = re.search(r'class="kick-reach" data-reach="([0-9.]+)"><line x1="([0-9.]+)"', ball_block)
+    assert mark and float(mark.group(1)) == pytest.approx(world.kickable_distance) == pytest.approx(1.085)
+    axis = Axis(VOCABULARY.variables["distance"], membership_module.PAD, membership_module.WIDTH - membership_module.PAD)
+    assert float(mark.group(2)) == pytest.approx(axis(1.085), abs=0.05)
+    assert "kick reach 1.085 m" in ball_block
+    assert html.count('class="kick-reach"') == 1  # the goal's distance has no reach
 
 
 def test_membership_shows_hand_computed_degrees_and_greys_unseen_objects():

@@ -11,6 +11,7 @@ import viser
 from app.access import Forbidden, Visitor
 from app.classroom.settings import MAX_STARTS
 from app.classroom.tournament import Tournament, TournamentEvent, entry_game
+from app.lineage import plural
 from app.runs import RunStateError
 from app.store import NotFound, RoundRecord, StoreError
 from app.ui import style
@@ -51,7 +52,7 @@ class ClassPanel:
         gui.add_html(f'<div class="class-you" style="{style.FONT}; font-size:{style.FONT_SIZE}px">'
                      f"You are <b>{escape(who)}</b>.</div>")
         if visitor.teacher:
-            self.entry_name = gui.add_text("Entry name", "GA best")
+            self.entry_name = gui.add_text("Entry name (empty: the rules' name)", "")
         enter = gui.add_button("Enter the rules on my pitch")
         self.message = gui.add_html("")
         self.entries_view = gui.add_html("")
@@ -95,13 +96,13 @@ class ClassPanel:
     def enter_current(self) -> None:
         rulebase, name = self.current()
         try:
+            entry_name = (self.entry_name.value.strip() or name) if self.visitor.teacher else None
             entry = self.tournament.submit(self.visitor, format_rulebase(rulebase, self.vocabulary),
-                                           name=self.entry_name.value if self.visitor.teacher else None,
-                                           source=name)
+                                           name=entry_name, source=name)
         except (StoreError, RuleSyntaxError) as exc:
             self._say(f"Not entered: {exc}", error=True)
             return
-        self._say(f"Entered as “{entry.name}” ({len(rulebase)} rules of {name}).")
+        self._say(f"Entered as “{entry.name}” ({plural(len(rulebase), 'rule')} of {name}).")
 
     def start_round(self) -> None:
         try:
@@ -109,7 +110,8 @@ class ClassPanel:
         except (StoreError, RunStateError, Forbidden) as exc:
             self._say(f"Not started: {exc}", error=True)
             return
-        self._say(f"Round started: {started['entries']} entries x {started['starts']} starts …")
+        entries, starts = plural(started["entries"], "entry", "entries"), plural(started["starts"], "start")
+        self._say(f"Round started: {entries} x {starts} …")
 
     def remove_entry(self) -> None:
         label = self.to_remove.value
@@ -161,7 +163,7 @@ class ClassPanel:
                  if mine else ("You have not entered yet." if self.visitor.is_student else ""))
         self.entries_view.content = (
             f'<div class="class-entries" style="{style.FONT}; font-size:{style.FONT_SIZE}px">'
-            f"<div>{yours}</div><div><b>{len(entries)} entries</b></div><ol>{rows}</ol></div>")
+            f"<div>{yours}</div><div><b>{plural(len(entries), 'entry', 'entries')}</b></div><ol>{rows}</ol></div>")
         if self.visitor.teacher:
             labels = tuple(f"{e.name} [#{e.id}]" for e in entries) or ("(none)",)
             if tuple(self.to_remove.options) != labels:
@@ -185,7 +187,8 @@ class ClassPanel:
         self.table.content = (
             f'<div class="class-table" data-round="{record.id}" style="{style.FONT}; font-size:{style.FONT_SIZE}px; '
             'margin-bottom:10px">'
-            f"<div>Round {record.id}: {len(record.results)} entries × {record.starts} starts, seed {record.seed}, "
+            f"<div>Round {record.id}: {plural(len(record.results), 'entry', 'entries')} × "
+            f"{plural(record.starts, 'start')}, seed {record.seed}, "
             f"{escape(record.game.get('skills', ''))} skills. Fitness: the chapter's (lower is better), mean over "
             f'the starts. <a href="/api/class/rounds/{record.id}/table.csv">CSV</a></div>'
             f'<table style="border-collapse:collapse; width:100%"><thead><tr>{head}</tr></thead>'

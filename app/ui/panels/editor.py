@@ -8,6 +8,7 @@ from typing import TYPE_CHECKING, Callable
 
 import viser
 
+from app.lineage import plural
 from app.rule_inspection import MAX_GAMES, size
 from app.access import ScopedStore
 from app.store import StoreError
@@ -133,7 +134,7 @@ class EditorPanel:
         self.compact.value = format_compact(self.codec.encode(rulebase), self.vocabulary)
         self.name.content = (
             f'<div class="rules-on-pitch" style="{style.FONT}; font-size:{style.FONT_SIZE}px">On the pitch: '
-            f"<b>{escape(name)}</b> ({len(rulebase)} rules)</div>{editor_style(self.text.value)}"
+            f"<b>{escape(name)}</b> ({plural(len(rulebase), 'rule')})</div>{editor_style(self.text.value)}"
         )
 
     def _say(self, text: str, *, error: bool = False, lines: list[str] | None = None) -> None:
@@ -153,7 +154,8 @@ class EditorPanel:
         try:
             rulebase = parse_rulebase(self.text.value, self.vocabulary)
         except RuleSyntaxError as exc:
-            self._say(f"{len(exc.errors)} error(s); nothing applied:", error=True, lines=[str(e) for e in exc.errors])
+            self._say(f"{plural(len(exc.errors), 'error')}; nothing applied:", error=True,
+                      lines=[str(e) for e in exc.errors])
             return
         if not len(rulebase):
             self._say("No rules: write at least one rule (the player would only hunt).", error=True)
@@ -188,8 +190,8 @@ class EditorPanel:
         self.history = (self.history + [(rulebase, name)])[-UNDO_DEPTH:]
         self.on_apply(simplified, SIMPLIFIED_NAME)
         before, after = size(rulebase), size(simplified)
-        self._say(f"Simplified {before['rules']} rules ({before['premises']} premises) to {after['rules']} "
-                  f"({after['premises']}); the player now plays them. Undo goes back.", lines=lines)
+        self._say(f"Simplified {plural(before['rules'], 'rule')} ({plural(before['premises'], 'premise')}) to "
+                  f"{after['rules']} ({after['premises']}); the player now plays them. Undo goes back.", lines=lines)
 
     def save(self) -> None:
         name = self.save_name.value.strip()
@@ -212,7 +214,7 @@ class EditorPanel:
             self._say("Fix the rules first:", error=True, lines=[str(e) for e in exc.errors])
             return
         self.compact.value = format_compact(self.codec.encode(rulebase), self.vocabulary)
-        self._say(f"Encoded {len(rulebase)} rules as genes.")
+        self._say(f"Encoded {plural(len(rulebase), 'rule')} as genes.")
 
     def genes_to_rules(self) -> None:
         try:
@@ -221,7 +223,7 @@ class EditorPanel:
             self._say(f"Cannot read the genes: {exc}", error=True)
             return
         self.text.value = format_rulebase(rulebase, self.vocabulary)
-        self._say(f"Decoded {len(rulebase)} valid rules; press Apply to play them.")
+        self._say(f"Decoded {plural(len(rulebase), 'valid rule')}; press Apply to play them.")
 
 
 MAX_CHANGE_LINES = 40  # a long list says how many more it left out
@@ -231,7 +233,7 @@ def _change_lines(steps) -> list[str]:
     """Which rules went or changed, and why, step by step (a step listed but not applied says so)."""
     lines = []
     for step in steps:
-        how = f"checked on {step.games} games" if step.kind == "checked" else "exact"
+        how = f"checked on {plural(step.games, 'game')}" if step.kind == "checked" else "exact"
         note = "" if step.applied else " (listed, not applied)"
         for change in step.changes:
             what = "dropped" if change.after is None else f"now “{change.after}”"

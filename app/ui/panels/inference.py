@@ -10,11 +10,12 @@ import viser
 from app.rule_inspection import MAX_GAMES
 from app.ui import style
 from app.ui.number_field import FieldError, NumberField
-from app.ui.panels.membership import input_html, input_names, terms_html
+from app.ui.panels.membership import input_html, input_names, kick_reach, terms_html
 from app.ui.panels.outputs import outputs_html
 from app.ui.panels.rules import decision_html, rules_html
 from fuzzy.engine import Inference
 from fuzzy.vocabulary import Vocabulary
+from soccer.config import WorldConfig
 
 if TYPE_CHECKING:
     from soccer.usage import Usage
@@ -25,8 +26,9 @@ class InferencePanel:
     the rules (None clears it, when another rulebase goes on the pitch)."""
 
     def __init__(self, gui: viser.GuiApi, vocabulary: Vocabulary, on_change: Callable[[], None],
-                 on_usage: Callable[[int], None]):
+                 on_usage: Callable[[int], None], world: WorldConfig = WorldConfig()):
         self.vocabulary = vocabulary
+        self.reaches = kick_reach(vocabulary, world)
         self.usage: Usage | None = None
         self.decision = gui.add_html("")
         with gui.add_folder("Rules and their strengths"):
@@ -53,7 +55,7 @@ class InferencePanel:
         self._set(self.rules, "rules", rules_html(rule_texts, inference, self.only_fired.value, self.usage))
         self._set(self.outputs, "outputs", outputs_html(self.vocabulary, inference))
         for name, handle in self.membership.items():
-            self._set(handle, name, input_html(self.vocabulary, name, inputs.get(name)))
+            self._set(handle, name, input_html(self.vocabulary, name, inputs.get(name), self.reaches.get(name)))
 
     def _measure(self, on_usage: Callable[[int], None]) -> None:
         try:

@@ -3,6 +3,9 @@
 The terms' outlines and the axis never change: `terms_html` draws them once, as SVG definitions each
 input's chart then shows with `<use>`. Each tick only the value, the clipped terms and the degrees
 are sent, for each input on its own (`input_html`), and only when they changed.
+
+The ball distance's chart also marks the kicking reach (`kick_reach`): "Ball is At" reaches 2 m but a
+kick only the world's kickable distance, so a player can decide to kick a ball it cannot reach.
 """
 
 from __future__ import annotations
@@ -12,6 +15,8 @@ from typing import Mapping
 from app.ui import style
 from app.ui.panels.svg import Axis, escape, format_value, svg_open, term_points
 from fuzzy.vocabulary import Vocabulary
+from soccer.config import WorldConfig
+from soccer.perception import BALL, DISTANCE
 
 WIDTH = 520
 CHART_TOP = 8
@@ -20,10 +25,18 @@ AXIS_LABELS = 88
 PAD = 14
 
 
-def membership_html(vocabulary: Vocabulary, inputs: Mapping[str, float | None]) -> str:
+def membership_html(vocabulary: Vocabulary, inputs: Mapping[str, float | None],
+                    reaches: Mapping[str, float] | None = None) -> str:
     """Every input's block after the shared term outlines (what the panel shows, in one piece)."""
-    blocks = [input_html(vocabulary, input_name, inputs.get(input_name)) for input_name in input_names(vocabulary)]
+    reaches = reaches or {}
+    names = input_names(vocabulary)
+    blocks = [input_html(vocabulary, name, inputs.get(name), reaches.get(name)) for name in names]
     return terms_html(vocabulary) + "".join(blocks)
+
+
+def kick_reach(vocabulary: Vocabulary, world: WorldConfig) -> dict[str, float]:
+    """{ball distance input: the distance within which the ball can be kicked}, as `reaches` takes it."""
+    return {vocabulary.objects[BALL][DISTANCE]: world.kickable_distance}
 
 
 def input_names(vocabulary: Vocabulary) -> list[str]:
@@ -56,15 +69,17 @@ def terms_html(vocabulary: Vocabulary) -> str:
             f'<defs>{"".join(groups)}</defs></svg>')
 
 
-def input_html(vocabulary: Vocabulary, input_name: str, value: float | None) -> str:
+def input_html(vocabulary: Vocabulary, input_name: str, value: float | None, reach: float | None = None) -> str:
     """One input's block: its terms drawn on the universe with the crisp value marked, then a chip per
-    term with its degree. `value` is None when the object is not in view."""
+    term with its degree. `value` is None when the object is not in view; `reach`, when given, is marked
+    on the axis (the ball's kicking reach)."""
     obj, kind = next((obj, kind) for obj, kinds in vocabulary.objects.items()
                      for kind, name in kinds.items() if name == input_name)
-    return f'<div style="{style.FONT}; color:{style.INK}">{_input_block(vocabulary, obj, kind, value)}</div>'
+    block = _input_block(vocabulary, obj, kind, value, reach)
+    return f'<div style="{style.FONT}; color:{style.INK}">{block}</div>'
 
 
-def _input_block(vocabulary: Vocabulary, obj: str, kind: str, value: float | None) -> str:
+def _input_block(vocabulary: Vocabulary, obj: str, kind: str, value: float | None, reach: float | None) -> str:
     variable = vocabulary.variables[kind]
     visible = value is not None
     degrees = variable.fuzzify(value) if visible else {t: 0.0 for t in variable.term_names}
@@ -78,14 +93,16 @@ def _input_block(vocabulary: Vocabulary, obj: str, kind: str, value: float | Non
         f'<div style="font-size:{style.FONT_SIZE + 1}px; font-weight:600">{escape(title)} '
         f'<span class="reading" style="font-weight:400; color:{style.ACCENT if visible else style.MUTED}">'
         f"{escape(reading)}</span></div>"
-        f"{_chart(variable, kind, value, degrees)}"
+        f"{_chart(variable, kind, value, degrees, reach)}"
         f'<div style="display:flex; flex-wrap:wrap; gap:3px">{chips}</div></div>'
     )
 
 
-def _chart(variable, kind: str, value, degrees) -> str:
+def _chart(variable, kind: str, value, degrees, reach: float | None) -> str:
     axis = Axis(variable, PAD, WIDTH - PAD)
     parts = [svg_open(WIDTH, AXIS_LABELS + 4), f'<use href="#{_terms_id(kind)}"/>']
+    if reach is not None:
+        parts.append(_reach_mark(axis(reach), reach, variable.unit))
     parts += [
         f'<polygon points="{term_points(term, axis, CHART_TOP, CHART_BOTTOM, degrees[term.name])}" '
         f'fill="{style.CLIP_FILL}" opacity="0.55"/>'
@@ -99,6 +116,17 @@ def _chart(variable, kind: str, value, degrees) -> str:
         )
     parts.append("</svg>")
     return "".join(parts)
+
+
+def _reach_mark(x: float, reach: float, unit: str) -> str:
+    """A dashed line at the kicking reach, labelled inside the chart: left of it the ball can be kicked."""
+    label = f"kick reach {reach:g} {unit}".strip()
+    return (f'<g class="kick-reach" data-reach="{reach:g}">'
+            f'<line x1="{x:.1f}" y1="{CHART_TOP - 6}" x2="{x:.1f}" y2="{CHART_BOTTOM}" stroke="{style.FIRED}" '
+            f'stroke-width="2" stroke-dasharray="4 3"/>'
+            f'<text x="{x + 4:.1f}" y="{CHART_TOP + 4}" font-size="{style.SMALL_FONT_SIZE}" fill="{style.FIRED}" '
+            f'stroke="white" stroke-width="3" paint-order="stroke">'
+            f'{escape(label)}</text></g>')
 
 
 def _chip(name: str, degree: float, visible: bool) -> str:

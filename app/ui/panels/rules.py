@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Sequence
 
+from app.lineage import plural
 from app.ui import style
 from app.ui.panels.svg import escape, format_value
 from fuzzy.engine import Inference
@@ -87,7 +88,7 @@ def usage_caption(usage: "Usage") -> str:
     seeds = usage.seeds
     return (
         f'<div class="usage-caption" data-games="{len(seeds)}" style="color:{style.MUTED}; '
-        f'font-size:{style.SMALL_FONT_SIZE + 1}px; margin-bottom:4px">Usage over {len(seeds)} games (seeds '
+        f'font-size:{style.SMALL_FONT_SIZE + 1}px; margin-bottom:4px">Usage over {plural(len(seeds), "game")} (seeds '
         f"{seeds[0]}–{seeds[-1]}): the blue bar is the share of ticks each rule won (it fired and its action was "
         f"performed); grey rules never won. The player hunted {100 * usage.hunt_share:.1f}% of the ticks.</div>"
     )
