@@ -7,16 +7,16 @@ from __future__ import annotations
 from statistics import fmean
 from typing import TYPE_CHECKING, Any
 
-from fuzzy.printer import format_rule, format_rulebase
-from fuzzy.rule import Rulebase
-from fuzzy.simplify import premise_count
-from fuzzy.vocabulary import Vocabulary
-from soccer.config import GameConfig
+from soccer_lab.fuzzy.printer import format_rule, format_rulebase
+from soccer_lab.fuzzy.rule import Rulebase
+from soccer_lab.fuzzy.simplify import premise_count
+from soccer_lab.fuzzy.vocabulary import Vocabulary
+from soccer_lab.soccer.config import GameConfig
 
 if TYPE_CHECKING:  # these compile the game kernels: imported when games are played
-    from soccer.engine import GameResult
-    from soccer.simplify import CheckedSimplification
-    from soccer.usage import Usage
+    from soccer_lab.soccer.engine import GameResult
+    from soccer_lab.soccer.simplify import CheckedSimplification
+    from soccer_lab.soccer.usage import Usage
 
 DEFAULT_USAGE_GAMES = 100
 # The API's and UI's limits: a request plays its games while the client waits (docs/reference/limits.md)
@@ -74,14 +74,14 @@ def seeds_from(seed: int, games: int) -> list[int]:
 
 
 def rule_usage(rulebase: Rulebase, vocabulary: Vocabulary, games: int, seed: int, config: GameConfig) -> Usage:
-    from soccer.usage import measure_usage
+    from soccer_lab.soccer.usage import measure_usage
 
     return measure_usage(rulebase, seeds_from(seed, games), config, vocabulary)[0]
 
 
 def simplification(rulebase: Rulebase, vocabulary: Vocabulary, games: int, seed: int, config: GameConfig,
                    drop_unused_fields: bool = False) -> CheckedSimplification:
-    from soccer.simplify import simplify_rulebase
+    from soccer_lab.soccer.simplify import simplify_rulebase
 
     return simplify_rulebase(rulebase, vocabulary, seeds_from(seed, games), config, drop_unused_fields)
 

@@ -12,11 +12,11 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from fuzzy.export import RulebaseFormatError, rulebase_from_json, to_json
-from fuzzy.parser import RuleSyntaxError, parse_rulebase
-from fuzzy.printer import format_rulebase
-from fuzzy.rule import Rulebase
-from fuzzy.vocabulary import Vocabulary
+from soccer_lab.fuzzy.export import RulebaseFormatError, rulebase_from_json, to_json
+from soccer_lab.fuzzy.parser import RuleSyntaxError, parse_rulebase
+from soccer_lab.fuzzy.printer import format_rulebase
+from soccer_lab.fuzzy.rule import Rulebase
+from soccer_lab.fuzzy.vocabulary import Vocabulary
 
 JSON_SUFFIX = ".json"
 

@@ -119,7 +119,7 @@ class RunStatus(StrEnum):
     FINISHED = "finished"
     FAILED = "failed"
     INTERRUPTED = "interrupted"  # the app ended while the run was going (or waiting in the queue); resumable
-    QUEUED = "queued"  # classroom mode: waiting for a free core (app/runs.py's RunQueue)
+    QUEUED = "queued"  # classroom mode: waiting for a free core (app/runs/manager.py's RunQueue)
 
     @property
     def pending(self) -> bool:
@@ -492,7 +492,7 @@ class Store:
     # ---- classroom: students, tournament entries, rounds ----------------------------------------
     def add_student(self, name: str, token_hash: str) -> StudentRecord:
         """A student who joined under `name` (one line of plain text, unique in the class ignoring case and
-        spacing: StoreError when taken); `token_hash` identifies their browser (app/classroom/admission.py)."""
+        spacing: StoreError when taken); `token_hash` identifies their browser (app/web/classroom/admission.py)."""
         name = valid_name(name)
         stamp = now()
         with self._transaction() as cursor:

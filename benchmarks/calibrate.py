@@ -27,13 +27,13 @@ from pathlib import Path
 
 import numpy as np
 
-from app.experiment.executors import LocalExecutor
-from app.experiment.presets import PRESET_NAMES, ExperimentOptions
-from app.experiment.report import GOAL_SCORING, NEVER_KICKING, SCORERS_SPREAD, assess_findings
-from app.experiment.runner import Plan, assemble, plan, prepare_folder, run_trials
-from app.experiment.table import StatisticsTable
-from ga.config import GAConfig
-from soccer.config import SKILL_SET_NAMES
+from soccer_lab.app.experiment.executors import LocalExecutor
+from soccer_lab.app.experiment.presets import PRESET_NAMES, ExperimentOptions
+from soccer_lab.app.experiment.report import GOAL_SCORING, NEVER_KICKING, SCORERS_SPREAD, assess_findings
+from soccer_lab.app.experiment.runner import Plan, assemble, plan, prepare_folder, run_trials
+from soccer_lab.app.experiment.table import StatisticsTable
+from soccer_lab.ga.config import GAConfig
+from soccer_lab.soccer.config import SKILL_SET_NAMES
 from results import RESULTS_DIR, load_average, record_document, this_command  # benchmarks/results.py
 
 INITIAL, RANDOM = "initial", "random"

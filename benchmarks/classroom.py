@@ -5,7 +5,7 @@ every session keep playing (the ticks per second each tab receives), does the ro
 A real `soccer-lab serve --class` is started (its own process; the machine's network address, as a class
 meets it; a fixed join code; an empty data folder) and its printed teacher token read. STUDENTS students
 join (POST /api/class/join, each its own cookies and name). All of them join from this one machine's
-address, whose join attempts the class's rate limit counts ten requests each (app/api/guard.py: about one a
+address, whose join attempts the class's rate limit counts ten requests each (app/web/api/guard.py: about one a
 second): the joins are paced to stay within it, so none is refused. Then every student opens one tab of
 the UI, each its own viser session playing its own game (a session plays as it opens: the UI's demo player
 at the UI's speed, 2x real time, 20 ticks a second; nothing is pressed):
@@ -44,7 +44,7 @@ prints them); each session's ticks per second while the queue plays; the estimat
 Start against their real wait.
 
 Ticks per second: the game's progress each tab saw (the counter's advance; a new game counts from 0),
-over the window. Between two games the last position stays 2 s on screen (app/ui/session.py,
+over the window. Between two games the last position stays 2 s on screen (app/web/ui/session.py,
 GAME_OVER_PAUSE), so a session alone receives a little under 20. A stall: the longest time a session
 received no new tick while its game was on (not in the pause after a game). Failed requests: every HTTP
 request this script made (joins, entries, the round, the polling), every response with status 400 or
@@ -150,7 +150,7 @@ class Served:
 
     def __init__(self, folder: Path, address: str):
         self.port, self.ui_port = free_port(), free_port()
-        command = [sys.executable, "-c", "from app.cli import main; main()", "serve", "--class", "--host", address,
+        command = [sys.executable, "-c", "from soccer_lab.app.cli import main; main()", "serve", "--class", "--host", address,
                    "--join-code", CODE, "--data-dir", str(folder), "--port", str(self.port),
                    "--ui-port", str(self.ui_port)]
         self.process = subprocess.Popen(command, cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
@@ -486,7 +486,7 @@ async def lesson(served: Served, args: argparse.Namespace) -> dict[str, object]:
         tasks.append(asyncio.create_task(protocol_tab(tabs[0], served, cookie_header(clients[-1]), connections,
                                                       ending)))
         await wait_until(lambda: tabs[0].playing_since() is not None or tabs[0].closed, PLAYING_TIMEOUT_S)
-        await asyncio.sleep(2.0)  # its panels built (app/ui/session.py: PANELS_AFTER)
+        await asyncio.sleep(2.0)  # its panels built (app/web/ui/session.py: PANELS_AFTER)
         alone_start = time.time()
         await asyncio.sleep(ALONE_S)
         result["alone ticks/s"] = tick_rate(tabs[0], alone_start, time.time())
@@ -669,8 +669,8 @@ async def wait_until(done, timeout: float, at_least: float = 0.0) -> None:
 # ---- the report ----------------------------------------------------------------------------------------
 def report(result: dict[str, object], args: argparse.Namespace, load_before: list[float],
            serve_said: list[str]) -> list[Figure]:
-    from app.ui import style
-    from soccer.config import WorldConfig
+    from soccer_lab.app.web.ui import style
+    from soccer_lab.soccer.config import WorldConfig
 
     nominal = style.DEFAULT_SPEED / WorldConfig().tick_seconds
     protocol = args.students - args.browser_tabs
@@ -769,7 +769,7 @@ def main() -> None:
     args = parser.parse_args()
     if not 2 <= args.students or not 0 <= args.browser_tabs < args.students:
         parser.error("--students at least 2, --browser-tabs fewer than --students (one protocol tab is measured alone)")
-    from app.classroom.address import lan_address
+    from soccer_lab.app.web.classroom.address import lan_address
 
     address = lan_address()
     if address.startswith("127."):

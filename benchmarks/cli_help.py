@@ -27,16 +27,16 @@ TARGET_SECONDS = 0.5
 
 
 def console_script() -> list[str]:
-    """The `soccer-lab` executable installed beside this Python (else: this Python running app.cli)."""
+    """The `soccer-lab` executable installed beside this Python (else: this Python running soccer_lab.app.cli)."""
     script = Path(sys.executable).parent / "soccer-lab"
     if script.exists():
         return [str(script)]
-    return [sys.executable, "-c", "from app.cli import main; main()"]
+    return [sys.executable, "-c", "from soccer_lab.app.cli import main; main()"]
 
 
 def command_paths() -> list[list[str]]:
     """Every command path of the CLI, the root first: [], ["evolve"], ["rules"], ["rules", "check"], ..."""
-    from app.cli import app
+    from soccer_lab.app.cli import app
 
     root = typer.main.get_command(app)
     paths: list[list[str]] = []
@@ -66,7 +66,7 @@ def seconds(arguments: list[str], runs: int) -> tuple[float, float]:
 
 
 def slowest_imports(path: list[str], count: int = 15) -> list[str]:
-    code = f"import sys; sys.argv = {['soccer-lab', *path, '--help']!r}; from app.cli import main; main()"
+    code = f"import sys; sys.argv = {['soccer-lab', *path, '--help']!r}; from soccer_lab.app.cli import main; main()"
     done = subprocess.run([sys.executable, "-X", "importtime", "-c", code], capture_output=True, text=True)
     rows = []
     for line in done.stderr.splitlines():

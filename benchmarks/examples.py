@@ -12,10 +12,10 @@ from statistics import fmean
 
 from results import Figure, add_record_option, load_average, record
 
-from fuzzy.vocabulary import Vocabulary
-from soccer.config import SKILL_SET_NAMES, GameConfig
-from soccer.engine import play_games
-from soccer.examples import examples
+from soccer_lab.fuzzy.vocabulary import Vocabulary
+from soccer_lab.soccer.config import SKILL_SET_NAMES, GameConfig
+from soccer_lab.soccer.engine import play_games
+from soccer_lab.soccer.examples import examples
 
 
 def main() -> None:

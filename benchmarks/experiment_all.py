@@ -13,9 +13,9 @@ import tempfile
 import time
 from pathlib import Path
 
-from app.experiment.executors import LocalExecutor
-from app.experiment.presets import ALL, BEYOND_NAMES, PRESET_NAMES, ExperimentOptions
-from app.experiment.runner import plan, run_experiment
+from soccer_lab.app.experiment.executors import LocalExecutor
+from soccer_lab.app.experiment.presets import ALL, BEYOND_NAMES, PRESET_NAMES, ExperimentOptions
+from soccer_lab.app.experiment.runner import plan, run_experiment
 from results import Figure, add_record_option, load_average, record, this_command  # benchmarks/results.py
 
 

@@ -1,7 +1,7 @@
 """Batched FIS throughput: our numba kernel vs pyfuzzylite and scikit-fuzzy, in one run.
 
 200 random rulebases of 10 rules (seeded), each player its own rulebase, evaluated with
-`fuzzy.batched.infer_batch`. pyfuzzylite evaluates one of the same rulebases, exported to FLL
+`soccer_lab.fuzzy.batched.infer_batch`. pyfuzzylite evaluates one of the same rulebases, exported to FLL
 (MeanOfMaximum), with its own batched evaluation (arrays as input values, one engine.process()).
 scikit-fuzzy evaluates the same rulebase with ControlSystemSimulation, one input at a time (slow,
 so few evaluations). The script also checks the three agree to within the other tools' sampling
@@ -18,14 +18,14 @@ import time
 
 import numpy as np
 
-from fuzzy.batched import compile_rulebases, decide_batch, infer_batch
-from fuzzy.defuzzifier import sampled_error_bound
-from fuzzy.engine import Engine
-from fuzzy.export.fll import to_fll
-from fuzzy.export.layout import (RESOLUTION, VISIBLE_TERM, FisLayout, parameter_output, support_output,
-                                 visibility_input)
-from fuzzy.random_rulebase import random_rulebase
-from fuzzy.vocabulary import Vocabulary
+from soccer_lab.fuzzy.batched import compile_rulebases, decide_batch, infer_batch
+from soccer_lab.fuzzy.defuzzifier import sampled_error_bound
+from soccer_lab.fuzzy.engine import Engine
+from soccer_lab.fuzzy.export.fll import to_fll
+from soccer_lab.fuzzy.export.layout import (RESOLUTION, VISIBLE_TERM, FisLayout, parameter_output, support_output,
+                                            visibility_input)
+from soccer_lab.fuzzy.random_rulebase import random_rulebase
+from soccer_lab.fuzzy.vocabulary import Vocabulary
 from results import Figure, add_record_option, load_average, record, this_command  # benchmarks/results.py
 
 SEED = 20240601

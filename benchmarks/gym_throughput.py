@@ -21,10 +21,10 @@ import time
 import numpy as np
 from gymnasium.vector import SyncVectorEnv
 
-from soccer.config import GameConfig
-from soccer.engine import GameBatch
-from soccer.gym.env import NO_CONTROLLER, SimpleSoccerEnv
-from soccer.gym.vector import SimpleSoccerVectorEnv
+from soccer_lab.soccer.config import GameConfig
+from soccer_lab.soccer.engine import GameBatch
+from soccer_lab.soccer.gym.env import NO_CONTROLLER, SimpleSoccerEnv
+from soccer_lab.soccer.gym.vector import SimpleSoccerVectorEnv
 from results import Figure, add_record_option, load_average, record, this_command  # benchmarks/results.py
 
 

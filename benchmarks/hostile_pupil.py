@@ -54,7 +54,7 @@ class Serve:
 
     def __init__(self, folder: str, classroom: bool):
         self.port = free_port()
-        arguments = [sys.executable, "-c", "from app.cli import main; main()", "serve", "--host", "127.0.0.1",
+        arguments = [sys.executable, "-c", "from soccer_lab.app.cli import main; main()", "serve", "--host", "127.0.0.1",
                      "--data-dir", folder, "--port", str(self.port), "--ui-port", str(free_port())]
         if classroom:
             arguments += ["--class", "--join-code", CODE, "--address", "127.0.0.1"]

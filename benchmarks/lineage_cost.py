@@ -33,13 +33,13 @@ import json, sys, tempfile, time
 from pathlib import Path
 sys.path.insert(0, sys.argv[1])
 options = json.loads(sys.argv[2])
-import ga.algorithms as algorithms
-from ga.config import GAConfig
-from fuzzy.vocabulary import Vocabulary
-from soccer.config import GameConfig
-from soccer.demo import demo_rulebase
-from soccer.engine import play_games
-from soccer.evaluate import SimpleSoccerEvaluator
+import soccer_lab.ga.algorithms as algorithms
+from soccer_lab.ga.config import GAConfig
+from soccer_lab.fuzzy.vocabulary import Vocabulary
+from soccer_lab.soccer.config import GameConfig
+from soccer_lab.soccer.demo import demo_rulebase
+from soccer_lab.soccer.engine import play_games
+from soccer_lab.soccer.evaluate import SimpleSoccerEvaluator
 assert algorithms.__file__.startswith(sys.argv[1]), algorithms.__file__
 parts = {"breeding": 0.0, "statistics": 0.0, "outputs": 0.0, "behaviours": 0.0}
 
@@ -62,8 +62,8 @@ game = GameConfig()
 play_games([demo_rulebase()], [0], game)  # the compiled kernels loaded before the clock starts
 started = time.perf_counter()
 if options["outputs"]:
-    from app.run import Run, RunSettings
-    from app.run_outputs import RunOutputs
+    from soccer_lab.app.runs.run import Run, RunSettings
+    from soccer_lab.app.runs.outputs import RunOutputs
     timed(RunOutputs, "on_generation", "outputs")
     with tempfile.TemporaryDirectory() as folder:
         run = Run.create(RunSettings(config, game), Path(folder) / "run")

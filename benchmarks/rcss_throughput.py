@@ -22,13 +22,13 @@ import time
 from pathlib import Path
 from typing import NamedTuple, Sequence
 
-from fuzzy.parser import parse_rulebase
-from ga.algorithms import evolve
-from ga.config import GAConfig
-from soccer.config import SOCCER_VOCABULARY
-from soccer.rcss.evaluate import RcssEvaluator
-from soccer.rcss.servers import ServerPool
-from soccer.rcss.trial import TrialConfig, TrialResult
+from soccer_lab.fuzzy.parser import parse_rulebase
+from soccer_lab.ga.algorithms import evolve
+from soccer_lab.ga.config import GAConfig
+from soccer_lab.soccer.config import SOCCER_VOCABULARY
+from soccer_lab.soccer.rcss.evaluate import RcssEvaluator
+from soccer_lab.soccer.rcss.servers import ServerPool
+from soccer_lab.soccer.rcss.trial import TrialConfig, TrialResult
 from results import Figure, add_record_option, record, this_command  # benchmarks/results.py
 
 # A player that goes to the ball and kicks it towards the goal: it plays whole trials (it scores, so

@@ -1,7 +1,7 @@
 """The size of a run's rerun recording (issue 25: recordings bounded in size), for a GA run of the chapter's
 population (200) over 100 generations with the default games: what one generation adds (its statistics and
 its best player's replayed game, about 60 KB) and what the blueprint adds (sent when its replay tabs double,
-and at the end: app/recording.py).
+and at the end: app/runs/recording.py).
 
     python benchmarks/recording_size.py [--population 200] [--generations 100] [--record]
 """
@@ -23,7 +23,7 @@ def main() -> None:
     parser.add_argument("--seed", type=int, default=1)
     add_record_option(parser)
     args = parser.parse_args()
-    from app.run import Run, RunSettings
+    from soccer_lab.app.runs.run import Run, RunSettings
 
     load_before = load_average()
     with tempfile.TemporaryDirectory() as folder:

@@ -32,17 +32,17 @@ import time
 
 import numpy as np
 
-from app.rule_inspection import (GAME_COST_TICKS, MAX_RULES, MAX_WORK, PREMISES_PER_RULE, TICK_COST_RULES,
-                                 affordable_games)
-from fuzzy.parser import parse_rulebase
-from fuzzy.random_rulebase import random_rulebase
-from fuzzy.simplify import premise_count
-from fuzzy.rule import Rulebase
-from fuzzy.vocabulary import Vocabulary
-from soccer.config import GameConfig
-from soccer.demo import demo_rulebase
-from soccer.simplify import simplify_rulebase
-from soccer.usage import measure_usage
+from soccer_lab.app.rule_inspection import (GAME_COST_TICKS, MAX_RULES, MAX_WORK, PREMISES_PER_RULE, TICK_COST_RULES,
+                                            affordable_games)
+from soccer_lab.fuzzy.parser import parse_rulebase
+from soccer_lab.fuzzy.random_rulebase import random_rulebase
+from soccer_lab.fuzzy.simplify import premise_count
+from soccer_lab.fuzzy.rule import Rulebase
+from soccer_lab.fuzzy.vocabulary import Vocabulary
+from soccer_lab.soccer.config import GameConfig
+from soccer_lab.soccer.demo import demo_rulebase
+from soccer_lab.soccer.simplify import simplify_rulebase
+from soccer_lab.soccer.usage import measure_usage
 from results import Figure, add_record_option, load_average, record, this_command  # benchmarks/results.py
 
 VOCABULARY = Vocabulary.default()

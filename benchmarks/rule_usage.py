@@ -17,15 +17,15 @@ import time
 
 import numpy as np
 
-from fuzzy.random_rulebase import random_rulebase
-from fuzzy.rule import Rulebase
-from fuzzy.simplify import premise_count, simplify_exactly
-from fuzzy.vocabulary import Vocabulary
-from soccer.config import GameConfig
-from soccer.demo import demo_rulebase
-from soccer.engine import play_games
-from soccer.simplify import simplify_rulebase
-from soccer.usage import measure_usage
+from soccer_lab.fuzzy.random_rulebase import random_rulebase
+from soccer_lab.fuzzy.rule import Rulebase
+from soccer_lab.fuzzy.simplify import premise_count, simplify_exactly
+from soccer_lab.fuzzy.vocabulary import Vocabulary
+from soccer_lab.soccer.config import GameConfig
+from soccer_lab.soccer.demo import demo_rulebase
+from soccer_lab.soccer.engine import play_games
+from soccer_lab.soccer.simplify import simplify_rulebase
+from soccer_lab.soccer.usage import measure_usage
 from results import Figure, add_record_option, load_average, record, this_command  # benchmarks/results.py
 
 VOCABULARY = Vocabulary.default()

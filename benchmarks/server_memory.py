@@ -3,7 +3,7 @@ real serve process: its resident memory and threads after the heaviest request e
 across 100 generations of runs (5 runs x 20 generations, one after another). Then, against the population
 (issue 36: memory linear in it), for each population a run of 2 generations: the peak memory of
 `soccer-lab evolve --workers 1` (past MAX_POPULATION, which the CLI and the API refuse, the same run played
-by app.run.Run directly) and of a fresh serve running it, the run's checkpoint and lineage.jsonl
+by soccer_lab.app.runs.run.Run directly) and of a fresh serve running it, the run's checkpoint and lineage.jsonl
 sizes, how long the lineage and population requests of its last generation take, and how long a stop
 takes asked as generation 0's evaluation ends (the end-of-generation work, which a stop waits for, then begins).
 
@@ -47,9 +47,9 @@ def free_port() -> int:
 
 
 def rule_text(rules: int) -> str:
-    from fuzzy.printer import format_rulebase
-    from fuzzy.random_rulebase import random_rulebase
-    from fuzzy.vocabulary import Vocabulary
+    from soccer_lab.fuzzy.printer import format_rulebase
+    from soccer_lab.fuzzy.random_rulebase import random_rulebase
+    from soccer_lab.fuzzy.vocabulary import Vocabulary
 
     vocabulary = Vocabulary.default()
     return format_rulebase(random_rulebase(np.random.default_rng(1), vocabulary, rules), vocabulary)
@@ -64,7 +64,7 @@ def memory(process: psutil.Process) -> tuple[float, float, int]:
 
 def start_serve(folder: str) -> tuple[subprocess.Popen, str]:
     port = free_port()
-    command = [sys.executable, "-c", "from app.cli import main; main()", "serve", "--data-dir", folder,
+    command = [sys.executable, "-c", "from soccer_lab.app.cli import main; main()", "serve", "--data-dir", folder,
                "--port", str(port), "--ui-port", str(free_port())]
     serve = subprocess.Popen(command, cwd=ROOT, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     api = f"http://127.0.0.1:{port}/api"
@@ -76,12 +76,12 @@ def start_serve(folder: str) -> tuple[subprocess.Popen, str]:
             time.sleep(0.2)
 
 
-# Past MAX_POPULATION the CLI refuses: the run is played by the code `soccer-lab evolve` calls (app.run.Run),
+# Past MAX_POPULATION the CLI refuses: the run is played by the code `soccer-lab evolve` calls (soccer_lab.app.runs.run.Run),
 # its GAConfig copied past the bound
 BEYOND_THE_BOUND = """
 import sys
-from app.run import Run, RunSettings
-from ga.config import GAConfig
+from soccer_lab.app.runs.run import Run, RunSettings
+from soccer_lab.ga.config import GAConfig
 ga = GAConfig(max_generations=2, workers=1, seed=1).model_copy(update={"population_size": int(sys.argv[1])})
 run = Run.create(RunSettings(ga=ga), sys.argv[2])
 with run.evaluator() as evaluate:
@@ -91,9 +91,9 @@ with run.evaluator() as evaluate:
 
 def cli_run(population: int, folder: Path) -> float:
     """Peak resident MB of `soccer-lab evolve` playing 2 generations of `population` in one process."""
-    from ga.config import MAX_POPULATION
+    from soccer_lab.ga.config import MAX_POPULATION
 
-    command = [sys.executable, "-c", "from app.cli import main; main()", "evolve", "--population-size",
+    command = [sys.executable, "-c", "from soccer_lab.app.cli import main; main()", "evolve", "--population-size",
                str(population), "--generations", "2", "--workers", "1", "--seed", "1", "--out", str(folder)]
     if population > MAX_POPULATION:
         command = [sys.executable, "-c", BEYOND_THE_BOUND, str(population), str(folder)]
@@ -148,7 +148,7 @@ def serve_run(population: int, folder: str) -> dict:
 
 
 def population_figures(populations: list[int]) -> list[Figure]:
-    from ga.config import MAX_POPULATION
+    from soccer_lab.ga.config import MAX_POPULATION
 
     figures: list[Figure] = []
     peaks: dict[str, dict[int, float]] = {"evolve": {}, "serve": {}}
@@ -161,7 +161,7 @@ def population_figures(populations: list[int]) -> list[Figure]:
             past = population > MAX_POPULATION
             figures += [Figure(f"evolve peak, {at}", round(cli_peak), "MB", target="<= 1,000 MB at 10,000",
                                note=f"2 generations, one process; load {load}"
-                                    + ("; past MAX_POPULATION: app.run.Run, as evolve plays it" if past else "")),
+                                    + ("; past MAX_POPULATION: soccer_lab.app.runs.run.Run, as evolve plays it" if past else "")),
                         Figure(f"checkpoint, {at}", round((files / "checkpoint").stat().st_size / 2**20, 1), "MB"),
                         Figure(f"lineage.jsonl, {at}", round((files / "lineage.jsonl").stat().st_size / 2**20, 1),
                                "MB", note="2 generations")]
@@ -205,12 +205,12 @@ def main() -> None:
 
 
 def request_figures(args: argparse.Namespace) -> list[Figure]:
-    from app.rule_inspection import MAX_RULES, SIMPLIFY_PLAYS, USAGE_PLAYS, affordable_games
-    from ga.config import MAX_POPULATION
+    from soccer_lab.app.rule_inspection import MAX_RULES, SIMPLIFY_PLAYS, USAGE_PLAYS, affordable_games
+    from soccer_lab.ga.config import MAX_POPULATION
 
     folder = tempfile.mkdtemp()
     port = free_port()
-    command = [sys.executable, "-c", "from app.cli import main; main()", "serve", "--data-dir", folder,
+    command = [sys.executable, "-c", "from soccer_lab.app.cli import main; main()", "serve", "--data-dir", folder,
                "--port", str(port), "--ui-port", str(free_port())]
     serve = subprocess.Popen(command, cwd=ROOT, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     api = f"http://127.0.0.1:{port}/api"

@@ -21,10 +21,10 @@ import time
 
 import numpy as np
 
-from fuzzy.random_rulebase import random_rulebase
-from fuzzy.vocabulary import Vocabulary
-from soccer.config import SKILL_SET_NAMES, GameConfig
-from soccer.engine import GameBatch
+from soccer_lab.fuzzy.random_rulebase import random_rulebase
+from soccer_lab.fuzzy.vocabulary import Vocabulary
+from soccer_lab.soccer.config import SKILL_SET_NAMES, GameConfig
+from soccer_lab.soccer.engine import GameBatch
 from results import Figure, add_record_option, load_average, record, this_command  # benchmarks/results.py
 
 VOCABULARY = Vocabulary.default()

@@ -32,9 +32,9 @@ POLL_S = 0.01
 def one_population(population: int) -> dict:
     """In this (fresh) process: start a run of `population`, stop it after its first chunk."""
     sys.path.insert(0, str(ROOT))
-    from app.paths import DATABASE_FILE
-    from app.runs import RunManager
-    from app.store import RunStatus, Store
+    from soccer_lab.app.paths import DATABASE_FILE
+    from soccer_lab.app.runs.manager import RunManager
+    from soccer_lab.app.store import RunStatus, Store
 
     with tempfile.TemporaryDirectory() as folder:
         store = Store(Path(folder) / DATABASE_FILE)
@@ -70,7 +70,7 @@ def serve_exit(population: int) -> float:
 
     with tempfile.TemporaryDirectory() as folder:
         ports = [free_port() for _ in range(2)]
-        command = [sys.executable, "-c", "from app.cli import main; main()", "serve", "--data-dir", folder,
+        command = [sys.executable, "-c", "from soccer_lab.app.cli import main; main()", "serve", "--data-dir", folder,
                    "--port", str(ports[0]), "--ui-port", str(ports[1])]
         serve = subprocess.Popen(command, cwd=ROOT, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
         api = f"http://127.0.0.1:{ports[0]}/api"

@@ -1,7 +1,7 @@
 """Times one Table 2 trial (docs/performance.md): population 200 x 25 generations with the chapter's defaults,
 SimpleSoccer games, 2 worker processes. Target: under 10 s on a 2-core machine.
 
-With --outputs the trial is played as `soccer-lab evolve` and the app play a run (app.run.Run, in a
+With --outputs the trial is played as `soccer-lab evolve` and the app play a run (soccer_lab.app.runs.run.Run, in a
 temporary run folder: checkpoint, statistics.csv, best rules, the rerun recording with each generation's
 best player's game), and the time spent replaying those games is reported too.
 
@@ -17,13 +17,13 @@ import tempfile
 import time
 from pathlib import Path
 
-from fuzzy.vocabulary import Vocabulary
-from ga.algorithms import evolve
-from ga.config import GAConfig
-from soccer.config import SKILL_SET_NAMES, GameConfig
-from soccer.demo import demo_rulebase
-from soccer.engine import play_games
-from soccer.evaluate import SimpleSoccerEvaluator
+from soccer_lab.fuzzy.vocabulary import Vocabulary
+from soccer_lab.ga.algorithms import evolve
+from soccer_lab.ga.config import GAConfig
+from soccer_lab.soccer.config import SKILL_SET_NAMES, GameConfig
+from soccer_lab.soccer.demo import demo_rulebase
+from soccer_lab.soccer.engine import play_games
+from soccer_lab.soccer.evaluate import SimpleSoccerEvaluator
 from results import Figure, add_record_option, load_average, record, this_command  # benchmarks/results.py
 
 VOCABULARY = Vocabulary.default()
@@ -82,7 +82,7 @@ def main() -> None:
 
 def _as_a_run(config: GAConfig, game: GameConfig) -> tuple[object, float]:
     """The trial as a Run in a temporary folder; its result and the seconds spent in the replays."""
-    from app.run import GenerationReplays, Run, RunSettings
+    from soccer_lab.app.runs.run import GenerationReplays, Run, RunSettings
 
     spent = [0.0]
     replay = GenerationReplays.replay

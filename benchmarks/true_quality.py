@@ -1,5 +1,5 @@
 """What re-playing the best so far costs a Table 2 trial (target: at most 5% of its wall time). A run
-re-plays its best on app/true_quality.py's common starts each time the best changes (one batch of
+re-plays its best on app/runs/true_quality.py's common starts each time the best changes (one batch of
 TRUE_QUALITY_STARTS single games); this plays the Table 2 trial of benchmarks/trial.py --full (population
 200 x 25 generations, every generation run, 2 workers) as a run with its folder's outputs and times the
 re-plays inside it, so the cost is measured without the noise of the games around it.
@@ -23,13 +23,13 @@ HERE = Path(__file__).resolve().parent.parent
 TRIAL = r"""
 import json, tempfile, time
 from pathlib import Path
-import app.run as run_module
-import app.true_quality as true_quality
-from app.run import Run, RunSettings
-from ga.config import GAConfig
-from soccer.config import GameConfig
-from soccer.demo import demo_rulebase
-from soccer.engine import play_games
+import soccer_lab.app.runs.run as run_module
+import soccer_lab.app.runs.true_quality as true_quality
+from soccer_lab.app.runs.run import Run, RunSettings
+from soccer_lab.ga.config import GAConfig
+from soccer_lab.soccer.config import GameConfig
+from soccer_lab.soccer.demo import demo_rulebase
+from soccer_lab.soccer.engine import play_games
 spent = {"replays": 0.0, "count": 0}
 original = true_quality.replayed_quality
 def timed(*args, **kwargs):

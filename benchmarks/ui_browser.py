@@ -255,10 +255,10 @@ def frames_drawn(tabs: list[Tab], seconds: float) -> list[float]:
 
 
 def run(tab_count: int, speed: float, seconds: float, playwright) -> dict[str, object]:
-    from app.runs import RunManager
-    from app.store import Store
-    from app.ui import start_ui
-    from app.ui.game import Game
+    from soccer_lab.app.runs.manager import RunManager
+    from soccer_lab.app.store import Store
+    from soccer_lab.app.web.ui import start_ui
+    from soccer_lab.app.web.ui.game import Game
 
     with tempfile.TemporaryDirectory() as folder:
         store = Store(Path(folder) / "db.sqlite3")

@@ -15,16 +15,16 @@ import time
 
 import numpy as np
 
-from app.ui import style
-from app.ui.context import UiContext
-from app.ui.game import Game
-from app.ui.panels.membership import input_html, input_names
-from app.ui.panels.outputs import outputs_html
-from app.ui.panels.policy import policy_grid, policy_map_html
-from app.ui.panels.rules import decision_html, rules_html
-from fuzzy.random_rulebase import random_rulebase
-from fuzzy.vocabulary import Vocabulary
-from soccer.config import GameConfig
+from soccer_lab.app.web.ui import style
+from soccer_lab.app.web.ui.context import UiContext
+from soccer_lab.app.web.ui.game import Game
+from soccer_lab.app.web.ui.panels.membership import input_html, input_names
+from soccer_lab.app.web.ui.panels.outputs import outputs_html
+from soccer_lab.app.web.ui.panels.policy import policy_grid, policy_map_html
+from soccer_lab.app.web.ui.panels.rules import decision_html, rules_html
+from soccer_lab.fuzzy.random_rulebase import random_rulebase
+from soccer_lab.fuzzy.vocabulary import Vocabulary
+from soccer_lab.soccer.config import GameConfig
 from results import Figure, add_record_option, load_average, record, this_command  # benchmarks/results.py
 
 SEED = 7

@@ -17,9 +17,9 @@ from typing import NamedTuple
 import numba
 import numpy as np
 
-from fuzzy.rule import OR, Rulebase
-from fuzzy.term import alpha_cut, trapezoid_membership
-from fuzzy.vocabulary import Vocabulary
+from soccer_lab.fuzzy.rule import OR, Rulebase
+from soccer_lab.fuzzy.term import alpha_cut, trapezoid_membership
+from soccer_lab.fuzzy.vocabulary import Vocabulary
 
 NULL_TERM = -1
 NO_ACTION = -1

@@ -5,9 +5,9 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Mapping
 
-from fuzzy.defuzzifier import mean_of_maximum
-from fuzzy.rule import OR, Premise, Rule, Rulebase
-from fuzzy.vocabulary import Vocabulary
+from soccer_lab.fuzzy.defuzzifier import mean_of_maximum
+from soccer_lab.fuzzy.rule import OR, Premise, Rule, Rulebase
+from soccer_lab.fuzzy.vocabulary import Vocabulary
 
 
 @dataclass(frozen=True)

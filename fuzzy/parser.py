@@ -18,9 +18,9 @@ use is kept as genetic material and written in brackets: `then Turn Left [power 
 
 from __future__ import annotations
 
-from fuzzy.rule import AND, OR, Consequent, Premise, Rule, Rulebase
-from fuzzy.tokenizer import COMMA, END, LBRACKET, LPAREN, RBRACKET, RPAREN, WORD, Token, tokenize
-from fuzzy.vocabulary import Vocabulary
+from soccer_lab.fuzzy.rule import AND, OR, Consequent, Premise, Rule, Rulebase
+from soccer_lab.fuzzy.tokenizer import COMMA, END, LBRACKET, LPAREN, RBRACKET, RPAREN, WORD, Token, tokenize
+from soccer_lab.fuzzy.vocabulary import Vocabulary
 
 IF, THEN, IS, NOT = "if", "then", "is", "not"
 CONNECTOR_WORDS = {"and": AND, "or": OR}

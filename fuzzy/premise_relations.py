@@ -22,9 +22,9 @@ from __future__ import annotations
 
 from functools import lru_cache
 
-from fuzzy.rule import Premise
-from fuzzy.term import Term
-from fuzzy.vocabulary import Vocabulary
+from soccer_lab.fuzzy.rule import Premise
+from soccer_lab.fuzzy.term import Term
+from soccer_lab.fuzzy.vocabulary import Vocabulary
 
 ZERO, ONE, RAMP = "zero", "one", "ramp"
 _NEGATED = {ZERO: ONE, ONE: ZERO, RAMP: RAMP}

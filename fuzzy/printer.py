@@ -7,9 +7,9 @@ explicit: the running group is parenthesised wherever the connector changes, e.g
 
 from __future__ import annotations
 
-from fuzzy.parser import IF, IS, NOT, THEN
-from fuzzy.rule import Consequent, Premise, Rule, Rulebase
-from fuzzy.vocabulary import Vocabulary
+from soccer_lab.fuzzy.parser import IF, IS, NOT, THEN
+from soccer_lab.fuzzy.rule import Consequent, Premise, Rule, Rulebase
+from soccer_lab.fuzzy.vocabulary import Vocabulary
 
 
 def format_premise(premise: Premise, vocabulary: Vocabulary) -> str:

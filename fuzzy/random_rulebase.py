@@ -7,8 +7,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from fuzzy.rule import CONNECTORS, Consequent, Premise, Rule, Rulebase
-from fuzzy.vocabulary import Vocabulary
+from soccer_lab.fuzzy.rule import CONNECTORS, Consequent, Premise, Rule, Rulebase
+from soccer_lab.fuzzy.vocabulary import Vocabulary
 
 MAX_PREMISES = 4
 NULL_PROBABILITY = 0.2  # chance that a consequent field is Null

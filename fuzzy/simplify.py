@@ -32,11 +32,11 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 from typing import Callable, Iterator
 
-from fuzzy.premise_relations import PremiseRelations
-from fuzzy.printer import format_premise, format_rule
-from fuzzy.rule import Consequent, Rule, Rulebase
-from fuzzy.strength_form import StrengthForm
-from fuzzy.vocabulary import Vocabulary
+from soccer_lab.fuzzy.premise_relations import PremiseRelations
+from soccer_lab.fuzzy.printer import format_premise, format_rule
+from soccer_lab.fuzzy.rule import Consequent, Rule, Rulebase
+from soccer_lab.fuzzy.strength_form import StrengthForm
+from soccer_lab.fuzzy.vocabulary import Vocabulary
 
 EXACT, CHECKED = "exact", "checked"
 

@@ -25,8 +25,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from fuzzy.premise_relations import PremiseRelations
-from fuzzy.rule import AND, Rule
+from soccer_lab.fuzzy.premise_relations import PremiseRelations
+from soccer_lab.fuzzy.rule import AND, Rule
 
 
 @dataclass(frozen=True)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from fuzzy.term import Term
+from soccer_lab.fuzzy.term import Term
 
 
 @dataclass(frozen=True)

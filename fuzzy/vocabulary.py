@@ -15,9 +15,9 @@ from functools import cache
 from pathlib import Path
 from typing import Any
 
-from fuzzy.rule import CONNECTORS, PARAMETERS
-from fuzzy.term import Term
-from fuzzy.variable import LinguisticVariable
+from soccer_lab.fuzzy.rule import CONNECTORS, PARAMETERS
+from soccer_lab.fuzzy.term import Term
+from soccer_lab.fuzzy.variable import LinguisticVariable
 
 DEFAULT_VOCABULARY_FILE = Path(__file__).parent / "data" / "soccer_vocabulary.json"
 FORMAT = "soccer-lab-vocabulary"

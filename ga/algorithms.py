@@ -24,21 +24,21 @@ from typing import Any, Iterable, Sequence
 
 import numpy as np
 
-from fuzzy.rule import Rulebase
-from fuzzy.vocabulary import Vocabulary
-from ga.checkpoint import load_checkpoint, save_checkpoint
-from ga.codec import ChromosomeCodec
-from ga.config import SEED_BOUND, GAConfig
-from ga.diversity import BehaviourProbe, behaviour_seeds
-from ga.evaluation import Evaluation, EvaluationStopped, Evaluator
-from ga.genes import GeneSpace
-from ga.individual import Individual
-from ga.initialisation import random_population
-from ga.provenance import RANDOM_DRAW
-from ga.reproduction import next_generation
-from ga.result import GENERATIONS_DONE, STOPPED, TARGET_REACHED, RunResult
-from ga.state import GA, RANDOM_SEARCH, RunState
-from ga.statistics import NOT_MEASURED, generation_stats
+from soccer_lab.fuzzy.rule import Rulebase
+from soccer_lab.fuzzy.vocabulary import Vocabulary
+from soccer_lab.ga.checkpoint import load_checkpoint, save_checkpoint
+from soccer_lab.ga.codec import ChromosomeCodec
+from soccer_lab.ga.config import SEED_BOUND, GAConfig
+from soccer_lab.ga.diversity import BehaviourProbe, behaviour_seeds
+from soccer_lab.ga.evaluation import Evaluation, EvaluationStopped, Evaluator
+from soccer_lab.ga.genes import GeneSpace
+from soccer_lab.ga.individual import Individual
+from soccer_lab.ga.initialisation import random_population
+from soccer_lab.ga.provenance import RANDOM_DRAW
+from soccer_lab.ga.reproduction import next_generation
+from soccer_lab.ga.result import GENERATIONS_DONE, STOPPED, TARGET_REACHED, RunResult
+from soccer_lab.ga.state import GA, RANDOM_SEARCH, RunState
+from soccer_lab.ga.statistics import NOT_MEASURED, generation_stats
 
 # A callback is a function (stats, population) or an object with on_generation(stats, population).
 Callback = Any

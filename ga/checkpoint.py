@@ -10,11 +10,11 @@ from typing import Any
 
 from pydantic import ValidationError
 
-from fuzzy.vocabulary import Vocabulary, VocabularyError
-from ga.config import GAConfig
-from ga.individual import Individual
-from ga.state import ALGORITHMS, RunState
-from ga.statistics import GenerationStats
+from soccer_lab.fuzzy.vocabulary import Vocabulary, VocabularyError
+from soccer_lab.ga.config import GAConfig
+from soccer_lab.ga.individual import Individual
+from soccer_lab.ga.state import ALGORITHMS, RunState
+from soccer_lab.ga.statistics import GenerationStats
 
 FORMAT = "soccer-lab-ga-checkpoint"
 VERSION = 1

@@ -11,10 +11,10 @@ from functools import lru_cache
 
 import numpy as np
 
-from fuzzy.rule import Consequent, Premise, Rule, Rulebase
-from fuzzy.vocabulary import Vocabulary
-from ga.genes import (ACTION, CONNECTOR, CONSEQUENT, DIRECTION, GENE_DTYPE, GENE_WIDTH, IS, IS_NOT, KIND,
-                      OBJECT, POWER, PREMISE, QUALIFIER, TERM, GeneSpace)
+from soccer_lab.fuzzy.rule import Consequent, Premise, Rule, Rulebase
+from soccer_lab.fuzzy.vocabulary import Vocabulary
+from soccer_lab.ga.genes import (ACTION, CONNECTOR, CONSEQUENT, DIRECTION, GENE_DTYPE, GENE_WIDTH, IS, IS_NOT, KIND,
+                                 OBJECT, POWER, PREMISE, QUALIFIER, TERM, GeneSpace)
 
 # Encoding must write some connector on a rule's last premise; decoding ignores it.
 UNUSED_CONNECTOR = 0

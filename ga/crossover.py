@@ -26,8 +26,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ga.genes import CONSEQUENT, KIND, MIN_LENGTH
-from ga.provenance import Splice
+from soccer_lab.ga.genes import CONSEQUENT, KIND, MIN_LENGTH
+from soccer_lab.ga.provenance import Splice
 
 A, B = 0, 1  # the parents' slots in a splice's segments
 

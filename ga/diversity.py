@@ -28,11 +28,11 @@ from typing import Sequence
 import numpy as np
 from scipy import sparse
 
-from ga.codec import ChromosomeCodec
-from ga.config import SEED_BOUND, GAConfig
-from ga.evaluation import Evaluation
-from ga.genes import CONNECTOR, CONSEQUENT, KIND, PREMISE
-from ga.individual import Individual
+from soccer_lab.ga.codec import ChromosomeCodec
+from soccer_lab.ga.config import SEED_BOUND, GAConfig
+from soccer_lab.ga.evaluation import Evaluation
+from soccer_lab.ga.genes import CONNECTOR, CONSEQUENT, KIND, PREMISE
+from soccer_lab.ga.individual import Individual
 
 GENE_CODE_RADIX = 1 << 8  # gene fields are int8: a gene is one integer, its fields its base-256 digits
 BEHAVIOUR_STREAM = 1  # the behaviour seeds' own random stream, apart from the GA's (which they never touch)

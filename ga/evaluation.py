@@ -22,7 +22,7 @@ import threading
 from concurrent.futures import ProcessPoolExecutor
 from typing import Any, Callable, NamedTuple, Sequence
 
-from fuzzy.rule import Rulebase
+from soccer_lab.fuzzy.rule import Rulebase
 
 INVALID_FITNESS = 1.0  # a ruleset with no valid rule is never played (docs/research/index.md, "The model")
 # Rulebases per chunk for an evaluator that does not say (`chunk_size`): a SimpleSoccer chunk of this many

@@ -16,9 +16,9 @@ from functools import cached_property
 
 import numpy as np
 
-from fuzzy import rule
-from fuzzy.rule import CONNECTORS
-from fuzzy.vocabulary import Vocabulary
+from soccer_lab.fuzzy import rule
+from soccer_lab.fuzzy.rule import CONNECTORS
+from soccer_lab.fuzzy.vocabulary import Vocabulary
 
 GENE_WIDTH = 5
 GENE_DTYPE = np.int8

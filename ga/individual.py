@@ -8,8 +8,8 @@ from typing import Any
 
 import numpy as np
 
-from ga.genes import GENE_DTYPE, GENE_WIDTH
-from ga.provenance import Birth
+from soccer_lab.ga.genes import GENE_DTYPE, GENE_WIDTH
+from soccer_lab.ga.provenance import Birth
 
 
 @dataclass(frozen=True, eq=False)

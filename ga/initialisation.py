@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ga.genes import CONSEQUENT, GENE_DTYPE, GENE_WIDTH, KIND, MIN_LENGTH, PREMISE, GeneSpace
+from soccer_lab.ga.genes import CONSEQUENT, GENE_DTYPE, GENE_WIDTH, KIND, MIN_LENGTH, PREMISE, GeneSpace
 
 
 def random_chromosome(space: GeneSpace, max_length: int, consequent_probability: float,

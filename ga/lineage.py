@@ -20,10 +20,10 @@ from typing import Any, Callable, Iterable, NamedTuple, Sequence
 
 import numpy as np
 
-from ga.diversity import rule_spans
-from ga.genes import CONNECTOR, CONSEQUENT, GENE_DTYPE, GENE_WIDTH, KIND
-from ga.individual import Individual
-from ga.provenance import Birth, Mutation, Splice
+from soccer_lab.ga.diversity import rule_spans
+from soccer_lab.ga.genes import CONNECTOR, CONSEQUENT, GENE_DTYPE, GENE_WIDTH, KIND
+from soccer_lab.ga.individual import Individual
+from soccer_lab.ga.provenance import Birth, Mutation, Splice
 
 # How a rule came to be in the ancestor where it first stood whole (RuleOrigin.how).
 DRAWN, CUT, MUTATED, EARLIER = "drawn at random", "made by a crossover's cut", "changed by a mutation", "earlier"

@@ -5,8 +5,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ga.genes import KIND, GeneSpace
-from ga.provenance import Mutation
+from soccer_lab.ga.genes import KIND, GeneSpace
+from soccer_lab.ga.provenance import Mutation
 
 
 def mutate(chromosome: np.ndarray, rate: float, space: GeneSpace, rng: np.random.Generator) -> Mutation:

@@ -14,9 +14,9 @@ import re
 
 import numpy as np
 
-from fuzzy.vocabulary import Vocabulary
-from ga.genes import (ACTION, CONNECTOR, CONSEQUENT, DIRECTION, GENE_DTYPE, GENE_WIDTH, IS, IS_NOT, KIND,
-                      OBJECT, POWER, PREMISE, QUALIFIER, TERM, GeneSpace)
+from soccer_lab.fuzzy.vocabulary import Vocabulary
+from soccer_lab.ga.genes import (ACTION, CONNECTOR, CONSEQUENT, DIRECTION, GENE_DTYPE, GENE_WIDTH, IS, IS_NOT, KIND,
+                                 OBJECT, POWER, PREMISE, QUALIFIER, TERM, GeneSpace)
 
 NOT = "n"  # prefixes a premise term
 NULL = "n"  # an empty consequent field

@@ -6,13 +6,13 @@ from __future__ import annotations
 
 import numpy as np
 
-from ga.config import GAConfig
-from ga.crossover import CROSSOVERS
-from ga.genes import GeneSpace
-from ga.individual import Individual
-from ga.mutation import mutate
-from ga.provenance import Birth
-from ga.selection import elite, roulette, tournament
+from soccer_lab.ga.config import GAConfig
+from soccer_lab.ga.crossover import CROSSOVERS
+from soccer_lab.ga.genes import GeneSpace
+from soccer_lab.ga.individual import Individual
+from soccer_lab.ga.mutation import mutate
+from soccer_lab.ga.provenance import Birth
+from soccer_lab.ga.selection import elite, roulette, tournament
 
 
 def next_generation(population: list[Individual], config: GAConfig, space: GeneSpace,

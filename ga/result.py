@@ -4,11 +4,11 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from fuzzy.rule import Rulebase
-from fuzzy.vocabulary import Vocabulary
-from ga.config import GAConfig
-from ga.individual import Individual
-from ga.statistics import GenerationStats
+from soccer_lab.fuzzy.rule import Rulebase
+from soccer_lab.fuzzy.vocabulary import Vocabulary
+from soccer_lab.ga.config import GAConfig
+from soccer_lab.ga.individual import Individual
+from soccer_lab.ga.statistics import GenerationStats
 
 TARGET_REACHED, GENERATIONS_DONE, STOPPED = "target reached", "max generations", "stopped"
 

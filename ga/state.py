@@ -5,12 +5,12 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
-from ga.config import GAConfig
+from soccer_lab.ga.config import GAConfig
 
 if TYPE_CHECKING:  # annotations only: the algorithm names above are read where numpy is not wanted (CLI help)
-    from fuzzy.vocabulary import Vocabulary
-    from ga.individual import Individual
-    from ga.statistics import GenerationStats
+    from soccer_lab.fuzzy.vocabulary import Vocabulary
+    from soccer_lab.ga.individual import Individual
+    from soccer_lab.ga.statistics import GenerationStats
 
 GA, RANDOM_SEARCH = "ga", "random-search"
 ALGORITHMS = (GA, RANDOM_SEARCH)

@@ -7,9 +7,9 @@ from typing import Any
 
 import numpy as np
 
-from ga.diversity import gene_codes, genotypic_diversity
-from ga.genes import CONSEQUENT, KIND, PREMISE, composition
-from ga.individual import Individual
+from soccer_lab.ga.diversity import gene_codes, genotypic_diversity
+from soccer_lab.ga.genes import CONSEQUENT, KIND, PREMISE, composition
+from soccer_lab.ga.individual import Individual
 
 GOAL_BINS = 5  # shares of 0, 1, .., GOAL_BINS - 1 goals, then one share for more
 NOT_MEASURED = 0  # distinct_behaviours when the run plays no behaviour seeds (a population always plays one way)

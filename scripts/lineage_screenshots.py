@@ -51,9 +51,9 @@ def main() -> None:
     args = parser.parse_args()
     from playwright.sync_api import sync_playwright
 
-    from app.runs import RunManager
-    from app.store import Store
-    from app.ui import start_ui
+    from soccer_lab.app.runs.manager import RunManager
+    from soccer_lab.app.store import Store
+    from soccer_lab.app.web.ui import start_ui
 
     IMAGES.mkdir(parents=True, exist_ok=True)
     with tempfile.TemporaryDirectory() as data:

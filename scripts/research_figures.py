@@ -75,10 +75,10 @@ def study_record(folder: Path, command: str) -> dict:
     """What the folder holds: its size, each replicate's progress against the plan of the experiments run
     (runs.jsonl's presets; `all` and `all-plus` for a folder from before it was kept), each invocation, and
     the verdicts and answers once finished."""
-    from app.experiment.beyond import assess_questions
-    from app.experiment.presets import ALL, ALL_PLUS, ExperimentOptions, presets
-    from app.experiment.replicates import VERDICTS_FILE, replicate_folder
-    from app.experiment.runner import MANIFEST, TrialFolder, assemble, assemble_bests, plan, read_runs
+    from soccer_lab.app.experiment.beyond import assess_questions
+    from soccer_lab.app.experiment.presets import ALL, ALL_PLUS, ExperimentOptions, presets
+    from soccer_lab.app.experiment.replicates import VERDICTS_FILE, replicate_folder
+    from soccer_lab.app.experiment.runner import MANIFEST, TrialFolder, assemble, assemble_bests, plan, read_runs
 
     size = json.loads((folder / MANIFEST).read_text())
     seeds, runs = _seeds(folder), read_runs(folder)

@@ -47,14 +47,14 @@ import numpy as np
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from app.experiment.presets import ROBOCUP  # noqa: E402
-from app.experiment.report import MOST_GOALS_TOLERANCE, ROBOCUP_MOST_GOALS  # noqa: E402
-from app.experiment.runner import plan  # noqa: E402
-from fuzzy.parser import parse_rulebase  # noqa: E402
-from fuzzy.printer import format_rulebase  # noqa: E402
-from fuzzy.rule import Rulebase  # noqa: E402
+from soccer_lab.app.experiment.presets import ROBOCUP  # noqa: E402
+from soccer_lab.app.experiment.report import MOST_GOALS_TOLERANCE, ROBOCUP_MOST_GOALS  # noqa: E402
+from soccer_lab.app.experiment.runner import plan  # noqa: E402
+from soccer_lab.fuzzy.parser import parse_rulebase  # noqa: E402
+from soccer_lab.fuzzy.printer import format_rulebase  # noqa: E402
+from soccer_lab.fuzzy.rule import Rulebase  # noqa: E402
 from scripts.robocup_results import options_of  # noqa: E402
-from soccer.config import SOCCER_VOCABULARY  # noqa: E402
+from soccer_lab.soccer.config import SOCCER_VOCABULARY  # noqa: E402
 
 RESULT = ROOT / "docs" / "results" / "robocup" / "disagreement.json"
 # Conditions: name -> (factor, what it is, the TrialConfig options it changes from the study's)
@@ -146,9 +146,9 @@ def find_players(folder: Path, study: dict[str, Any], servers: int, trial_count:
                  players: int) -> dict[str, Any]:
     """Runs the chosen GA trials again for their first `generations` (their own seeds, the study's GA and trial
     settings) and keeps every evaluation; the `players` highest scorers, distinct rulebases, are the players."""
-    from ga.algorithms import evolve
-    from soccer.rcss.evaluate import RcssEvaluator
-    from soccer.rcss.servers import ServerPool, noise_options
+    from soccer_lab.ga.algorithms import evolve
+    from soccer_lab.soccer.rcss.evaluate import RcssEvaluator
+    from soccer_lab.soccer.rcss.servers import ServerPool, noise_options
 
     class Keeping(RcssEvaluator):
         """The study's evaluator, keeping every (generation, rulebase, result)."""
@@ -191,8 +191,8 @@ def replay(players: list[dict[str, Any]], folder: Path, seeds: list[int], server
            conditions: Sequence[str], measured: list[dict[str, Any]], done=lambda: None) -> None:
     """Every player on every start under each condition, each condition on fresh servers; each condition's
     figures appended to `measured` as it finishes (then `done()`)."""
-    from soccer.rcss.evaluate import RcssEvaluator
-    from soccer.rcss.servers import ServerPool, noise_options
+    from soccer_lab.soccer.rcss.evaluate import RcssEvaluator
+    from soccer_lab.soccer.rcss.servers import ServerPool, noise_options
 
     (setting,) = plan(ROBOCUP, options_of(folder)).presets[0].settings
     rulebases = [parse_rulebase(p["rules"], SOCCER_VOCABULARY) for p in players]

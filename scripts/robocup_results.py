@@ -24,11 +24,11 @@ import tempfile
 from pathlib import Path
 from typing import Any
 
-from app.experiment.figures import write_figures
-from app.experiment.presets import ROBOCUP, ExperimentOptions
-from app.experiment.report import assess_findings
-from app.experiment.runner import MANIFEST, TrialFolder, plan, read_runs
-from app.experiment.table import PRESET, SETTING, TRIAL, SEED, ALGORITHM, StatisticsTable
+from soccer_lab.app.experiment.figures import write_figures
+from soccer_lab.app.experiment.presets import ROBOCUP, ExperimentOptions
+from soccer_lab.app.experiment.report import assess_findings
+from soccer_lab.app.experiment.runner import MANIFEST, TrialFolder, plan, read_runs
+from soccer_lab.app.experiment.table import PRESET, SETTING, TRIAL, SEED, ALGORITHM, StatisticsTable
 
 DOCS = Path(__file__).resolve().parent.parent / "docs"
 RESULTS = DOCS / "results" / "robocup"
@@ -106,7 +106,7 @@ def study_record(folder: Path, images: Path = IMAGES, command: str | None = None
 
 def transfer_record(folder: Path, images: Path = IMAGES, command: str | None = None) -> dict[str, Any] | None:
     """The transfer study in `folder` (None unless it finished there: its report exists)."""
-    from app.experiment import transfer
+    from soccer_lab.app.experiment import transfer
 
     if not (folder / transfer.REPORT_MD).is_file():
         return None

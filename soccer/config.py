@@ -8,7 +8,7 @@ from typing import Literal, NamedTuple, get_args
 
 from pydantic import BaseModel, ConfigDict, Field, PositiveFloat, PositiveInt, model_validator
 
-from fuzzy.vocabulary import Vocabulary
+from soccer_lab.fuzzy.vocabulary import Vocabulary
 
 # The vocabulary SimpleSoccer's player is written in (fuzzy/data/soccer_vocabulary.json). The soccer
 # package's entry points (play_games, play_game, SoccerEnv, SimpleSoccerEvaluator) play in it unless
@@ -151,7 +151,7 @@ class WorldConfig(BaseModel):
 
 class EvaluationRules(BaseModel):
     """How one evaluation ends, its fitness (the chapter, 5.1 and 5.2) and the player's skill set: the rules
-    SimpleSoccer games (GameConfig) and rcssserver trials (soccer.rcss.trial.TrialConfig) share."""
+    SimpleSoccer games (GameConfig) and rcssserver trials (soccer_lab.soccer.rcss.trial.TrialConfig) share."""
 
     model_config = ConfigDict(frozen=True, extra="forbid")
 

@@ -2,10 +2,10 @@
 
 from __future__ import annotations
 
-from fuzzy.rule import Rulebase
-from fuzzy.vocabulary import Vocabulary
-from soccer.config import SOCCER_VOCABULARY
-from soccer.examples import DEMO, example
+from soccer_lab.fuzzy.rule import Rulebase
+from soccer_lab.fuzzy.vocabulary import Vocabulary
+from soccer_lab.soccer.config import SOCCER_VOCABULARY
+from soccer_lab.soccer.examples import DEMO, example
 
 
 def demo_rules_text() -> str:

@@ -5,7 +5,7 @@ Per tick: `tick_kernel` (reading and writing the bodies' positions and velocitie
 keeps them, soccer/world.py), remove finished games, `space.step(tick_seconds)`. The kernel's
 steps, each a numba function: `close_step` (the step just made: player-ball collision, goal and
 restart, statistics, end conditions), `perceive_step`, `decide_step` (the game's own fuzzy
-controller, `fuzzy.batched.decide`), `act_step` (the skill's body command) and `physics_step` (the
+controller, `soccer_lab.fuzzy.batched.decide`), `act_step` (the skill's body command) and `physics_step` (the
 command applied to velocities, noise).
 Actions given from outside (soccer/gym, `GameBatch.act`) take `act_kernel` and `close_kernel`: the
 same steps, in the same order, the decide step left out.
@@ -25,18 +25,18 @@ import numpy as np
 from numba.core import cgutils
 from numba.extending import intrinsic
 
-from fuzzy.batched import NO_ACTION, CompiledRulebases, Scratch, VocabularyTables, compile_rulebases, decide
-from fuzzy.rule import POWER, Rulebase
-from fuzzy.rule import DIRECTION as DIRECTION_OUTPUT
-from fuzzy.vocabulary import Vocabulary, VocabularyError
-from soccer.config import SOCCER_VOCABULARY, GameConfig, WorldConstants
-from soccer.fitness import fitness
-from soccer.perception import BALL, DIRECTION, DISTANCE, GOAL, perceive
-from soccer.physics import cap_speed, dash, decay, is_kickable, kick, separate, turn
-from soccer.random_stream import seed_states, uniform
-from soccer.skills import (DASH, HUNT, KICK, LEFT, RIGHT, TURN, goal_direction_for_skills, skill_command,
-                           skill_set_flags, skill_table)
-from soccer.world import Pitches, World
+from soccer_lab.fuzzy.batched import NO_ACTION, CompiledRulebases, Scratch, VocabularyTables, compile_rulebases, decide
+from soccer_lab.fuzzy.rule import POWER, Rulebase
+from soccer_lab.fuzzy.rule import DIRECTION as DIRECTION_OUTPUT
+from soccer_lab.fuzzy.vocabulary import Vocabulary, VocabularyError
+from soccer_lab.soccer.config import SOCCER_VOCABULARY, GameConfig, WorldConstants
+from soccer_lab.soccer.fitness import fitness
+from soccer_lab.soccer.perception import BALL, DIRECTION, DISTANCE, GOAL, perceive
+from soccer_lab.soccer.physics import cap_speed, dash, decay, is_kickable, kick, separate, turn
+from soccer_lab.soccer.random_stream import seed_states, uniform
+from soccer_lab.soccer.skills import (DASH, HUNT, KICK, LEFT, RIGHT, TURN, goal_direction_for_skills, skill_command,
+                                      skill_set_flags, skill_table)
+from soccer_lab.soccer.world import Pitches, World
 
 RUNNING, MAX_TICKS, GOAL_CAP, IDLE = 0, 1, 2, 3
 NO_OUTCOME = -1  # Decision.outcome before a game's first tick, or of the tick before new controllers
@@ -555,7 +555,7 @@ class GameBatch:
     `state` (GameState: goals, kicks, ticks, done, end reasons, ...), `observation` (Observation: what
     each player perceived for its latest decision, already filled for the first one when the batch is
     built) and `decision` (Decision: the selected action, its output values and every rule's strength).
-    `compiled` holds the players' rulebases as the kernel reads them (fuzzy.batched), `layout` where
+    `compiled` holds the players' rulebases as the kernel reads them (soccer_lab.fuzzy.batched), `layout` where
     SimpleSoccer's quantities sit in the vocabulary, `world` the pymunk spaces."""
 
     def __init__(self, rulebases: Sequence[Rulebase], seeds: Sequence[int], config: GameConfig,

@@ -9,12 +9,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from fuzzy.batched import NO_ACTION
-from fuzzy.rule import Rulebase
-from fuzzy.vocabulary import Vocabulary
-from soccer.config import SOCCER_VOCABULARY, GameConfig
-from soccer.engine import END_REASONS, NO_OUTCOME, GameBatch
-from soccer.outcome import Outcome
+from soccer_lab.fuzzy.batched import NO_ACTION
+from soccer_lab.fuzzy.rule import Rulebase
+from soccer_lab.fuzzy.vocabulary import Vocabulary
+from soccer_lab.soccer.config import SOCCER_VOCABULARY, GameConfig
+from soccer_lab.soccer.engine import END_REASONS, NO_OUTCOME, GameBatch
+from soccer_lab.soccer.outcome import Outcome
 
 TRAIL_LENGTH = 60  # ticks of the ball's path kept for the trail (6 s): a shot long past fades away
 

@@ -8,10 +8,10 @@ from typing import Sequence
 
 import numpy as np
 
-from fuzzy.rule import Rulebase
-from fuzzy.vocabulary import Vocabulary
-from soccer.config import SOCCER_VOCABULARY, GameConfig
-from soccer.engine import GameResult, play_games
+from soccer_lab.fuzzy.rule import Rulebase
+from soccer_lab.fuzzy.vocabulary import Vocabulary
+from soccer_lab.soccer.config import SOCCER_VOCABULARY, GameConfig
+from soccer_lab.soccer.engine import GameResult, play_games
 
 # Games per chunk of a generation: a batch of this many games plays in well under a second at the default
 # max_ticks and holds a few MB, so a stop is obeyed quickly and memory is bounded (benchmarks/stop_latency.py)

@@ -8,11 +8,11 @@ import functools
 from dataclasses import dataclass
 from pathlib import Path
 
-from fuzzy.parser import parse_rulebase
-from fuzzy.rule import Rulebase
-from fuzzy.vocabulary import Vocabulary
-from soccer.config import GameConfig
-from soccer.engine import GameBatch
+from soccer_lab.fuzzy.parser import parse_rulebase
+from soccer_lab.fuzzy.rule import Rulebase
+from soccer_lab.fuzzy.vocabulary import Vocabulary
+from soccer_lab.soccer.config import GameConfig
+from soccer_lab.soccer.engine import GameBatch
 
 EXAMPLES_DIR = Path(__file__).parent / "data" / "examples"
 ORDER = ("demo", "striker", "dribbler", "hunter")  # as a teacher meets them

@@ -11,9 +11,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from fuzzy.vocabulary import Vocabulary
-from soccer.skills import (ACTED, AT_BALL, BALL_OUT_OF_VIEW, DASH, FETCHING, GOAL_OUT_OF_VIEW, HUNT_BALL,
-                           HUNT_LAST_SEEN, KICK, NO_DASH_NEEDED, NOT_KICKABLE, NOTHING, TURN, TURN_FIRST)
+from soccer_lab.fuzzy.vocabulary import Vocabulary
+from soccer_lab.soccer.skills import (ACTED, AT_BALL, BALL_OUT_OF_VIEW, DASH, FETCHING, GOAL_OUT_OF_VIEW, HUNT_BALL,
+                                      HUNT_LAST_SEEN, KICK, NO_DASH_NEEDED, NOT_KICKABLE, NOTHING, TURN, TURN_FIRST)
 
 SKILL_SETS = {
     "strict": "each skill does only its own thing: a kick happens only with the ball within reach (1.085 m), "

@@ -8,7 +8,7 @@ import math
 
 import numba
 
-from soccer.perception import normalize_angle
+from soccer_lab.soccer.perception import normalize_angle
 
 
 @numba.njit(cache=True)

@@ -15,13 +15,13 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 from typing import Sequence
 
-from fuzzy.printer import format_rule
-from fuzzy.rule import Rulebase
-from fuzzy.simplify import CHECKED, Change, Simplification, Step, simplify_exactly
-from fuzzy.vocabulary import Vocabulary
-from soccer.config import GameConfig
-from soccer.engine import GameResult
-from soccer.usage import Decisions, Usage, measure_usage
+from soccer_lab.fuzzy.printer import format_rule
+from soccer_lab.fuzzy.rule import Rulebase
+from soccer_lab.fuzzy.simplify import CHECKED, Change, Simplification, Step, simplify_exactly
+from soccer_lab.fuzzy.vocabulary import Vocabulary
+from soccer_lab.soccer.config import GameConfig
+from soccer_lab.soccer.engine import GameResult
+from soccer_lab.soccer.usage import Decisions, Usage, measure_usage
 
 NEVER_WON = "never-won-rules"
 

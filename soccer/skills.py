@@ -33,10 +33,10 @@ import math
 import numba
 import numpy as np
 
-from fuzzy.rule import DIRECTION, POWER
-from fuzzy.vocabulary import Vocabulary, VocabularyError
+from soccer_lab.fuzzy.rule import DIRECTION, POWER
+from soccer_lab.fuzzy.vocabulary import Vocabulary, VocabularyError
 
-from soccer.physics import clamp, kickable_distance
+from soccer_lab.soccer.physics import clamp, kickable_distance
 
 NONE, TURN, DASH, KICK = 0, 1, 2, 3  # body command kinds
 

@@ -20,11 +20,11 @@ from typing import Sequence
 
 import numpy as np
 
-from fuzzy.batched import NO_ACTION
-from fuzzy.rule import Rulebase
-from fuzzy.vocabulary import Vocabulary
-from soccer.config import GameConfig
-from soccer.engine import GameBatch, GameResult
+from soccer_lab.fuzzy.batched import NO_ACTION
+from soccer_lab.fuzzy.rule import Rulebase
+from soccer_lab.fuzzy.vocabulary import Vocabulary
+from soccer_lab.soccer.config import GameConfig
+from soccer_lab.soccer.engine import GameBatch, GameResult
 
 
 @dataclass(frozen=True)

@@ -39,8 +39,8 @@ import numpy as np
 import pymunk
 from pymunk._chipmunk import ffi
 
-from soccer.config import WorldConfig
-from soccer.random_stream import mix64
+from soccer_lab.soccer.config import WorldConfig
+from soccer_lab.soccer.random_stream import mix64
 
 PITCH_SPACING = 256.0  # metres between pitch origins: a pitch with its walls spans less than 128 m each way
 ORIGIN = float(2**20) + PITCH_SPACING / 2

@@ -26,7 +26,7 @@ class Finding:
 
 @dataclass(frozen=True)
 class Experiment:
-    """An experiment folder read back: its `options` (app.experiment.presets.ExperimentOptions), the
+    """An experiment folder read back: its `options` (soccer_lab.app.experiment.presets.ExperimentOptions), the
     presets it ran, `statistics` (one dict per preset, setting, trial and generation: statistics.csv),
     `bests` (each trial's best player, as the GA saw it and re-played: bests.csv) and its `findings`.
     Replicates (`--replicates`, `--seeds`): `replicates` holds each seed's experiment, `findings` each
@@ -44,8 +44,8 @@ class Experiment:
     def verdicts(self) -> dict[str, int]:
         """How many of the chapter's findings got each verdict, as `soccer-lab experiment` sums them up
         (for replicates: each robust verdict, and how many vary with the seed)."""
-        from app.experiment.replicates import VARIES
-        from app.experiment.report import VERDICTS
+        from soccer_lab.app.experiment.replicates import VARIES
+        from soccer_lab.app.experiment.verdicts import VERDICTS
 
         counts = {self._shown(verdict): 0 for verdict in VERDICTS} | ({VARIES: 0} if self.replicates else {})
         for finding in self.findings:
@@ -55,14 +55,14 @@ class Experiment:
 
     def _shown(self, verdict: str) -> str:
         """The verdict as the command's summary names it: the replicates' is robust unless it varies."""
-        from app.experiment.replicates import VARIES
+        from soccer_lab.app.experiment.replicates import VARIES
 
         return f"robust: {verdict}" if self.replicates and verdict != VARIES else verdict
 
     @property
     def report(self) -> Path:
         """report.md, the written report (figures beside it, report.html for a browser)."""
-        from app.experiment.report import REPORT_MD
+        from soccer_lab.app.experiment.report import REPORT_MD
 
         return self.folder / REPORT_MD
 
@@ -78,11 +78,11 @@ def open_experiment(folder: str | PathLike) -> Experiment:
     >>> [f.verdict for f in found.findings if f.preset == "selection"]
     ['too small to judge', 'too small to judge', 'too small to judge']
     """
-    from app.experiment.beyond import assess_questions
-    from app.experiment.presets import ExperimentOptions, preset
-    from app.experiment.report import assess_findings
-    from app.experiment.runner import BESTS_FILE, MANIFEST, STATISTICS_FILE
-    from app.experiment.table import BestsTable, StatisticsTable
+    from soccer_lab.app.experiment.beyond import assess_questions
+    from soccer_lab.app.experiment.presets import ExperimentOptions, preset
+    from soccer_lab.app.experiment.report import assess_findings
+    from soccer_lab.app.experiment.runner import BESTS_FILE, MANIFEST, STATISTICS_FILE
+    from soccer_lab.app.experiment.table import BestsTable, StatisticsTable
 
     path = Path(folder)
     statistics, manifest = path / STATISTICS_FILE, path / MANIFEST
@@ -106,8 +106,8 @@ def open_experiment(folder: str | PathLike) -> Experiment:
 
 def _replicate_folders(folder: Path) -> list[Path]:
     """The seed-S folders of the replicates in `folder`, by seed (as runs.jsonl lists the seeds run)."""
-    from app.experiment.replicates import replicate_folder
-    from app.experiment.runner import STATISTICS_FILE, read_runs
+    from soccer_lab.app.experiment.replicates import replicate_folder
+    from soccer_lab.app.experiment.runner import STATISTICS_FILE, read_runs
 
     seeds = sorted({seed for entry in read_runs(folder) for seed in entry.get("seeds", ())})
     return [replicate_folder(folder, seed) for seed in seeds
@@ -117,8 +117,8 @@ def _replicate_folders(folder: Path) -> list[Path]:
 def _replicates(folder: Path, replicates: list[Experiment]) -> Experiment:
     """Replicates as one experiment: each finding with the verdict all replicates give, else VARIES (the
     findings of presets not run left out, as the replicates' report leaves them)."""
-    from app.experiment.replicates import VARIES
-    from app.experiment.report import NOT_RUN
+    from soccer_lab.app.experiment.replicates import VARIES
+    from soccer_lab.app.experiment.verdicts import NOT_RUN
 
     findings = []
     for i, finding in enumerate(replicates[0].findings):

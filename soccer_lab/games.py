@@ -5,8 +5,8 @@ from __future__ import annotations
 from dataclasses import asdict, dataclass
 from typing import Any
 
-from app.cli.play import DEFAULT_GAMES, DEFAULT_SEED
-from app.rule_inspection import seeds_from
+from soccer_lab.app.cli.play import DEFAULT_GAMES, DEFAULT_SEED
+from soccer_lab.app.rule_inspection import seeds_from
 from soccer_lab.rules import Rules, _game_config, rulebase_of
 
 
@@ -39,8 +39,8 @@ def play(rules: Rules, games: int = DEFAULT_GAMES, seed: int = DEFAULT_SEED, **g
     >>> played == sl.play(sl.example("demo"), games=3, seed=0, max_ticks=400)  # one seed, one game
     True
     """
-    from soccer.config import SOCCER_VOCABULARY
-    from soccer.engine import play_games
+    from soccer_lab.soccer.config import SOCCER_VOCABULARY
+    from soccer_lab.soccer.engine import play_games
 
     if isinstance(games, bool) or not isinstance(games, int) or games < 1:
         raise ValueError(f"games: a whole number of at least 1, not {games!r}")

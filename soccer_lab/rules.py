@@ -9,16 +9,16 @@ from os import PathLike
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Union
 
-from app.rule_inspection import DEFAULT_USAGE_GAMES
-from fuzzy.export import FORMATS, export_rulebase
-from fuzzy.parser import parse_rulebase
-from fuzzy.printer import format_rulebase
-from fuzzy.rule import Rulebase
-from fuzzy.vocabulary import Vocabulary
+from soccer_lab.app.rule_inspection import DEFAULT_USAGE_GAMES
+from soccer_lab.fuzzy.export import FORMATS, export_rulebase
+from soccer_lab.fuzzy.parser import parse_rulebase
+from soccer_lab.fuzzy.printer import format_rulebase
+from soccer_lab.fuzzy.rule import Rulebase
+from soccer_lab.fuzzy.vocabulary import Vocabulary
 
 if TYPE_CHECKING:  # these play games (numba kernels): imported by the functions that play
-    from soccer.engine import GameResult
-    from soccer.usage import Usage
+    from soccer_lab.soccer.engine import GameResult
+    from soccer_lab.soccer.usage import Usage
 
 EXPORT_FORMATS = FORMATS  # "json", "fcl", "fll", "fis"
 Rules = Union[Rulebase, str, PathLike]  # a rulebase, or the path of a .rules or .json file
@@ -30,7 +30,7 @@ def _vocabulary(vocabulary: Vocabulary | None) -> Vocabulary:
 
 def parse_rules(text: str, vocabulary: Vocabulary | None = None) -> Rulebase:
     """The rulebase written in `text` (one rule a line; `#` starts a comment). A syntax error raises
-    fuzzy.parser.RuleSyntaxError (a ValueError) whose `.errors` give each line and column.
+    soccer_lab.fuzzy.parser.RuleSyntaxError (a ValueError) whose `.errors` give each line and column.
 
     >>> rules = parse_rules('''
     ... if Ball is At and Goal is not At then KickTowardGoal High
@@ -41,7 +41,7 @@ def parse_rules(text: str, vocabulary: Vocabulary | None = None) -> Rulebase:
     >>> parse_rules("if Ball is Near then Jump")
     Traceback (most recent call last):
     ...
-    fuzzy.parser.RuleSyntaxError: line 1, column 22: expected an action (Turn, ...), found 'Jump'
+    soccer_lab.fuzzy.parser.RuleSyntaxError: line 1, column 22: expected an action (Turn, ...), found 'Jump'
     """
     return parse_rulebase(text, _vocabulary(vocabulary))
 
@@ -57,13 +57,13 @@ def format_rules(rules: Rulebase, vocabulary: Vocabulary | None = None) -> str:
 
 def load_rules(path: str | PathLike, vocabulary: Vocabulary | None = None) -> Rulebase:
     """The rulebase in a file: rule text (.rules) or our JSON (.json, what `export(rules, "json")` writes,
-    a run folder's best.json). app.rulebase_files.RulebaseFileError (a ValueError, one line naming the
+    a run folder's best.json). soccer_lab.app.rulebase_files.RulebaseFileError (a ValueError, one line naming the
     file) when it cannot be read, does not parse, or holds no rule.
 
     >>> len(load_rules("soccer/data/examples/striker.rules")) > 0
     True
     """
-    from app.rulebase_files import load_rulebase
+    from soccer_lab.app.rulebase_files import load_rulebase
 
     return load_rulebase(Path(path), _vocabulary(vocabulary))
 
@@ -76,7 +76,7 @@ def example(name: str = "demo") -> Rulebase:
     if Ball is At then Dribble VeryLeft Low
     if Ball is not At then GoToBall VeryHigh
     """
-    from soccer.examples import example as built_in
+    from soccer_lab.soccer.examples import example as built_in
 
     return built_in(name).rulebase(Vocabulary.default())
 
@@ -123,8 +123,8 @@ def infer(rules: Rules, vocabulary: Vocabulary | None = None, **inputs: float) -
     >>> infer(rules).hunt  # nothing in view: no rule fires, the player hunts
     True
     """
-    from app.cli.rules import inference_report
-    from fuzzy.engine import Engine
+    from soccer_lab.app.cli.rules import inference_report
+    from soccer_lab.fuzzy.engine import Engine
 
     rulebase, vocab = rulebase_of(rules, vocabulary), _vocabulary(vocabulary)
     crisp = _checked_inputs(inputs, vocab)
@@ -179,7 +179,7 @@ def rule_usage(rules: Rules, games: int = DEFAULT_USAGE_GAMES, seed: int = 0, **
     >>> usage.rules[2].fired > 0  # "if Ball is not At then GoToBall": the player starts away from the ball
     True
     """
-    from app.rule_inspection import rule_usage as measured_usage
+    from soccer_lab.app.rule_inspection import rule_usage as measured_usage
 
     return measured_usage(rulebase_of(rules), Vocabulary.default(), games, seed, _game_config(game))
 
@@ -208,7 +208,7 @@ def simplify(rules: Rules, games: int = 0, seed: int = 0, drop_unused_fields: bo
     >>> print(format_rules(simplify(rules).rules))
     if Ball is Near then GoToBall High
     """
-    from app.rule_inspection import simplification
+    from soccer_lab.app.rule_inspection import simplification
 
     checked = simplification(rulebase_of(rules), Vocabulary.default(), games, seed, _game_config(game),
                              drop_unused_fields)
@@ -219,7 +219,7 @@ def simplify(rules: Rules, games: int = 0, seed: int = 0, drop_unused_fields: bo
 
 def _game_config(options: dict[str, Any]):
     """GameConfig from keyword options; pydantic's ValidationError (a ValueError) names a bad one."""
-    from soccer.config import GameConfig
+    from soccer_lab.soccer.config import GameConfig
 
     unknown = sorted(set(options) - set(GameConfig.model_fields))
     if unknown:

@@ -10,12 +10,12 @@ from os import PathLike
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Callable
 
-from fuzzy.rule import Rulebase
+from soccer_lab.fuzzy.rule import Rulebase
 
 if TYPE_CHECKING:  # the run's machinery (numpy, numba, rerun) is imported when a run starts or is read
-    from app.lineage import FamilyTreeView
-    from app.run import RunSettings
-    from fuzzy.vocabulary import Vocabulary
+    from soccer_lab.app.lineage.family_tree import FamilyTreeView
+    from soccer_lab.app.runs.run import RunSettings
+    from soccer_lab.fuzzy.vocabulary import Vocabulary
 
 RENAMED = {"generations": "max_generations"}  # keyword -> GAConfig field, as the CLI names its options
 OnGeneration = Callable[[dict[str, Any]], None]
@@ -34,8 +34,8 @@ class Best:
 
 @dataclass(frozen=True)
 class RunRecord:
-    """A run folder read back: its `settings` (app.run.RunSettings: `.ga`, `.game`, `.algorithm`), one dict
-    of statistics per finished generation (ga.statistics.GenerationStats's fields: best, mean, worst,
+    """A run folder read back: its `settings` (soccer_lab.app.runs.run.RunSettings: `.ga`, `.game`, `.algorithm`), one dict
+    of statistics per finished generation (soccer_lab.ga.statistics.GenerationStats's fields: best, mean, worst,
     goals_0, ..., evaluations, wall_time), and its `best` (None before the first generation finished)."""
 
     folder: Path
@@ -60,8 +60,8 @@ def evolve(population_size: int | None = None, generations: int | None = None, s
     """Evolve a rulebase with the messy-coded GA, as `soccer-lab evolve` does: the same options and seed
     give the same run, bit for bit (whatever `workers`). Unset options keep the chapter's Table 2 defaults.
     `options`: any other GA option (max_length, crossover, selection, mutation_rate, target_fitness,
-    workers, ...; ga.config.GAConfig) or game option (max_ticks, skills, fitness, games_per_evaluation, ...;
-    soccer.config.GameConfig). `out`: the run folder (None: a new temporary folder, in `.folder`).
+    workers, ...; soccer_lab.ga.config.GAConfig) or game option (max_ticks, skills, fitness, games_per_evaluation, ...;
+    soccer_lab.soccer.config.GameConfig). `out`: the run folder (None: a new temporary folder, in `.folder`).
     `on_generation(statistics)` hears each finished generation's statistics. Bad options raise a
     ValueError (TypeError for a name no option has); a folder already holding a run, RunFolderError.
 
@@ -74,7 +74,7 @@ def evolve(population_size: int | None = None, generations: int | None = None, s
     >>> sorted(p.name for p in run.folder.iterdir())[:3]
     ['best.json', 'best.rules', 'checkpoint']
     """
-    from ga.state import GA
+    from soccer_lab.ga.state import GA
 
     return _run(GA, out, on_generation, population_size=population_size, generations=generations, seed=seed,
                 **options)
@@ -91,7 +91,7 @@ def random_search(population_size: int | None = None, generations: int | None = 
     >>> run.settings.algorithm, run.generations
     ('random-search', 2)
     """
-    from ga.state import RANDOM_SEARCH
+    from soccer_lab.ga.state import RANDOM_SEARCH
 
     return _run(RANDOM_SEARCH, out, on_generation, population_size=population_size, generations=generations,
                 seed=seed, **options)
@@ -99,7 +99,7 @@ def random_search(population_size: int | None = None, generations: int | None = 
 
 def _run(algorithm: str, out: str | PathLike | None, on_generation: OnGeneration | None,
          **options: Any) -> RunRecord:
-    from app.run import Run
+    from soccer_lab.app.runs.run import Run
 
     settings = _settings(algorithm, {name: value for name, value in options.items() if value is not None})
     folder = Path(out) if out is not None else Path(tempfile.mkdtemp(prefix="soccer-lab-run-"))
@@ -126,7 +126,7 @@ def resume(folder: str | PathLike, *, on_generation: OnGeneration | None = None)
     >>> sl.resume(folder).generations
     3
     """
-    from app.run import Run
+    from soccer_lab.app.runs.run import Run
 
     run = Run.open(folder)
     if not _finished(run.saved_state()):
@@ -135,7 +135,7 @@ def resume(folder: str | PathLike, *, on_generation: OnGeneration | None = None)
 
 
 def _finished(state: Any) -> bool:
-    """The run reached its target or its last generation (ga.algorithms stops there too)."""
+    """The run reached its target or its last generation (soccer_lab.ga.algorithms stops there too)."""
     config, history = state.config, state.history
     return bool(history) and (history[-1].best <= config.target_fitness or len(history) >= config.max_generations)
 
@@ -149,10 +149,10 @@ def _play(run: Any, on_generation: OnGeneration | None) -> None:
 def _settings(algorithm: str, options: dict[str, Any]) -> "RunSettings":
     """RunSettings from keyword options, each to the GA's or the game's settings by its name; the workers
     default to every core, as the CLI's."""
-    from app.environments import default_workers
-    from app.run import RunSettings
-    from ga.config import GAConfig
-    from soccer.config import GameConfig
+    from soccer_lab.app.runs.environments import default_workers
+    from soccer_lab.app.runs.run import RunSettings
+    from soccer_lab.ga.config import GAConfig
+    from soccer_lab.soccer.config import GameConfig
 
     ga, game, unknown = {}, {}, []
     for name, value in options.items():
@@ -171,7 +171,7 @@ def _settings(algorithm: str, options: dict[str, Any]) -> "RunSettings":
 
 
 def _ga_names() -> list[str]:
-    from ga.config import GAConfig
+    from soccer_lab.ga.config import GAConfig
 
     fields = {field: name for name, field in RENAMED.items()}
     return [fields.get(field, field) for field in GAConfig.model_fields]
@@ -180,7 +180,7 @@ def _ga_names() -> list[str]:
 def open_run(folder: str | PathLike) -> RunRecord:
     """The run a folder holds (what `evolve` or `soccer-lab evolve --out` wrote, or the app's runs/<id>):
     its settings, per-generation statistics and best player, read from its run.json and checkpoint.
-    app.run_outputs.RunFolderError (a ValueError) for a folder holding no run or no finished generation.
+    soccer_lab.app.runs.outputs.RunFolderError (a ValueError) for a folder holding no run or no finished generation.
 
     >>> import soccer_lab as sl
     >>> run = sl.evolve(population_size=4, generations=1, seed=2, max_ticks=100, workers=1)
@@ -188,15 +188,15 @@ def open_run(folder: str | PathLike) -> RunRecord:
     >>> again.best == run.best, again.settings.ga.population_size
     (True, 4)
     """
-    from app.run import Run
-    from ga.checkpoint import CheckpointError
-    from ga.codec import ChromosomeCodec
+    from soccer_lab.app.runs.run import Run
+    from soccer_lab.ga.checkpoint import CheckpointError
+    from soccer_lab.ga.codec import ChromosomeCodec
 
     run = Run.open(folder)
     try:
         state = run.saved_state()
     except CheckpointError as exc:
-        from app.run_outputs import RunFolderError
+        from soccer_lab.app.runs.outputs import RunFolderError
 
         raise RunFolderError(f"{run.folder.checkpoint}: {exc}") from None
     best = None
@@ -211,24 +211,24 @@ def open_run(folder: str | PathLike) -> RunRecord:
 @dataclass(frozen=True)
 class FamilyTree:
     """A player's family tree: `text` as `soccer-lab lineage` prints it, `view` its parts
-    (app.lineage.FamilyTreeView: the ancestors row by row, each rule with the ancestor it came from);
+    (soccer_lab.app.lineage.family_tree.FamilyTreeView: the ancestors row by row, each rule with the ancestor it came from);
     `svg()` and `dot()` draw it as `--svg` and `--dot` do."""
 
     view: "FamilyTreeView"
 
     @property
     def text(self) -> str:
-        from app.lineage_drawing import tree_text
+        from soccer_lab.app.lineage.drawing import tree_text
 
         return tree_text(self.view)
 
     def svg(self, with_rules: bool = True) -> str:
-        from app.lineage_drawing import tree_svg
+        from soccer_lab.app.lineage.drawing import tree_svg
 
         return tree_svg(self.view, with_rules=with_rules)
 
     def dot(self) -> str:
-        from app.lineage_drawing import tree_dot
+        from soccer_lab.app.lineage.drawing import tree_dot
 
         return tree_dot(self.view)
 
@@ -240,7 +240,7 @@ def lineage(run: RunRecord | str | PathLike, index: int | None = None, *, genera
             generations: int | None = None) -> FamilyTree:
     """A player's family tree from a run folder's lineage records, as `soccer-lab lineage RUN_DIR`: by default
     the run's best so far; `generation` G for that generation's best, with `index` I for its player I;
-    `generations` back (default: to generation 0). ga.lineage.LineageError (a LookupError) for a place the
+    `generations` back (default: to generation 0). soccer_lab.ga.lineage.LineageError (a LookupError) for a place the
     run does not have, or a folder with no lineage records.
 
     >>> import soccer_lab as sl
@@ -249,8 +249,8 @@ def lineage(run: RunRecord | str | PathLike, index: int | None = None, *, genera
     >>> tree.text.splitlines()[0].startswith("Generation 1, individual #0")
     True
     """
-    from app.lineage import RunLineage
-    from ga.lineage import LineageError
+    from soccer_lab.app.lineage.family_tree import RunLineage
+    from soccer_lab.ga.lineage import LineageError
 
     if index is not None and generation is None:
         raise LineageError("an individual's index needs its generation")

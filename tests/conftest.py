@@ -21,10 +21,10 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "docs" / "hooks"))
 def evolved_rulebases():
     """The last generation of a short, seeded GA run in SimpleSoccer: what evolution really produces
     (long messy antecedents, repeated and contradictory premises), kept small for speed."""
-    from ga import GAConfig, evolve
-    from ga.codec import ChromosomeCodec
-    from soccer.config import SOCCER_VOCABULARY, GameConfig
-    from soccer.evaluate import SimpleSoccerEvaluator
+    from soccer_lab.ga import GAConfig, evolve
+    from soccer_lab.ga.codec import ChromosomeCodec
+    from soccer_lab.soccer.config import SOCCER_VOCABULARY, GameConfig
+    from soccer_lab.soccer.evaluate import SimpleSoccerEvaluator
 
     result = evolve(GAConfig(population_size=16, max_generations=3, seed=11),
                     SimpleSoccerEvaluator(GameConfig(max_ticks=200)), SOCCER_VOCABULARY)

@@ -119,8 +119,8 @@ def test_export_refuses_an_unknown_format():
 
 
 def test_rule_usage_counts_what_rules_usage_prints():
-    from app.rule_inspection import usage_document
-    from fuzzy.vocabulary import Vocabulary
+    from soccer_lab.app.rule_inspection import usage_document
+    from soccer_lab.fuzzy.vocabulary import Vocabulary
 
     printed = json.loads(cli("rules", "usage", STRIKER, "--games", 3, "--seed", 2, "--max-ticks", 300, "--json"))
     usage = sl.rule_usage(STRIKER, games=3, seed=2, **GAME)
@@ -152,8 +152,8 @@ def test_play_takes_a_rulebase_or_the_path_of_a_file_as_text_or_path():
 
 
 def test_play_gives_the_engines_results_with_their_end_reasons():
-    from soccer.config import GameConfig
-    from soccer.engine import play_games
+    from soccer_lab.soccer.config import GameConfig
+    from soccer_lab.soccer.engine import play_games
 
     games = sl.play(STRIKER, games=3, seed=11, max_ticks=300, skills="strict")
     results = play_games([sl.load_rules(STRIKER)] * 3, [11, 12, 13], GameConfig(max_ticks=300, skills="strict"))

@@ -11,7 +11,7 @@ from typing import Any, NamedTuple
 import typer
 import typer.main
 
-from app.cli.common import TYPER_SETTINGS, CommandList, OneLineErrors
+from soccer_lab.app.cli.common import TYPER_SETTINGS, CommandList, OneLineErrors
 
 
 class Entry(NamedTuple):
@@ -23,15 +23,15 @@ class Entry(NamedTuple):
 
 
 COMMANDS = {
-    "serve": Entry("app.cli.serve", "serve_command", "Start the app: the UI, the JSON API and the rerun viewer."),
-    "play": Entry("app.cli.play", "play_command", "Play a rulebase's games and print how each went."),
-    "evolve": Entry("app.cli.evolve", "evolve_command", "Evolve a goal-scoring rulebase with the messy-coded GA."),
-    "random-search": Entry("app.cli.evolve", "random_search_command",
+    "serve": Entry("soccer_lab.app.cli.serve", "serve_command", "Start the app: the UI, the JSON API and the rerun viewer."),
+    "play": Entry("soccer_lab.app.cli.play", "play_command", "Play a rulebase's games and print how each went."),
+    "evolve": Entry("soccer_lab.app.cli.evolve", "evolve_command", "Evolve a goal-scoring rulebase with the messy-coded GA."),
+    "random-search": Entry("soccer_lab.app.cli.evolve", "random_search_command",
                            "The baseline: the same evaluations spent on random rulebases."),
-    "experiment": Entry("app.cli.experiment", "experiment_command",
+    "experiment": Entry("soccer_lab.app.cli.experiment", "experiment_command",
                         "Reproduce the chapter's experiments and judge its findings."),
-    "rules": Entry("app.cli.rules", "app", "Work with rulebases: check, infer, export, decode, usage, simplify."),
-    "lineage": Entry("app.cli.lineage", "lineage_command",
+    "rules": Entry("soccer_lab.app.cli.rules", "app", "Work with rulebases: check, infer, export, decode, usage, simplify."),
+    "lineage": Entry("soccer_lab.app.cli.lineage", "lineage_command",
                      "A player's family tree: its ancestors and where each of its rules came from."),
 }
 

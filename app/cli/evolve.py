@@ -1,7 +1,7 @@
 """`soccer-lab evolve` and `soccer-lab random-search`: one run from the terminal, with a progress bar,
-a summary, and its outputs in a run folder (app/run_outputs.py); `evolve --resume RUN_DIR` continues
+a summary, and its outputs in a run folder (app/runs/outputs.py); `evolve --resume RUN_DIR` continues
 a killed run (either kind) from its checkpoint. Evaluations play SimpleSoccer games or, with
-`--env rcss`, trials on real rcssservers. The run itself is app/run.py's `Run`, as in the app."""
+`--env rcss`, trials on real rcssservers. The run itself is app/runs/run.py's `Run`, as in the app."""
 
 from __future__ import annotations
 
@@ -11,23 +11,23 @@ from typing import TYPE_CHECKING, Annotated, Any, Callable, Optional
 
 import typer
 
-from app.cli.common import fail
-from app.cli.play import (ENV_PANEL, CountTouchesOption, EnvOption, FitnessOption, GoalCapOption, IdleTicksOption,
-                          MaxTicksOption, NoiseOption, RcssserverOption, ServerOption, ServersOption, SkillsOption,
-                          chosen_env, config_from_options, game_config, option_help, option_name, rcss_executable,
-                          rcss_servers, trial_config)
-from app.environments import RCSS, RCSS_WORKERS, SIMPLE, checked_workers, default_workers
-from app.experiment.executors import LOCAL, RAY
-from app.lineage import plural
-from ga.config import GAConfig
-from soccer.config import GameConfig
+from soccer_lab.app.cli.common import fail
+from soccer_lab.app.cli.play import (ENV_PANEL, CountTouchesOption, EnvOption, FitnessOption, GoalCapOption,
+                                     IdleTicksOption, MaxTicksOption, NoiseOption, RcssserverOption, ServerOption,
+                                     ServersOption, SkillsOption, chosen_env, config_from_options, game_config,
+                                     option_help, option_name, rcss_executable, rcss_servers, trial_config)
+from soccer_lab.app.runs.environments import RCSS, RCSS_WORKERS, SIMPLE, checked_workers, default_workers
+from soccer_lab.app.experiment.executors import LOCAL, RAY
+from soccer_lab.app.lineage.family_tree import plural
+from soccer_lab.ga.config import GAConfig
+from soccer_lab.soccer.config import GameConfig
 
 if TYPE_CHECKING:  # the run's machinery (numpy, numba, rerun) is imported when a run starts, not for --help
-    from app.rcss_cluster import RayCluster
-    from app.run import Run, RunSettings
-    from app.run_outputs import RunFolder
-    from app.true_quality import TrueQuality
-    from ga.result import RunResult
+    from soccer_lab.app.runs.rcss_cluster import RayCluster
+    from soccer_lab.app.runs.run import Run, RunSettings
+    from soccer_lab.app.runs.outputs import RunFolder
+    from soccer_lab.app.runs.true_quality import TrueQuality
+    from soccer_lab.ga.result import RunResult
 
 GA_PANEL = "Genetic algorithm"
 RUN_PANEL = "Run"
@@ -105,7 +105,7 @@ def evolve_command(
 ) -> None:
     """Evolve a goal-scoring rulebase with the messy-coded GA (defaults: the chapter's Table 2)."""
     options = dict(locals())  # first: the options are the function's locals
-    from ga.state import GA
+    from soccer_lab.ga.state import GA
 
     if resume_dir is not None:
         # The servers may change: a resumed rcss run can use other servers (or ports) than before.
@@ -132,7 +132,7 @@ def random_search_command(
     """The baseline: spend the same evaluations on fresh random rulebases (population x generations),
     with the same statistics and outputs as evolve. Continue a killed one with `evolve --resume`."""
     options = dict(locals())  # first: the options are the function's locals
-    from ga.state import RANDOM_SEARCH
+    from soccer_lab.ga.state import RANDOM_SEARCH
 
     _start(RANDOM_SEARCH, options)
 
@@ -152,7 +152,7 @@ def _cluster(executor: str | None, address: str | None, servers: list[str] | Non
         return None
     if servers:
         fail("--server names servers you run; with --executor ray every node starts its own (--servers per node)")
-    from app.rcss_cluster import RayCluster
+    from soccer_lab.app.runs.rcss_cluster import RayCluster
 
     return RayCluster(address, count, str(rcssserver) if rcssserver is not None else None)
 
@@ -192,7 +192,7 @@ def _settings(algorithm: str, options: dict[str, Any]) -> "RunSettings":
                  "start_servers": 0 if servers else count or 1,
                  "rcssserver": str(executable) if executable else None, "cluster": cluster}
     ga = config_from_options(GAConfig, options, RENAMED)
-    from app.run import RunSettings
+    from soccer_lab.app.runs.run import RunSettings
 
     return RunSettings(ga, algorithm=algorithm, **where)
 
@@ -201,8 +201,8 @@ def _settings(algorithm: str, options: dict[str, Any]) -> "RunSettings":
 def _start(algorithm: str, options: dict[str, Any]) -> None:
     out = options["out"]
     settings = _settings(algorithm, options)
-    from app.run import Run
-    from app.run_outputs import RunFolderError, default_run_dir
+    from soccer_lab.app.runs.run import Run
+    from soccer_lab.app.runs.outputs import RunFolderError, default_run_dir
 
     try:
         run = Run.create(settings, out or default_run_dir())
@@ -213,9 +213,9 @@ def _start(algorithm: str, options: dict[str, Any]) -> None:
 
 def _resume(path: Path, servers: list[str] | None, rcssserver: Path | None, count: int | None,
             cluster: "RayCluster | None") -> None:
-    from app.run import Run
-    from app.run_outputs import RunFolderError
-    from ga.checkpoint import CheckpointError
+    from soccer_lab.app.runs.run import Run
+    from soccer_lab.app.runs.outputs import RunFolderError
+    from soccer_lab.ga.checkpoint import CheckpointError
 
     try:
         run = Run.open(path)
@@ -242,8 +242,8 @@ def _resume(path: Path, servers: list[str] | None, rcssserver: Path | None, coun
 def _drive(run: "Run", *, history: list[dict]) -> None:
     """Play the run with a progress bar, then print the summary. Ctrl-C and a failing environment end it
     with a line saying how to continue."""
-    from app.run_outputs import RunFolderError
-    from ga.state import GA
+    from soccer_lab.app.runs.outputs import RunFolderError
+    from soccer_lab.ga.state import GA
 
     settings, folder = run.settings, run.folder
     label = "evolving" if settings.algorithm == GA else "random search"
@@ -311,7 +311,7 @@ def _replayed_detail(quality: "TrueQuality | None") -> str:
 
 
 def _summary(run: "Run", result: "RunResult") -> None:
-    from app.rulebase_files import rulebase_text
+    from soccer_lab.app.rulebase_files import rulebase_text
 
     folder, best = run.folder, result.best
     typer.echo(f"{len(result.history)} generations, {result.evaluations} evaluations ({result.stop_reason}), "

@@ -10,18 +10,19 @@ from typing import TYPE_CHECKING, Annotated, Optional
 
 import typer
 
-from app.cli.common import fail
-from app.cli.play import config_from_options, option_help, rcss_addresses, server_options
-from app.experiment.executors import EXECUTOR_NAMES, LOCAL, RAY, ExecutorError, RcssExecutor, make_executor
-from app.experiment.presets import (ALL, ALL_PLUS, CHAPTER_GENERATIONS, CHOICES, DEFAULT_TRIALS, INITIAL_TRIALS,
-                                    LONG_GENERATIONS, ROBOCUP, TRANSFER, TRANSFER_TRIALS, ExperimentOptions)
-from soccer.config import SKILL_SET_NAMES
-from soccer.rcss.errors import RcssError
+from soccer_lab.app.cli.common import fail
+from soccer_lab.app.cli.play import config_from_options, option_help, rcss_addresses, server_options
+from soccer_lab.app.experiment.executors import EXECUTOR_NAMES, LOCAL, RAY, ExecutorError, RcssExecutor, make_executor
+from soccer_lab.app.experiment.presets import (ALL, ALL_PLUS, CHAPTER_GENERATIONS, CHOICES, DEFAULT_TRIALS,
+                                               INITIAL_TRIALS, LONG_GENERATIONS, ROBOCUP, TRANSFER, TRANSFER_TRIALS,
+                                               ExperimentOptions)
+from soccer_lab.soccer.config import SKILL_SET_NAMES
+from soccer_lab.soccer.rcss.errors import RcssError
 
 if TYPE_CHECKING:  # the runner (the GA, the report's statistics and figures) is imported when an experiment runs
-    from app.experiment.replicates import ReplicatesOutcome
-    from app.experiment.runner import ExperimentOutcome
-    from app.experiment.transfer import TransferOutcome
+    from soccer_lab.app.experiment.replicates import ReplicatesOutcome
+    from soccer_lab.app.experiment.runner import ExperimentOutcome
+    from soccer_lab.app.experiment.transfer import TransferOutcome
 
 DEFAULT_OUT_FOLDER = "experiments"
 ServerOption, RcssserverOption, ServersOption = server_options(f"For the {ROBOCUP} and {TRANSFER} presets")
@@ -115,8 +116,8 @@ def experiment_command(
         folder = out or Path(DEFAULT_OUT_FOLDER) / f"{preset}-seeds{'-'.join(map(str, replicate_seeds))}"
     _check_where_trials_run(preset, {"--server": server, "--rcssserver": rcssserver, "--servers": servers},
                             {"--workers": workers, "--count-touches": count_touches})
-    from app.experiment.runner import ExperimentError, run_experiment
-    from app.experiment.transfer import run_transfer
+    from soccer_lab.app.experiment.runner import ExperimentError, run_experiment
+    from soccer_lab.app.experiment.transfer import run_transfer
 
     try:
         with ExitStack() as stack:
@@ -130,7 +131,7 @@ def experiment_command(
             elif replicate_seeds is None:
                 outcome = run_experiment(preset, options, folder, runner, progress=progress)
             else:
-                from app.experiment.replicates import run_replicates
+                from soccer_lab.app.experiment.replicates import run_replicates
 
                 outcome = run_replicates(preset, options, replicate_seeds, folder, runner, progress=progress)
     except (ExecutorError, ExperimentError) as exc:
@@ -153,8 +154,8 @@ def _replicate_seeds(seed: int, replicates: int | None, seeds: str | None) -> li
     """The replicates' seeds; None for one experiment at --seed (no --replicates nor --seeds)."""
     if replicates is None and seeds is None:
         return None
-    from app.experiment.replicates import replicate_seeds
-    from app.experiment.runner import ExperimentError
+    from soccer_lab.app.experiment.replicates import replicate_seeds
+    from soccer_lab.app.experiment.runner import ExperimentError
 
     try:
         given = None if seeds is None else [int(part) for part in seeds.split(",") if part.strip()]
@@ -180,7 +181,7 @@ def _robocup_runner(stack: ExitStack, options: ExperimentOptions, executor: str 
         return RcssExecutor(stack.enter_context(rcss_addresses(server, rcssserver, servers, options.trial().noise)))
     if server:
         fail("--server names servers you run; with --executor ray every node starts its own (--servers per node)")
-    from app.rcss_cluster import ClusterRcssExecutor, RayCluster
+    from soccer_lab.app.runs.rcss_cluster import ClusterRcssExecutor, RayCluster
 
     cluster = RayCluster(address, servers, str(rcssserver) if rcssserver is not None else None)
     return ClusterRcssExecutor(cluster, announce=lambda line: typer.echo(line, err=True))
@@ -227,9 +228,9 @@ class ExperimentProgress:
 def _record(preset: str, options: ExperimentOptions, outcome: "ExperimentOutcome | ReplicatesOutcome",
             data_dir: Path | None) -> None:
     """In the library: one experiment, or replicates as one entry (their summary report above them)."""
-    from app.experiment.library import library_summary
-    from app.paths import DATABASE_FILE, default_data_dir
-    from app.store import Store, StoreError
+    from soccer_lab.app.experiment.library import library_summary
+    from soccer_lab.app.paths import DATABASE_FILE, default_data_dir
+    from soccer_lab.app.store import Store, StoreError
 
     try:
         folder = data_dir or default_data_dir()
@@ -244,7 +245,7 @@ def _record(preset: str, options: ExperimentOptions, outcome: "ExperimentOutcome
 
 
 def _transfer_summary(outcome: "TransferOutcome") -> None:
-    from app.experiment.transfer import REPORT_HTML, REPORT_MD, STATISTICS_FILE
+    from soccer_lab.app.experiment.transfer import REPORT_HTML, REPORT_MD, STATISTICS_FILE
 
     typer.echo(f"{len(outcome.plan.specs)} rcssserver runs ({outcome.ran} run now) and {len(outcome.players)} player "
                f"games in {outcome.seconds:.1f} s")

@@ -1,7 +1,7 @@
 """`soccer-lab lineage RUN_DIR`: a player's family tree from a run folder's lineage records: the ancestors
 whose genes it carries (each with fitness, goals and how it was made), each of its rules with the ancestor
 it came from, its chromosome in compact notation; as text, and as an SVG or Graphviz DOT file. The player's
-true quality (re-played on the common fresh starts, app/true_quality.py) stands beside its one-game
+true quality (re-played on the common fresh starts, app/runs/true_quality.py) stands beside its one-game
 fitness; --rules writes the player as a rulebase file every tool opens (`rules ...`, `play`, the UI)."""
 
 from __future__ import annotations
@@ -11,11 +11,11 @@ from typing import TYPE_CHECKING, Annotated, Optional
 
 import typer
 
-from app.cli.common import fail
+from soccer_lab.app.cli.common import fail
 
 if TYPE_CHECKING:
-    from fuzzy.rule import Rulebase
-    from fuzzy.vocabulary import Vocabulary
+    from soccer_lab.fuzzy.rule import Rulebase
+    from soccer_lab.fuzzy.vocabulary import Vocabulary
 
 RunDir = Annotated[Path, typer.Argument(
     help="A run folder (what soccer-lab evolve --out wrote, or the app's runs/<id>).", show_default=False)]
@@ -42,9 +42,9 @@ def lineage_command(run_dir: RunDir, generation: Generation = None, index: Index
                     rules: RulesOut = None) -> None:
     """A player's family tree: by default the run's best so far; --generation G for that generation's best,
     with --index I for any of its players."""
-    from app.lineage import RunLineage
-    from app.lineage_drawing import tree_dot, tree_svg, tree_text
-    from ga.lineage import LineageError
+    from soccer_lab.app.lineage.family_tree import RunLineage
+    from soccer_lab.app.lineage.drawing import tree_dot, tree_svg, tree_text
+    from soccer_lab.ga.lineage import LineageError
 
     try:
         lineage = RunLineage.from_folder(run_dir)
@@ -66,10 +66,10 @@ def lineage_command(run_dir: RunDir, generation: Generation = None, index: Index
 
 def _quality_line(run_dir: Path, rulebase: "Rulebase", vocabulary: "Vocabulary") -> str:
     """The chosen player re-played on the common fresh starts, in the run's own SimpleSoccer games."""
-    from app.environments import SIMPLE
-    from app.run import RunSettings
-    from app.run_outputs import RunFolder, RunFolderError
-    from app.true_quality import simple_soccer_replayer
+    from soccer_lab.app.runs.environments import SIMPLE
+    from soccer_lab.app.runs.run import RunSettings
+    from soccer_lab.app.runs.outputs import RunFolder, RunFolderError
+    from soccer_lab.app.runs.true_quality import simple_soccer_replayer
 
     try:
         settings = RunSettings.from_dict(RunFolder(run_dir).read_manifest())
@@ -81,6 +81,6 @@ def _quality_line(run_dir: Path, rulebase: "Rulebase", vocabulary: "Vocabulary")
 
 
 def _rulebase_file_text(path: Path, rulebase: "Rulebase", vocabulary: "Vocabulary") -> str:
-    from app.rulebase_files import JSON_SUFFIX, rulebase_json, rulebase_text
+    from soccer_lab.app.rulebase_files import JSON_SUFFIX, rulebase_json, rulebase_text
 
     return (rulebase_json if path.suffix.lower() == JSON_SUFFIX else rulebase_text)(rulebase, vocabulary)

@@ -13,14 +13,14 @@ from typing import TYPE_CHECKING, Annotated, Any, Iterator, Optional
 import typer
 from pydantic import BaseModel, ValidationError
 
-from app.cli.common import fail
-from app.environments import ENVIRONMENTS, RCSS, SIMPLE, checked_env, checked_servers
-from app.validation import describe_problems
-from soccer.config import FITNESS_NAMES, SKILL_SET_NAMES, GameConfig
-from soccer.rcss.servers import EXECUTABLE_VARIABLE, MAX_SERVERS
+from soccer_lab.app.cli.common import fail
+from soccer_lab.app.runs.environments import ENVIRONMENTS, RCSS, SIMPLE, checked_env, checked_servers
+from soccer_lab.app.web.validation import describe_problems
+from soccer_lab.soccer.config import FITNESS_NAMES, SKILL_SET_NAMES, GameConfig
+from soccer_lab.soccer.rcss.servers import EXECUTABLE_VARIABLE, MAX_SERVERS
 
-if TYPE_CHECKING:  # soccer.rcss.trial compiles the player's kernels: imported only when rcss is used
-    from soccer.rcss.trial import TrialConfig
+if TYPE_CHECKING:  # soccer_lab.soccer.rcss.trial compiles the player's kernels: imported only when rcss is used
+    from soccer_lab.soccer.rcss.trial import TrialConfig
 
 DEFAULT_GAMES = 5
 DEFAULT_SEED = 0
@@ -146,7 +146,7 @@ def rcss_executable(servers: list[str] | None, rcssserver: Path | None, count: i
         if rcssserver is not None or count is not None:
             fail("--server names servers you run; --rcssserver and --servers start servers: give one or the other")
         return None
-    from soccer.rcss.servers import RcssLaunchError, find_rcssserver
+    from soccer_lab.soccer.rcss.servers import RcssLaunchError, find_rcssserver
 
     try:
         return find_rcssserver(rcssserver)
@@ -165,7 +165,7 @@ def rcss_addresses(servers: list[str] | None, rcssserver: Path | None, count: in
     if executable is None:
         yield rcss_servers(servers)
         return
-    from soccer.rcss.servers import RcssLaunchError, ServerPool, describe, noise_options
+    from soccer_lab.soccer.rcss.servers import RcssLaunchError, ServerPool, describe, noise_options
 
     with ExitStack() as stack:
         try:
@@ -187,7 +187,7 @@ def rcss_servers(servers: list[str] | None) -> list[str]:
 def trial_config(**options: Any) -> "TrialConfig":
     """rcssserver trials (the chapter's, 5.3) from the game options they share with SimpleSoccer (fitness,
     max_ticks, goal_cap, idle_ticks, skills) given by name; unset ones keep TrialConfig's (the chapter's)."""
-    from soccer.rcss.trial import TrialConfig
+    from soccer_lab.soccer.rcss.trial import TrialConfig
 
     return config_from_options(TrialConfig, options)
 
@@ -219,9 +219,9 @@ def play_command(
     servers: ServersOption = None,
 ) -> None:
     """Play RULEBASE in SimpleSoccer (or on rcssserver) from seeded random starts; print goals, kicks, ticks and fitness."""
-    from app.recording import log_replay
-    from app.rulebase_files import RulebaseFileError, load_rulebase
-    from soccer.engine import play_game, play_games
+    from soccer_lab.app.runs.recording import log_replay
+    from soccer_lab.app.rulebase_files import RulebaseFileError, load_rulebase
+    from soccer_lab.soccer.engine import play_game, play_games
 
     env = chosen_env(env, server, {"--count-touches": count_touches}, {"--rcssserver": rcssserver, "--servers": servers})
     config = game_config(fitness=fitness, max_ticks=max_ticks, goal_cap=goal_cap, idle_ticks=idle_ticks,
@@ -233,7 +233,7 @@ def play_command(
     seeds = consecutive_seeds(seed, games)
     stream = _open_replay_file(rrd) if rrd is not None else None
     if env == RCSS:  # a trial's replay is its trace: where the trainer's see_global put player and ball
-        from soccer.rcss.params import ServerParams
+        from soccer_lab.soccer.rcss.params import ServerParams
 
         trial = trial_config(fitness=fitness, max_ticks=max_ticks, goal_cap=goal_cap, idle_ticks=idle_ticks,
                              skills=skills, noise=noise)
@@ -256,8 +256,8 @@ def play_command(
 
 def _play_on_rcss(player, seeds: list[int], servers: list[str], trial: "TrialConfig", trace: bool) -> list[Any]:
     """Trials on real servers, in parallel over the servers (each with its trace when `trace`)."""
-    from soccer.rcss.errors import RcssError
-    from soccer.rcss.evaluate import RcssEvaluator
+    from soccer_lab.soccer.rcss.errors import RcssError
+    from soccer_lab.soccer.rcss.evaluate import RcssEvaluator
 
     try:
         with RcssEvaluator(servers, trial, trace=trace) as evaluate:
@@ -271,7 +271,7 @@ def _open_replay_file(path: Path):
         fail(f"--rrd: {path} is a folder")
     if not path.parent.is_dir():
         fail(f"--rrd: folder {path.parent} does not exist")
-    from app.recording import open_stream
+    from soccer_lab.app.runs.recording import open_stream
 
     return open_stream(path)
 

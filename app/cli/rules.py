@@ -11,24 +11,24 @@ from typing import TYPE_CHECKING, Optional
 
 import typer
 
-from app.cli.common import TYPER_SETTINGS, CommandList, OneLineErrors, fail
-from app.cli.play import (CountTouchesOption, FitnessOption, GoalCapOption, IdleTicksOption, MaxTicksOption,
-                          NoiseOption, SkillsOption, game_config)
-from app.lineage import plural
-from app.rule_inspection import DEFAULT_USAGE_GAMES
-from app.rulebase_files import JSON_SUFFIX, legacy_trial_rules
-from fuzzy.engine import Engine, Inference
-from fuzzy.export import FORMATS, RulebaseFormatError, export_rulebase, rulebase_from_json, to_json
-from fuzzy.parser import RuleSyntaxError, parse_rulebase
-from fuzzy.printer import format_premise, format_rule, format_rulebase
-from fuzzy.rule import Rulebase
-from fuzzy.simplify import CHECKED, EXACT
-from fuzzy.vocabulary import Vocabulary, VocabularyError
+from soccer_lab.app.cli.common import TYPER_SETTINGS, CommandList, OneLineErrors, fail
+from soccer_lab.app.cli.play import (CountTouchesOption, FitnessOption, GoalCapOption, IdleTicksOption, MaxTicksOption,
+                                     NoiseOption, SkillsOption, game_config)
+from soccer_lab.app.lineage.family_tree import plural
+from soccer_lab.app.rule_inspection import DEFAULT_USAGE_GAMES
+from soccer_lab.app.rulebase_files import JSON_SUFFIX, legacy_trial_rules
+from soccer_lab.fuzzy.engine import Engine, Inference
+from soccer_lab.fuzzy.export import FORMATS, RulebaseFormatError, export_rulebase, rulebase_from_json, to_json
+from soccer_lab.fuzzy.parser import RuleSyntaxError, parse_rulebase
+from soccer_lab.fuzzy.printer import format_premise, format_rule, format_rulebase
+from soccer_lab.fuzzy.rule import Rulebase
+from soccer_lab.fuzzy.simplify import CHECKED, EXACT
+from soccer_lab.fuzzy.vocabulary import Vocabulary, VocabularyError
 
 if TYPE_CHECKING:  # these play games (numba kernels): imported by the commands that need them
-    from soccer.engine import GameResult
-    from soccer.simplify import CheckedSimplification
-    from soccer.usage import Usage
+    from soccer_lab.soccer.engine import GameResult
+    from soccer_lab.soccer.simplify import CheckedSimplification
+    from soccer_lab.soccer.usage import Usage
 
 app = typer.Typer(help="Work with rulebases: check, infer, export, decode, usage, simplify.", no_args_is_help=True,
                   cls=CommandList, **TYPER_SETTINGS)
@@ -163,8 +163,8 @@ def decode(
                                    help='A chromosome in compact notation, e.g. "(B,N,O) (RB,n,L)".'),
 ) -> None:
     """Decode a chromosome in the chapter's compact notation (Figs. 6, 7) and print its rules."""
-    from ga.codec import ChromosomeCodec
-    from ga.notation import NotationError, parse_compact
+    from soccer_lab.ga.codec import ChromosomeCodec
+    from soccer_lab.ga.notation import NotationError, parse_compact
 
     try:
         vocabulary = Vocabulary.default()
@@ -197,7 +197,7 @@ def usage(
 ) -> None:
     """Play FILE in SimpleSoccer and show, per rule, how often it fired, won and decided, and its mean strength;
     per action how often it was performed; and how often the player hunted."""
-    from app.rule_inspection import rule_usage, usage_document
+    from soccer_lab.app.rule_inspection import rule_usage, usage_document
 
     config = game_config(fitness=fitness, max_ticks=max_ticks, goal_cap=goal_cap, idle_ticks=idle_ticks, noise=noise,
                          skills=skills, count_touches=count_touches)
@@ -233,7 +233,7 @@ def simplify(
 ) -> None:
     """A shorter rulebase that plays the same: exact steps (proved on every input), then, with --games, the rules
     that never won in those games (kept only when every game replays identically)."""
-    from app.rule_inspection import simplification, simplification_document
+    from soccer_lab.app.rule_inspection import simplification, simplification_document
 
     config = game_config(fitness=fitness, max_ticks=max_ticks, goal_cap=goal_cap, idle_ticks=idle_ticks, noise=noise,
                          skills=skills, count_touches=count_touches)
@@ -316,7 +316,7 @@ def simplification_lines(result: CheckedSimplification, vocabulary: Vocabulary) 
         for step in steps:
             lines.append(f"  {step.name:<20} {_step_outcome(step)}")
             lines.extend(f"      rule {c.rule}: {c.reason}" for c in step.changes)
-    from app.rule_inspection import size
+    from soccer_lab.app.rule_inspection import size
 
     before, after = size(simplified.original), size(simplified.rulebase)
     lines.append(f"size: {before['rules']} rules, {before['premises']} premises -> "

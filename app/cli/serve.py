@@ -10,11 +10,11 @@ from typing import Optional
 
 import typer
 
-from app.cli.common import fail
-from app.experiment.executors import EXECUTOR_NAMES, LOCAL, RAY
-from app.paths import default_data_dir
-from app.server import DEFAULT_HOST, DEFAULT_PORT, DEFAULT_UI_PORT, ServeError, ServeOptions, serve
-from app.store import StoreError
+from soccer_lab.app.cli.common import fail
+from soccer_lab.app.experiment.executors import EXECUTOR_NAMES, LOCAL, RAY
+from soccer_lab.app.paths import default_data_dir
+from soccer_lab.app.web.server import DEFAULT_HOST, DEFAULT_PORT, DEFAULT_UI_PORT, ServeError, ServeOptions, serve
+from soccer_lab.app.store import StoreError
 
 PORT_RANGE = {"min": 1, "max": 65535}
 CLASS_HOST = "0.0.0.0"  # classroom mode listens on every interface unless --host says which
@@ -75,7 +75,7 @@ def serve_command(
     if trusted_proxy is not None and not _ip_address(trusted_proxy):
         fail(f"--trusted-proxy {trusted_proxy}: an IP address (the proxy's, e.g. 127.0.0.1)")
     if rcssserver is not None:
-        from soccer.rcss.servers import RcssLaunchError, find_rcssserver
+        from soccer_lab.soccer.rcss.servers import RcssLaunchError, find_rcssserver
 
         try:
             rcssserver = find_rcssserver(rcssserver)

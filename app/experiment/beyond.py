@@ -23,10 +23,10 @@ from typing import Callable
 import numpy as np
 from scipy import stats
 
-from app.experiment.presets import LONG_GENERATIONS, RESTARTS, Preset
-from app.experiment.report import (ALPHA, NOT_RUN, TOO_SMALL, Assessment, _best_so_far, _final, _groups, _medians,
-                                   _p_between, _settled, too_small)
-from app.experiment.table import BestsTable, StatisticsTable
+from soccer_lab.app.experiment.presets import LONG_GENERATIONS, RESTARTS, Preset
+from soccer_lab.app.experiment.table import BestsTable, StatisticsTable
+from soccer_lab.app.experiment.verdicts import (ALPHA, NOT_RUN, TOO_SMALL, Assessment, _best_so_far, _final, _groups,
+                                                _medians, _p_between, _settled, too_small)
 
 NO_DIFFERENCE = "no significant difference"
 RULES_FROM_SHARE = 0.25  # rule counts compared from here (after the first generations' rise) to the end

@@ -10,11 +10,11 @@ import os
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from typing import TYPE_CHECKING, Any, Callable, Iterable, Iterator, Sequence
 
-from ga.evaluation import start_worker
+from soccer_lab.ga.evaluation import start_worker
 
 if TYPE_CHECKING:
-    from soccer.rcss.evaluate import RcssEvaluator
-    from soccer.rcss.trial import TrialConfig
+    from soccer_lab.soccer.rcss.evaluate import RcssEvaluator
+    from soccer_lab.soccer.rcss.trial import TrialConfig
 
 LOCAL, RAY = "local", "ray"
 EXECUTOR_NAMES = (LOCAL, RAY)
@@ -132,7 +132,7 @@ class RcssExecutor:
         return self._evaluate
 
     def _new_evaluator(self, trial: TrialConfig) -> RcssEvaluator:
-        from soccer.rcss.evaluate import RcssEvaluator
+        from soccer_lab.soccer.rcss.evaluate import RcssEvaluator
 
         return RcssEvaluator(self.servers, trial)
 

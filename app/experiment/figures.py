@@ -14,8 +14,8 @@ import numpy as np
 from matplotlib.figure import Figure as MatplotlibFigure
 from matplotlib.ticker import MaxNLocator
 
-from app.experiment.presets import Preset
-from app.experiment.table import BestsTable, StatisticsTable
+from soccer_lab.app.experiment.presets import Preset
+from soccer_lab.app.experiment.table import BestsTable, StatisticsTable
 
 FIGURES_FOLDER = "figures"
 SIZE_INCHES = (7.5, 4.2)

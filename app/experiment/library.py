@@ -12,13 +12,13 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from app.experiment.figures import FIGURES_FOLDER
-from app.experiment.report import REPORT_HTML, REPORT_MD
-from app.experiment.runner import STATISTICS_FILE, TRIALS_FOLDER
+from soccer_lab.app.experiment.figures import FIGURES_FOLDER
+from soccer_lab.app.experiment.report import REPORT_HTML, REPORT_MD
+from soccer_lab.app.experiment.runner import STATISTICS_FILE, TRIALS_FOLDER
 
 if TYPE_CHECKING:
-    from app.experiment.presets import ExperimentOptions
-    from app.experiment.runner import ExperimentOutcome
+    from soccer_lab.app.experiment.presets import ExperimentOptions
+    from soccer_lab.app.experiment.runner import ExperimentOutcome
 
 FIGURE_SUFFIX = ".png"
 RECORDING_SUFFIX = ".rrd"

@@ -35,12 +35,12 @@ from typing import TYPE_CHECKING, Any
 
 from pydantic import BaseModel, ConfigDict, Field
 
-from ga.config import MAX_POPULATION, SEED_BOUND, GAConfig, RouletteWeighting
-from ga.state import GA, RANDOM_SEARCH
-from soccer.config import GameConfig, SkillSet
+from soccer_lab.ga.config import MAX_POPULATION, SEED_BOUND, GAConfig, RouletteWeighting
+from soccer_lab.ga.state import GA, RANDOM_SEARCH
+from soccer_lab.soccer.config import GameConfig, SkillSet
 
-if TYPE_CHECKING:  # soccer.rcss.trial loads the player's compiled skills: imported when robocup runs
-    from soccer.rcss.trial import TrialConfig
+if TYPE_CHECKING:  # soccer_lab.soccer.rcss.trial loads the player's compiled skills: imported when robocup runs
+    from soccer_lab.soccer.rcss.trial import TrialConfig
 
 ALL = "all"
 ALL_PLUS = "all-plus"
@@ -115,7 +115,7 @@ class ExperimentOptions(BaseModel):
     def trial(self) -> TrialConfig:
         """The rcssserver trials: the chapter's (1200 cycles, the server's noise) unless max_ticks or noise was
         given, with the skill set (the server counts the kicks)."""
-        from soccer.rcss.trial import TrialConfig
+        from soccer_lab.soccer.rcss.trial import TrialConfig
 
         given = {name: getattr(self, name) for name in ("max_ticks", "noise") if name in self.model_fields_set}
         return TrialConfig(skills=self.skills, **given)
@@ -134,7 +134,7 @@ class ExperimentOptions(BaseModel):
     def from_identity(cls, identity: dict[str, Any]) -> "ExperimentOptions":
         """The options as the command line gave them, from a folder's manifest (`identity`): the values that
         differ from the defaults, and the rcssserver trials' length and noise where they differ from theirs."""
-        from soccer.rcss.trial import TrialConfig
+        from soccer_lab.soccer.rcss.trial import TrialConfig
 
         defaults = cls().model_dump()
         given = {name: value for name, value in identity.items() if name in cls.model_fields
@@ -174,7 +174,7 @@ class Setting:
     """One value of the varied parameter: a label for figures and the whole GA configuration."""
 
     label: str
-    algorithm: str  # ga.state.GA or RANDOM_SEARCH
+    algorithm: str  # soccer_lab.ga.state.GA or RANDOM_SEARCH
     ga: GAConfig  # seed 0: each trial gets its own
     trial: TrialConfig | None = None  # rcssserver trials; None: SimpleSoccer games (the options' game)
     games_per_evaluation: int = 1  # SimpleSoccer games averaged into one evaluation
@@ -216,7 +216,7 @@ class Preset:
     settings: tuple[Setting, ...]
     trials: int
     per_trial: bool = False  # the chapter shows each trial's curve (Figs. 11-12, 26-27)
-    figures: tuple[str, ...] = field(default=())  # figure kinds (app.experiment.figures.FIGURE_KINDS)
+    figures: tuple[str, ...] = field(default=())  # figure kinds (soccer_lab.app.experiment.figures.FIGURE_KINDS)
     size: RunSize = CHAPTER_SIZE  # this run's Table 2 control
     chapter_size: RunSize = CHAPTER_SIZE  # the chapter's: the size its findings were read at
     chapter_trials: int = DEFAULT_TRIALS  # the chapter's trials per setting (20 initial, 10 otherwise)

@@ -24,12 +24,13 @@ from matplotlib.colors import ListedColormap
 from matplotlib.figure import Figure as MatplotlibFigure
 from matplotlib.patches import Patch
 
-from app.experiment.figures import DPI, FIGURES_FOLDER, Figure
-from app.experiment.presets import ROBOCUP, ExperimentOptions
-from app.experiment.report import (AGREES, DISAGREES, INCONCLUSIVE, NOT_RUN, REPORT_HTML, REPORT_MD, STYLE, TOO_SMALL,
-                                   VERDICTS, Report, _cell, run_size)
-from app.experiment.runner import (ExperimentError, ExperimentOutcome, Plan, Progress, RunClock, _write_atomically,
-                                   assemble, assemble_bests, plan, prepare_folder, run_trials_in)
+from soccer_lab.app.experiment.figures import DPI, FIGURES_FOLDER, Figure
+from soccer_lab.app.experiment.presets import ROBOCUP, ExperimentOptions
+from soccer_lab.app.experiment.report import REPORT_HTML, REPORT_MD, STYLE, Report, _cell, run_size
+from soccer_lab.app.experiment.runner import (ExperimentError, ExperimentOutcome, Plan, Progress, RunClock,
+                                              _write_atomically, assemble, assemble_bests, plan, prepare_folder,
+                                              run_trials_in)
+from soccer_lab.app.experiment.verdicts import AGREES, DISAGREES, INCONCLUSIVE, NOT_RUN, TOO_SMALL, VERDICTS
 
 VARIES = "varies with the seed"
 VERDICTS_FILE = "verdicts.csv"
@@ -108,7 +109,7 @@ def run_replicates(preset_name: str, options: ExperimentOptions, seeds: list[int
                    progress: Progress | None = None) -> ReplicatesOutcome:
     """Each seed's experiment in its own folder, all trials on one executor; then each replicate's report
     and the summary above them."""
-    from app.experiment.report import write_report
+    from soccer_lab.app.experiment.report import write_report
 
     clock = RunClock()
     on_servers = preset_name == ROBOCUP

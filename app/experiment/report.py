@@ -33,18 +33,14 @@ from typing import Callable
 import numpy as np
 from scipy import stats
 
-from app.experiment.figures import Figure, write_figures
-from app.experiment.presets import BEYOND_NAMES, ROBOCUP, Preset
-from app.experiment.table import BestsTable, StatisticsTable
+from soccer_lab.app.experiment.beyond import BEYOND_INTRODUCTION, assess_questions
+from soccer_lab.app.experiment.figures import Figure, write_figures
+from soccer_lab.app.experiment.presets import BEYOND_NAMES, ROBOCUP, Preset
+from soccer_lab.app.experiment.table import BestsTable, StatisticsTable
+from soccer_lab.app.experiment.verdicts import (ALPHA, AGREES, DISAGREES, INCONCLUSIVE, MIN_TRIALS, NOT_RUN, POWER,
+                                                TOO_SMALL, VERDICTS, Assessment, _best_so_far, _detectable_text, _final,
+                                                _groups, _medians, _p_between, smaller_than_chapter, too_small)
 
-ALPHA = 0.05
-POWER = 0.8  # for the smallest difference a "no difference" test could have detected
-RANK_EFFICIENCY = 3 / np.pi  # rank tests' efficiency against the t test on normal data: their trials count 0.955x
-MIN_TRIALS = 5  # our minimum: the fewest per setting at which the rank tests used can reach p < ALPHA
-VALUE_DECIMALS = 10  # per-trial values are compared at this precision (see _settled)
-AGREES, DISAGREES, INCONCLUSIVE, NOT_RUN = "agrees", "disagrees", "inconclusive", "not run"
-TOO_SMALL = "too small to judge"
-VERDICTS = (AGREES, DISAGREES, INCONCLUSIVE, TOO_SMALL, NOT_RUN)
 GOAL_SCORING = 0.5  # fitness of one goal: at or below it a player scores (Table 1)
 PLATEAU_LEVEL, PLATEAU_TOLERANCE = 0.75, 0.10  # 6.2: average fitness plateaus "around 0.75"
 LENGTH_SHARE, LENGTH_TOLERANCE = 2 / 3, 0.10  # 6.4.1, 6.4.5: chromosome length settles at "about 2/3" of the maximum
@@ -69,25 +65,6 @@ WHY_PAGE = "docs/research/calibration.md#why-the-disagreements"  # the docs page
 
 
 @dataclass(frozen=True)
-class Assessment:
-    measured: str
-    verdict: str
-    test: str
-    needs: str = ""  # for TOO_SMALL: the size the finding needs, against this run's
-    reason: str = ""  # for DISAGREES: what this run's data show instead, in words
-    no_difference_found: bool = False  # an agreement that is the absence of a significant difference
-    smaller: str = ""  # judged at a smaller size than the chapter's: in which dimensions
-
-    @property
-    def shown(self) -> str:
-        """The verdict as the report prints it, with the smaller size it was judged at."""
-        if self.verdict == TOO_SMALL:
-            return f"{TOO_SMALL} (needs {self.needs})"
-        shown = self.verdict.upper() if self.verdict == DISAGREES else self.verdict
-        return f"{shown} (at a smaller size than the chapter's: {self.smaller})" if self.smaller else shown
-
-
-@dataclass(frozen=True)
 class Finding:
     preset: str
     where: str  # section and figure of the chapter
@@ -100,7 +77,7 @@ class Report:
     findings: list[tuple[Finding, Assessment]]
     figures: list[Figure]
 
-    answers: list = field(default_factory=list)  # (app.experiment.beyond.Question, Assessment)
+    answers: list = field(default_factory=list)  # (soccer_lab.app.experiment.beyond.Question, Assessment)
 
     def verdicts(self) -> dict[str, int]:
         counts = {v: 0 for v in VERDICTS}
@@ -114,79 +91,6 @@ class Report:
 
     def judged_smaller(self) -> int:
         return sum(bool(a.smaller) for _, a in self.findings)
-
-
-# ---- per-trial values ------------------------------------------------------------------------------
-def _settled(values: np.ndarray) -> np.ndarray:
-    """Running means of equal fitnesses can differ in the last bits (0.05 vs 0.05000000000000001); rank tests
-    would read those as differences, so per-trial values are compared at VALUE_DECIMALS decimals."""
-    return np.round(np.asarray(values, dtype=float), VALUE_DECIMALS)
-
-
-def _final(column: str):
-    return lambda table, preset, setting: _settled(table.final(preset.name, setting, column))
-
-
-def _best_so_far(table: StatisticsTable, preset: Preset, setting: str) -> np.ndarray:
-    return _settled(table.best_so_far(preset.name, setting))
-
-
-def _groups(table: StatisticsTable, preset: Preset, values) -> dict[str, np.ndarray]:
-    return {setting: values(table, preset, setting) for setting in table.settings(preset.name)}
-
-
-def _medians(groups: dict[str, np.ndarray]) -> str:
-    return "; ".join(f"{setting}: {np.median(v):.3f}" for setting, v in groups.items()) + " (median over trials)"
-
-
-def _p_between(groups: dict[str, np.ndarray], alternative: str = "two-sided") -> tuple[float, str]:
-    samples = list(groups.values())
-    name = "Mann-Whitney U" if len(samples) == 2 else "Kruskal-Wallis H"
-    pooled = np.concatenate(samples)
-    if np.all(pooled == pooled[0]):  # every value identical: no difference at all (the tests are undefined)
-        return 1.0, name
-    if len(samples) == 2:
-        return float(stats.mannwhitneyu(*samples, alternative=alternative).pvalue), name
-    return float(stats.kruskal(*samples).pvalue), name
-
-
-def detectable_difference(groups: dict[str, np.ndarray]) -> tuple[float, float, int]:
-    """The smallest difference between two settings' means that the test could have detected with
-    probability POWER at ALPHA (two-sided) with these trials: the two-sample normal approximation, the
-    trials counted at the rank test's efficiency. (difference in the measure's units, in pooled
-    within-setting standard deviations, trials per setting)."""
-    trials = min(len(v) for v in groups.values())
-    z = stats.norm.ppf(1 - ALPHA / 2) + stats.norm.ppf(POWER)
-    in_deviations = float(z * np.sqrt(2 / (trials * RANK_EFFICIENCY)))
-    pooled = float(np.sqrt(np.mean([np.var(v, ddof=1) for v in groups.values()]))) if trials > 1 else float("nan")
-    return in_deviations * pooled, in_deviations, trials
-
-
-def _detectable_text(name: str, groups: dict[str, np.ndarray]) -> str:
-    difference, in_deviations, trials = detectable_difference(groups)
-    return (f"with {trials} trials per setting it could have detected a difference of about {difference:.3f} in "
-            f"{name} between two settings ({in_deviations:.2f} standard deviations; alpha {ALPHA}, power {POWER})")
-
-
-def _chapter_trials(table: StatisticsTable, preset: Preset) -> int:
-    return min((len(table.trials(preset.name, s)) for s in table.settings(preset.name)), default=0)
-
-
-def too_small(table: StatisticsTable, preset: Preset) -> str:
-    """What the run lacks to judge the preset's findings ("" when nothing): our minimum of MIN_TRIALS
-    trials per setting, and the chapter's population, generations and game length."""
-    trials = _chapter_trials(table, preset)
-    lacking = [f"{MIN_TRIALS} trials per setting, our minimum (here {trials})"] if trials < MIN_TRIALS else []
-    return ", ".join(lacking + preset.size.shortfalls(preset.chapter_size))
-
-
-def smaller_than_chapter(table: StatisticsTable, preset: Preset) -> str:
-    """Every dimension in which the run is smaller than the chapter's ("" when none): trials per
-    setting (the chapter's 20 for its initial trials, 10 otherwise), population, generations, game length."""
-    trials = _chapter_trials(table, preset)
-    fewer = ([f"{trials} trials per setting (the chapter's {preset.chapter_trials})"]
-             if trials < preset.chapter_trials else [])
-    return ", ".join(fewer + preset.size.shortfalls(preset.chapter_size))
 
 
 # ---- claim shapes -----------------------------------------------------------------------------------
@@ -645,7 +549,6 @@ def write_report(table: StatisticsTable, presets: list[Preset], folder: Path,
                  bests: BestsTable | None = None) -> Report:
     """Figures, report.md and report.html into `folder`; `bests` (bests.csv) adds each trial's best as
     the GA saw it and re-played, and the answers beyond the chapter."""
-    from app.experiment.beyond import assess_questions
 
     bests = bests or BestsTable([])
     present = [p for p in presets if p.name in table.presets()]
@@ -702,7 +605,6 @@ def _blocks(table: StatisticsTable, bests: BestsTable, presets: list[Preset], fi
             blocks += [("p", f"Why {f.where} disagrees (\"{f.claim}\"): {a.reason}. Measured why: {WHY_PAGE}")
                        for f, a in findings if a.verdict == DISAGREES]
     if beyond:
-        from app.experiment.beyond import BEYOND_INTRODUCTION
 
         blocks += [("h2", "Beyond the chapter"), ("p", BEYOND_INTRODUCTION)]
         for preset in beyond:

@@ -30,12 +30,13 @@ from typing import Any, Iterable, Protocol
 
 import numpy as np
 
-from app.experiment.presets import RCSS_TRIAL, ROBOCUP, ExperimentOptions, Preset, Setting, presets, trial_seed
-from app.experiment.table import ALGORITHM, PRESET, SEED, SETTING, TRIAL, BestsTable, StatisticsTable
-from ga.config import SEED_BOUND, GAConfig
-from ga.evaluation import Evaluator
-from ga.state import GA
-from soccer.config import GameConfig
+from soccer_lab.app.experiment.presets import (RCSS_TRIAL, ROBOCUP, ExperimentOptions, Preset, Setting, presets,
+                                               trial_seed)
+from soccer_lab.app.experiment.table import ALGORITHM, PRESET, SEED, SETTING, TRIAL, BestsTable, StatisticsTable
+from soccer_lab.ga.config import SEED_BOUND, GAConfig
+from soccer_lab.ga.evaluation import Evaluator
+from soccer_lab.ga.state import GA
+from soccer_lab.soccer.config import GameConfig
 
 MANIFEST = "manifest.json"
 TRIALS_FOLDER = "trials"
@@ -95,9 +96,9 @@ def run_trial(spec: TrialSpec, evaluate: Evaluator | None = None) -> TrialResult
     """One whole GA (or random search) run, or one per restart; then its best re-played. Runs in a
     worker process or Ray task with SimpleSoccer games, or with `evaluate` (trials on rcssservers) in
     this process; continues from the spec's checkpoint when there is one."""
-    from ga.algorithms import evolve, random_search, resume
-    from soccer.config import SOCCER_VOCABULARY
-    from soccer.evaluate import SimpleSoccerEvaluator
+    from soccer_lab.ga.algorithms import evolve, random_search, resume
+    from soccer_lab.soccer.config import SOCCER_VOCABULARY
+    from soccer_lab.soccer.evaluate import SimpleSoccerEvaluator
 
     evaluate = evaluate or SimpleSoccerEvaluator(spec.game, SOCCER_VOCABULARY)
     if spec.checkpoint is not None and spec.checkpoint.is_file():
@@ -125,11 +126,11 @@ def _one_after_another(histories: list[list[dict[str, Any]]]) -> list[dict[str, 
 
 
 def best_record(result: Any, rows: list[dict[str, Any]], replay: Evaluator, seeds: list[int]) -> dict[str, Any]:
-    """The trial's best: what the GA saw, its replays (app/true_quality.py) and its rules, as a rulebase
+    """The trial's best: what the GA saw, its replays (app/runs/true_quality.py) and its rules, as a rulebase
     file every tool opens (trials/*.best.json: the rulebase JSON with the trial's figures beside it)."""
-    from app.rulebase_files import rulebase_json
-    from app.true_quality import replayed_quality
-    from fuzzy.printer import format_rulebase
+    from soccer_lab.app.rulebase_files import rulebase_json
+    from soccer_lab.app.runs.true_quality import replayed_quality
+    from soccer_lab.fuzzy.printer import format_rulebase
 
     best = result.best
     quality = replayed_quality(result.best_rulebase, replay, seeds)
@@ -195,7 +196,7 @@ class TrialFolder:
         return self.statistics(spec).is_file()
 
     def write(self, spec: TrialSpec, result: TrialResult) -> None:
-        from app.recording import RunRecorder
+        from soccer_lab.app.runs.recording import RunRecorder
 
         rows = result.rows
         recorder = RunRecorder(self.recording(spec), history=rows)
@@ -226,7 +227,7 @@ class ExperimentOutcome:
     folder: Path
     plan: Plan
     table: StatisticsTable
-    report: Any  # app.experiment.report.Report
+    report: Any  # soccer_lab.app.experiment.report.Report
     ran: int  # trials computed now
     skipped: int  # trials found finished
     seconds: float
@@ -324,7 +325,7 @@ def _keys(membership: Membership) -> dict[str, Any]:
 def run_experiment(preset_name: str, options: ExperimentOptions, folder: Path, executor: Any, *,
                    progress: Progress | None = None) -> ExperimentOutcome:
     """Plan, run what is unfinished, assemble statistics.csv, then write figures and the report."""
-    from app.experiment.report import write_report
+    from soccer_lab.app.experiment.report import write_report
 
     clock = RunClock()
     experiment = plan(preset_name, options)

@@ -1,4 +1,4 @@
-"""statistics.csv in memory: one row per (preset, setting, trial, generation), every statistic of `ga.statistics.GenerationStats`.
+"""statistics.csv in memory: one row per (preset, setting, trial, generation), every statistic of `soccer_lab.ga.statistics.GenerationStats`.
 bests.csv: one row per (preset, setting, trial), its best player's fitness as the GA saw it and re-played.
 Figures and the report read only these tables, so they work as well on fabricated statistics."""
 
@@ -11,7 +11,7 @@ from typing import Any, Iterable, Mapping, Self
 
 import numpy as np
 
-from ga.statistics import ADDED_LATER, GenerationStats
+from soccer_lab.ga.statistics import ADDED_LATER, GenerationStats
 
 PRESET, SETTING, TRIAL, SEED, ALGORITHM = "preset", "setting", "trial", "seed", "algorithm"
 KEY_COLUMNS = (PRESET, SETTING, TRIAL, SEED, ALGORITHM)

@@ -32,16 +32,18 @@ import numpy as np
 from matplotlib.figure import Figure as MatplotlibFigure
 from scipy import stats
 
-from app.experiment.figures import DPI, FIGURES_FOLDER, SIZE_INCHES, Figure, write_figures
-from app.experiment.presets import CHAPTER_GENERATIONS, CHAPTER_POPULATION, TRANSFER, TRANSFER_TRIALS as DEFAULT_TRIALS
-from app.experiment.presets import ExperimentOptions, Preset, Setting, preset, trial_seed
-from app.experiment.report import ALPHA, AGREES, DISAGREES, INCONCLUSIVE, MIN_TRIALS, _html, _markdown
-from app.experiment.runner import (Progress, RunClock, TrialFolder, TrialResult, TrialSpec, best_record, prepare_folder,
-                                   run_trial)
-from app.experiment.table import ALGORITHM, PRESET, SEED, SETTING, TRIAL, StatisticsTable
-from ga.config import SEED_BOUND
-from ga.genes import GENE_DTYPE, GENE_WIDTH
-from soccer.config import SOCCER_VOCABULARY
+from soccer_lab.app.experiment.figures import DPI, FIGURES_FOLDER, SIZE_INCHES, Figure, write_figures
+from soccer_lab.app.experiment.presets import (CHAPTER_GENERATIONS, CHAPTER_POPULATION, TRANSFER,
+                                               TRANSFER_TRIALS as DEFAULT_TRIALS)
+from soccer_lab.app.experiment.presets import ExperimentOptions, Preset, Setting, preset, trial_seed
+from soccer_lab.app.experiment.report import _html, _markdown
+from soccer_lab.app.experiment.runner import (Progress, RunClock, TrialFolder, TrialResult, TrialSpec, best_record,
+                                              prepare_folder, run_trial)
+from soccer_lab.app.experiment.table import ALGORITHM, PRESET, SEED, SETTING, TRIAL, StatisticsTable
+from soccer_lab.app.experiment.verdicts import ALPHA, AGREES, DISAGREES, INCONCLUSIVE, MIN_TRIALS
+from soccer_lab.ga.config import SEED_BOUND
+from soccer_lab.ga.genes import GENE_DTYPE, GENE_WIDTH
+from soccer_lab.soccer.config import SOCCER_VOCABULARY
 
 STARTS = 20  # games (and trials) each source's best plays in each environment
 SEEDED_GA = "ga-seeded"  # the algorithm of a run whose generation 0 is a SimpleSoccer population
@@ -107,8 +109,8 @@ class Sources:
         """The source, run now (in this process: a few seconds) unless it was kept."""
         path = self.path(trial)
         if not path.is_file():
-            from ga.algorithms import evolve
-            from soccer.evaluate import SimpleSoccerEvaluator
+            from soccer_lab.ga.algorithms import evolve
+            from soccer_lab.soccer.evaluate import SimpleSoccerEvaluator
 
             config = self.plan.source.ga.model_copy(
                 update={"seed": trial_seed(self.plan.options.seed, self.plan.source, trial)})
@@ -122,7 +124,7 @@ class Sources:
         return json.loads(path.read_text())
 
     def best(self, trial: int):
-        from ga.codec import ChromosomeCodec
+        from soccer_lab.ga.codec import ChromosomeCodec
 
         return ChromosomeCodec(SOCCER_VOCABULARY).decode(_chromosome(self.get(trial)["best"]))
 
@@ -139,7 +141,7 @@ def _chromosome(genes: list[list[int]]) -> np.ndarray:
 def play_players(plan: TransferPlan, sources: Sources, evaluator: Callable[[], Any], path: Path) -> list[dict]:
     """Each source's best from STARTS starts in both environments; rows kept in players.csv, whose finished
     sources are not played again."""
-    from soccer.engine import play_games
+    from soccer_lab.soccer.engine import play_games
 
     rows = _read_rows(path)
     done = {int(row["source"]) for row in rows}
@@ -179,7 +181,7 @@ def run_transfer_trial(spec: TrialSpec, evaluate: Any, sources: Sources) -> Tria
     checkpoint when there is one). Its best is re-played on the spec's replays, on the same servers."""
     if spec.setting.algorithm != SEEDED_GA or (spec.checkpoint is not None and spec.checkpoint.is_file()):
         return run_trial(spec, evaluate)  # a checkpoint holds all a seeded run needs to go on
-    from ga.algorithms import evolve
+    from soccer_lab.ga.algorithms import evolve
 
     result = evolve(spec.config, evaluate, SOCCER_VOCABULARY, checkpoint=spec.checkpoint,
                     initial_population=sources.population(spec.trial))

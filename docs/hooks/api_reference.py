@@ -15,7 +15,7 @@ METHODS = ("get", "post", "put", "patch", "delete")
 
 
 def openapi() -> dict[str, Any]:
-    from app.api import create_app
+    from soccer_lab.app.web.api import create_app
 
     return create_app(None, None).openapi()  # the document needs the routes, not a store or runs
 

@@ -1,7 +1,7 @@
 """mkdocs hook: the `<!-- generated: cli -->` block of a page
 (docs/hooks/generated_block.py) holds the reference of every `soccer-lab` command.
 
-It is typer's own generator (the one `typer app.cli utils docs` runs), called in this process on the CLI's
+It is typer's own generator (the one `typer soccer_lab.app.cli utils docs` runs), called in this process on the CLI's
 click group, so every command is found as `soccer-lab --help` finds it (the root group loads its commands
 only when asked) and a failure stops the build instead of leaving the page empty.
 """
@@ -18,7 +18,7 @@ def cli_reference() -> str:
     import typer.main
     from typer.cli import get_docs_for_click
 
-    from app.cli import app
+    from soccer_lab.app.cli import app
 
     command = typer.main.get_command(app)
     context = typer.Context(command, info_name="soccer-lab")

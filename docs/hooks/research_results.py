@@ -62,7 +62,7 @@ def verdicts_section(study: dict) -> str:
     if not rows:
         return "No verdicts yet: the run above has not finished."
     columns = list(rows[0])
-    from app.experiment.presets import BEYOND_NAMES
+    from soccer_lab.app.experiment.presets import BEYOND_NAMES
 
     chapter = [row for row in rows if row["preset"] not in BEYOND_NAMES]
     counts: dict[str, int] = {}

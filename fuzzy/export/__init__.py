@@ -7,18 +7,13 @@ import re
 from dataclasses import dataclass
 from typing import Callable
 
-from fuzzy.export.fcl import to_fcl
-from fuzzy.export.fis import to_fis
-from fuzzy.export.fll import to_fll
-from fuzzy.export.rulebase_json import (
-    RulebaseFormatError,
-    rulebase_from_dict,
-    rulebase_from_json,
-    rulebase_to_dict,
-    to_json,
-)
-from fuzzy.rule import Rulebase
-from fuzzy.vocabulary import Vocabulary
+from soccer_lab.fuzzy.export.fcl import to_fcl
+from soccer_lab.fuzzy.export.fis import to_fis
+from soccer_lab.fuzzy.export.fll import to_fll
+from soccer_lab.fuzzy.export.rulebase_json import (RulebaseFormatError, rulebase_from_dict, rulebase_from_json,
+                                                   rulebase_to_dict, to_json)
+from soccer_lab.fuzzy.rule import Rulebase
+from soccer_lab.fuzzy.vocabulary import Vocabulary
 
 
 @dataclass(frozen=True)

@@ -21,10 +21,10 @@ jFuzzyLogic and fuzzylite use. fuzzylite reads FCL with 100 samples per output (
 
 from __future__ import annotations
 
-from fuzzy.export.layout import ENGINE_NAME, ExportedVariable, FisLayout, Keywords, number, visibility_input
-from fuzzy.rule import Rulebase
-from fuzzy.term import Term
-from fuzzy.vocabulary import Vocabulary
+from soccer_lab.fuzzy.export.layout import ENGINE_NAME, ExportedVariable, FisLayout, Keywords, number, visibility_input
+from soccer_lab.fuzzy.rule import Rulebase
+from soccer_lab.fuzzy.term import Term
+from soccer_lab.fuzzy.vocabulary import Vocabulary
 
 WORDS = Keywords(is_="is", not_="not", and_="and", or_="or")
 INDENT = "    "

@@ -20,10 +20,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from fuzzy.export.layout import ENGINE_NAME, ExportedVariable, FisLayout, Literal, number
-from fuzzy.rule import OR, Rule, Rulebase
-from fuzzy.term import Term
-from fuzzy.vocabulary import Vocabulary
+from soccer_lab.fuzzy.export.layout import ENGINE_NAME, ExportedVariable, FisLayout, Literal, number
+from soccer_lab.fuzzy.rule import OR, Rule, Rulebase
+from soccer_lab.fuzzy.term import Term
+from soccer_lab.fuzzy.vocabulary import Vocabulary
 
 AND_CONNECTOR = 1  # the .fis code of a rule whose tests are joined by AND
 

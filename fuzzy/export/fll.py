@@ -2,10 +2,10 @@
 
 from __future__ import annotations
 
-from fuzzy.export.layout import ENGINE_NAME, RESOLUTION, ExportedVariable, FisLayout, Keywords, number
-from fuzzy.rule import Rulebase
-from fuzzy.term import Term
-from fuzzy.vocabulary import Vocabulary
+from soccer_lab.fuzzy.export.layout import ENGINE_NAME, RESOLUTION, ExportedVariable, FisLayout, Keywords, number
+from soccer_lab.fuzzy.rule import Rulebase
+from soccer_lab.fuzzy.term import Term
+from soccer_lab.fuzzy.vocabulary import Vocabulary
 
 WORDS = Keywords(is_="is", not_="not", and_="and", or_="or")
 

@@ -22,9 +22,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from fuzzy.rule import Premise, Rule, Rulebase
-from fuzzy.term import Term
-from fuzzy.vocabulary import Vocabulary
+from soccer_lab.fuzzy.rule import Premise, Rule, Rulebase
+from soccer_lab.fuzzy.term import Term
+from soccer_lab.fuzzy.vocabulary import Vocabulary
 
 ENGINE_NAME = "soccer_lab"
 VISIBLE_TERM = Term("YES", 0.0, 1.0, 1.0, 1.0)

@@ -11,8 +11,8 @@ from __future__ import annotations
 import json
 from typing import Any
 
-from fuzzy.rule import CONNECTORS, Consequent, Premise, Rule, Rulebase
-from fuzzy.vocabulary import Vocabulary, VocabularyError
+from soccer_lab.fuzzy.rule import CONNECTORS, Consequent, Premise, Rule, Rulebase
+from soccer_lab.fuzzy.vocabulary import Vocabulary, VocabularyError
 
 FORMAT = "soccer-lab-rulebase"
 VERSION = 1

@@ -16,8 +16,8 @@ ENV_ID = "soccer_lab/SimpleSoccer-v0"
 def register_envs() -> None:
     """Register SimpleSoccer with Gymnasium (once: the entry point and an import may both ask)."""
     if ENV_ID not in gymnasium.registry:
-        gymnasium.register(ENV_ID, entry_point="soccer.gym.env:SimpleSoccerEnv",
-                           vector_entry_point="soccer.gym.vector:SimpleSoccerVectorEnv")
+        gymnasium.register(ENV_ID, entry_point="soccer_lab.soccer.gym.env:SimpleSoccerEnv",
+                           vector_entry_point="soccer_lab.soccer.gym.vector:SimpleSoccerVectorEnv")
 
 
 register_envs()

@@ -16,12 +16,12 @@ from typing import Any
 import gymnasium
 import numpy as np
 
-from fuzzy.rule import Rulebase
-from fuzzy.vocabulary import Vocabulary
-from soccer.config import SOCCER_VOCABULARY, GameConfig
-from soccer.engine import END_REASONS, MAX_TICKS, GameBatch
-from soccer.gym.render import PitchPicture
-from soccer.gym.spaces import SoccerSpaces
+from soccer_lab.fuzzy.rule import Rulebase
+from soccer_lab.fuzzy.vocabulary import Vocabulary
+from soccer_lab.soccer.config import SOCCER_VOCABULARY, GameConfig
+from soccer_lab.soccer.engine import END_REASONS, MAX_TICKS, GameBatch
+from soccer_lab.soccer.gym.render import PitchPicture
+from soccer_lab.soccer.gym.spaces import SoccerSpaces
 
 # "goals": +1 for each goal the step scored (the chapter's fitness is decided by goals first).
 # "fitness": 0 until the last step, then 1 - the game's fitness (GameConfig.fitness, the chapter's

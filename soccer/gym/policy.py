@@ -1,6 +1,6 @@
 """`FuzzyPolicy`: the chapter's fuzzy controller as a policy over SimpleSoccerEnv's observations.
 
-It decides with the very kernel the engine's tick calls (fuzzy.batched), on the inputs perception gave
+It decides with the very kernel the engine's tick calls (soccer_lab.fuzzy.batched), on the inputs perception gave
 (the observation's unseen inputs are NaN again, as the engine holds them), so a rulebase acting through
 the environment plays exactly the game `soccer-lab play` plays (tests/soccer/test_gym.py checks bit
 for bit)."""
@@ -11,11 +11,11 @@ from typing import Sequence
 
 import numpy as np
 
-from fuzzy.batched import compile_rulebases, decide_batch
-from fuzzy.rule import Rulebase
-from fuzzy.vocabulary import Vocabulary
-from soccer.config import SOCCER_VOCABULARY, WorldConfig
-from soccer.gym.spaces import SoccerSpaces
+from soccer_lab.fuzzy.batched import compile_rulebases, decide_batch
+from soccer_lab.fuzzy.rule import Rulebase
+from soccer_lab.fuzzy.vocabulary import Vocabulary
+from soccer_lab.soccer.config import SOCCER_VOCABULARY, WorldConfig
+from soccer_lab.soccer.gym.spaces import SoccerSpaces
 
 
 class FuzzyPolicy:

@@ -8,7 +8,7 @@ import math
 
 import numpy as np
 
-from soccer.config import WorldConfig
+from soccer_lab.soccer.config import WorldConfig
 
 PIXELS_PER_METRE = 5
 MARGIN = 4.0  # metres drawn around the pitch: the net and a ball in it

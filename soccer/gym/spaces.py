@@ -21,10 +21,10 @@ import numba
 import numpy as np
 from gymnasium import spaces
 
-from fuzzy.batched import NO_ACTION
-from fuzzy.vocabulary import Vocabulary
-from soccer.config import WorldConfig
-from soccer.perception import DIRECTION, DISTANCE
+from soccer_lab.fuzzy.batched import NO_ACTION
+from soccer_lab.fuzzy.vocabulary import Vocabulary
+from soccer_lab.soccer.config import WorldConfig
+from soccer_lab.soccer.perception import DIRECTION, DISTANCE
 
 UNSEEN_INPUT = 0.0  # an out-of-view object's inputs in the observation ("visible" says it is unseen)
 

@@ -19,12 +19,12 @@ import numpy as np
 from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
-from fuzzy.vocabulary import Vocabulary
-from soccer.config import SOCCER_VOCABULARY, GameConfig
-from soccer.engine import GameBatch
-from soccer.gym.env import GAME_SEED_BOUND, NO_CONTROLLER, REWARDS, end_flags
-from soccer.gym.render import PitchPicture
-from soccer.gym.spaces import SoccerSpaces
+from soccer_lab.fuzzy.vocabulary import Vocabulary
+from soccer_lab.soccer.config import SOCCER_VOCABULARY, GameConfig
+from soccer_lab.soccer.engine import GameBatch
+from soccer_lab.soccer.gym.env import GAME_SEED_BOUND, NO_CONTROLLER, REWARDS, end_flags
+from soccer_lab.soccer.gym.render import PitchPicture
+from soccer_lab.soccer.gym.spaces import SoccerSpaces
 
 
 class SimpleSoccerVectorEnv(VectorEnv):

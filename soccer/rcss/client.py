@@ -30,28 +30,11 @@ import time
 from collections import deque
 from dataclasses import dataclass, field
 
-from soccer.rcss.errors import (
-    RcssCommandError,
-    RcssConfigError,
-    RcssNoServerError,
-    RcssRefusedError,
-    RcssTimeoutError,
-)
-from soccer.rcss.messages import (
-    ErrorReply,
-    Hear,
-    Message,
-    Ok,
-    PlayerInit,
-    See,
-    SeeGlobal,
-    SenseBody,
-    ServerParamMessage,
-    Think,
-    TrainerInit,
-    parse_message,
-)
-from soccer.rcss.params import ServerParams
+from soccer_lab.soccer.rcss.errors import (RcssCommandError, RcssConfigError, RcssNoServerError, RcssRefusedError,
+                                           RcssTimeoutError)
+from soccer_lab.soccer.rcss.messages import (ErrorReply, Hear, Message, Ok, PlayerInit, See, SeeGlobal, SenseBody,
+                                             ServerParamMessage, Think, TrainerInit, parse_message)
+from soccer_lab.soccer.rcss.params import ServerParams
 
 PROTOCOL_VERSION = 19
 DEFAULT_HOST = "127.0.0.1"

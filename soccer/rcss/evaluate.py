@@ -19,11 +19,11 @@ import sys
 from multiprocessing.connection import Connection, wait
 from typing import Sequence
 
-from fuzzy.rule import Rulebase
-from soccer.rcss.client import DEFAULT_SERVER, DEFAULT_TEAM, Session, Timeouts, parse_server
-from soccer.rcss.errors import RcssError
-from soccer.rcss.player import load_compiled_skills
-from soccer.rcss.trial import TrialConfig, TrialResult, run_trial
+from soccer_lab.fuzzy.rule import Rulebase
+from soccer_lab.soccer.rcss.client import DEFAULT_SERVER, DEFAULT_TEAM, Session, Timeouts, parse_server
+from soccer_lab.soccer.rcss.errors import RcssError
+from soccer_lab.soccer.rcss.player import load_compiled_skills
+from soccer_lab.soccer.rcss.trial import TrialConfig, TrialResult, run_trial
 
 
 class RcssEvaluator:

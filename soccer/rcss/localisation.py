@@ -20,8 +20,8 @@ from typing import NamedTuple
 import numba
 import numpy as np
 
-from soccer.rcss.messages import See
-from soccer.rcss.params import DEFAULT_WORLD
+from soccer_lab.soccer.rcss.messages import See
+from soccer_lab.soccer.rcss.params import DEFAULT_WORLD
 
 # rcssserver's pitch is WorldConfig's default one (soccer/config.py); the penalty areas and the flags
 # beyond the lines are rcssserver's too, and only localisation needs them.

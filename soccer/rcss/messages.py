@@ -22,8 +22,8 @@ import re
 from dataclasses import dataclass
 from typing import NamedTuple
 
-from soccer.rcss.errors import RcssParseError
-from soccer.rcss.sexp import clean, parse
+from soccer_lab.soccer.rcss.errors import RcssParseError
+from soccer_lab.soccer.rcss.sexp import clean, parse
 
 REFEREE = "referee"
 _GOAL_MODE = re.compile(r"^goal_([lr])_(\d+)$")

@@ -13,8 +13,8 @@ from typing import Mapping
 
 from pydantic import ValidationError
 
-from soccer.config import WorldConfig
-from soccer.rcss.errors import RcssConfigError
+from soccer_lab.soccer.config import WorldConfig
+from soccer_lab.soccer.rcss.errors import RcssConfigError
 
 # Half-width of the view cone per view width with synch_see (protocol >= 18): narrow 60, normal 120,
 # wide 180 degrees in total. Objects at -59 and +57 degrees were seen with normal width (NOTES.md).

@@ -20,18 +20,18 @@ from typing import NamedTuple
 import numba
 import numpy as np
 
-from fuzzy.batched import NO_ACTION, CompiledRulebases, Scratch, VocabularyTables, compile_rulebases, decide
-from fuzzy.rule import Rulebase
-from fuzzy.vocabulary import Vocabulary
-from soccer.config import SOCCER_VOCABULARY, GameConfig, WorldConstants
-from soccer.engine import NO_OUTCOME, VocabularyLayout, plain
-from soccer.rcss.client import PlayerCycle
-from soccer.rcss.localisation import Pose, goal_relative, localise, normalise_angle
-from soccer.rcss.messages import SenseBody, parse_message
-from soccer.outcome import Outcome
-from soccer.rcss.params import VIEW_HALF_ANGLE, ServerParams
-from soccer.skills import (DASH, HUNT, KICK, LEFT, NONE, RIGHT, TURN, goal_direction_for_skills, skill_command,
-                           skill_set_flags)
+from soccer_lab.fuzzy.batched import NO_ACTION, CompiledRulebases, Scratch, VocabularyTables, compile_rulebases, decide
+from soccer_lab.fuzzy.rule import Rulebase
+from soccer_lab.fuzzy.vocabulary import Vocabulary
+from soccer_lab.soccer.config import SOCCER_VOCABULARY, GameConfig, WorldConstants
+from soccer_lab.soccer.engine import NO_OUTCOME, VocabularyLayout, plain
+from soccer_lab.soccer.rcss.client import PlayerCycle
+from soccer_lab.soccer.rcss.localisation import Pose, goal_relative, localise, normalise_angle
+from soccer_lab.soccer.rcss.messages import SenseBody, parse_message
+from soccer_lab.soccer.outcome import Outcome
+from soccer_lab.soccer.rcss.params import VIEW_HALF_ANGLE, ServerParams
+from soccer_lab.soccer.skills import (DASH, HUNT, KICK, LEFT, NONE, RIGHT, TURN, goal_direction_for_skills,
+                                      skill_command, skill_set_flags)
 
 
 def world_constants(params: ServerParams, view_width: str = "normal") -> WorldConstants:
@@ -171,7 +171,7 @@ def _command(inputs, visible, rulebases, scratch, strengths, outputs, layout, co
     perceived (HUNT when no rule fires), the selected action (NO_ACTION: none fired, the hunt) and why the
     skill gave that command (soccer/skills.py's outcome code);
     `inputs` and `visible` are its work arrays. The named tuples
-    arrive plain (soccer.engine.plain) and are named here. `seen`: this cycle's perception (ball seen, distance,
+    arrive plain (soccer_lab.soccer.engine.plain) and are named here. `seen`: this cycle's perception (ball seen, distance,
     direction; goal seen, distance, direction, direction known; kickable, the ball's last side, speed);
     `skill_set`: (assisted, goal in view only)."""
     (ball_seen, ball_distance, ball_direction, goal_seen, goal_distance, goal_direction, goal_direction_known,

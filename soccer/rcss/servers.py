@@ -29,8 +29,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Mapping, Sequence
 
-from soccer.rcss.client import DEFAULT_HOST
-from soccer.rcss.errors import RcssError
+from soccer_lab.soccer.rcss.client import DEFAULT_HOST
+from soccer_lab.soccer.rcss.errors import RcssError
 
 EXECUTABLE_NAME = "rcssserver"
 EXECUTABLE_VARIABLE = "RCSSSERVER"  # an environment variable naming the executable

@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import re
 
-from soccer.rcss.errors import RcssParseError
+from soccer_lab.soccer.rcss.errors import RcssParseError
 
 # One token: a quoted string (its content), a parenthesis, or a bare atom; anything else is an error.
 _TOKEN = re.compile(r'"((?:[^"\\]|\\.)*)"|([()])|([^\s()"]+)|(\S)')

@@ -36,15 +36,15 @@ from typing import Any, Literal
 import numpy as np
 from pydantic import Field, PositiveInt, model_validator
 
-from fuzzy.rule import Rulebase
-from fuzzy.vocabulary import Vocabulary
-from soccer.config import EvaluationRules, FitnessName
-from soccer.fitness import fitness as fitness_of
-from soccer.rcss.client import PlayerCycle, Session, TrainerCycle
-from soccer.rcss.errors import RcssConfigError
-from soccer.rcss.localisation import PITCH_HALF_LENGTH, PITCH_HALF_WIDTH
-from soccer.rcss.player import RcssPlayer
-from soccer.rcss.servers import NOISELESS_OPTIONS
+from soccer_lab.fuzzy.rule import Rulebase
+from soccer_lab.fuzzy.vocabulary import Vocabulary
+from soccer_lab.soccer.config import EvaluationRules, FitnessName
+from soccer_lab.soccer.fitness import fitness as fitness_of
+from soccer_lab.soccer.rcss.client import PlayerCycle, Session, TrainerCycle
+from soccer_lab.soccer.rcss.errors import RcssConfigError
+from soccer_lab.soccer.rcss.localisation import PITCH_HALF_LENGTH, PITCH_HALF_WIDTH
+from soccer_lab.soccer.rcss.player import RcssPlayer
+from soccer_lab.soccer.rcss.servers import NOISELESS_OPTIONS
 
 PLAY_ON = "play_on"
 BEFORE_KICK_OFF = "before_kick_off"  # the mode a new server starts in: the clock stands still, nothing moves
@@ -96,8 +96,8 @@ class TrialConfig(EvaluationRules):
 @dataclass(frozen=True)
 class TrialTrace:
     """A trial cycle by cycle: where the trainer's see_global put player and ball, the action the player
-    chose on that cycle, and the goals before it; the fields a replay draws (app/recording.py, log_replay),
-    named as soccer.engine.GameTrace's."""
+    chose on that cycle, and the goals before it; the fields a replay draws (app/runs/recording.py, log_replay),
+    named as soccer_lab.soccer.engine.GameTrace's."""
 
     player_x: np.ndarray
     player_y: np.ndarray

@@ -9,10 +9,10 @@ from typing import Callable, Iterator
 
 from fastapi.testclient import TestClient
 
-from app.api import create_app
-from app.paths import DATABASE_FILE
-from app.runs import RunManager
-from app.store import Store
+from soccer_lab.app.web.api import create_app
+from soccer_lab.app.paths import DATABASE_FILE
+from soccer_lab.app.runs.manager import RunManager
+from soccer_lab.app.store import Store
 
 # A run that takes well under a second a generation: tiny population, short games.
 TINY_GA = {"population_size": 4, "max_generations": 2, "max_length": 16, "seed": 7}
@@ -24,7 +24,7 @@ def api_client(data_dir: Path, **manager_options) -> Iterator[TestClient]:
     store = Store(data_dir / DATABASE_FILE)
     runs = RunManager(store, data_dir, **manager_options)
     try:
-        # A script of the user's: it says so with the header app/api/guard.py asks of body-less POSTs.
+        # A script of the user's: it says so with the header app/web/api/guard.py asks of body-less POSTs.
         with TestClient(create_app(store, runs), raise_server_exceptions=False,
                         headers={"X-Soccer-Lab": "test"}) as client:
             yield client

@@ -8,7 +8,7 @@ import socket
 from contextlib import ExitStack, contextmanager
 from typing import Iterator
 
-from soccer.rcss.client import DEFAULT_TEAM
+from soccer_lab.soccer.rcss.client import DEFAULT_TEAM
 from tests.rcss.replay import Line, ReplayServer, read_transcript, with_fresh_start
 from tests.rcss.conftest import GOALS, OUT_OF_PLAY, TRANSCRIPTS, player_thinks, without_error_probes
 

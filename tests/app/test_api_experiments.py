@@ -7,12 +7,12 @@ import shutil
 
 import pytest
 
-from app.experiment.executors import LocalExecutor
-from app.experiment.library import library_summary
-from app.experiment.presets import ExperimentOptions
-from app.experiment.runner import run_experiment
-from app.paths import DATABASE_FILE
-from app.store import Store
+from soccer_lab.app.experiment.executors import LocalExecutor
+from soccer_lab.app.experiment.library import library_summary
+from soccer_lab.app.experiment.presets import ExperimentOptions
+from soccer_lab.app.experiment.runner import run_experiment
+from soccer_lab.app.paths import DATABASE_FILE
+from soccer_lab.app.store import Store
 from tests.app.api_client import api_client
 
 TINY = ExperimentOptions(trials=2, population=6, generations=2, max_ticks=40, seed=3)

@@ -4,11 +4,11 @@ from __future__ import annotations
 
 import pytest
 
-from app.paths import DATABASE_FILE
-from app.store import Store
-from fuzzy.export import FORMATS, export_rulebase, rulebase_from_json
-from fuzzy.parser import parse_rulebase
-from fuzzy.vocabulary import Vocabulary
+from soccer_lab.app.paths import DATABASE_FILE
+from soccer_lab.app.store import Store
+from soccer_lab.fuzzy.export import FORMATS, export_rulebase, rulebase_from_json
+from soccer_lab.fuzzy.parser import parse_rulebase
+from soccer_lab.fuzzy.vocabulary import Vocabulary
 from tests.app.api_client import api_client
 
 VOCABULARY = Vocabulary.default()

@@ -6,12 +6,12 @@ from __future__ import annotations
 import threading
 import pytest
 
-from app.run import RunSettings
-from fuzzy.parser import parse_rulebase
-from fuzzy.vocabulary import Vocabulary
-from soccer.rcss.errors import RcssTimeoutError
-from soccer.rcss.evaluate import RcssEvaluator
-from soccer.rcss.trial import TrialConfig
+from soccer_lab.app.runs.run import RunSettings
+from soccer_lab.fuzzy.parser import parse_rulebase
+from soccer_lab.fuzzy.vocabulary import Vocabulary
+from soccer_lab.soccer.rcss.errors import RcssTimeoutError
+from soccer_lab.soccer.rcss.evaluate import RcssEvaluator
+from soccer_lab.soccer.rcss.trial import TrialConfig
 from tests.app.api_client import TINY_GA, api_client, wait_for
 from tests.app.rcss_fakes import GOALS_CYCLES, GOALS_FITNESS, silent_server, transcripts_missing, two_recorded_trials
 

@@ -4,10 +4,10 @@ from __future__ import annotations
 
 import pytest
 
-from fuzzy.parser import parse_rulebase
-from fuzzy.vocabulary import Vocabulary
-from soccer.config import GameConfig
-from soccer.engine import play_game
+from soccer_lab.fuzzy.parser import parse_rulebase
+from soccer_lab.fuzzy.vocabulary import Vocabulary
+from soccer_lab.soccer.config import GameConfig
+from soccer_lab.soccer.engine import play_game
 from tests.app.api_client import api_client
 
 VOCABULARY = Vocabulary.default()

@@ -8,20 +8,20 @@ import threading
 
 from typer.testing import CliRunner
 
-from app.cli import app as cli_app
-from app.paths import DATABASE_FILE
-from app.run import RunSettings
-from app.runs import RunManager
-from app.store import RunStatus, Store
-from fuzzy.parser import parse_rulebase
-from fuzzy.printer import format_rulebase
-from fuzzy.vocabulary import Vocabulary
-from ga.codec import ChromosomeCodec
-from ga.config import GAConfig
-from ga.individual import Individual
-from ga.statistics import GenerationStats
-from soccer.config import GameConfig
-from soccer.rcss.trial import TrialConfig
+from soccer_lab.app.cli import app as cli_app
+from soccer_lab.app.paths import DATABASE_FILE
+from soccer_lab.app.runs.run import RunSettings
+from soccer_lab.app.runs.manager import RunManager
+from soccer_lab.app.store import RunStatus, Store
+from soccer_lab.fuzzy.parser import parse_rulebase
+from soccer_lab.fuzzy.printer import format_rulebase
+from soccer_lab.fuzzy.vocabulary import Vocabulary
+from soccer_lab.ga.codec import ChromosomeCodec
+from soccer_lab.ga.config import GAConfig
+from soccer_lab.ga.individual import Individual
+from soccer_lab.ga.statistics import GenerationStats
+from soccer_lab.soccer.config import GameConfig
+from soccer_lab.soccer.rcss.trial import TrialConfig
 from tests.app.api_client import SHORT_GAMES, TINY_GA, api_client, wait_for
 
 VOCABULARY = Vocabulary.default()

@@ -7,7 +7,7 @@ import socket
 import pytest
 from typer.testing import CliRunner
 
-from app.cli import app
+from soccer_lab.app.cli import app
 
 
 
@@ -53,7 +53,7 @@ def test_out_of_range_port_is_a_usage_error(tmp_path):
 
 
 def test_default_data_dir_follows_the_environment(monkeypatch, tmp_path):
-    from app.paths import default_data_dir
+    from soccer_lab.app.paths import default_data_dir
 
     monkeypatch.setenv("SOCCER_LAB_DATA", str(tmp_path / "explicit"))
     assert default_data_dir() == tmp_path / "explicit"

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from app.experiment.presets import ExperimentOptions
+from soccer_lab.app.experiment.presets import ExperimentOptions
 
 ROOT = Path(__file__).resolve().parents[2]
 TINY = dict(trials=2, population=6, generations=2, max_ticks=40, seed=3, replays=2)

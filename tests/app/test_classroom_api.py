@@ -14,18 +14,18 @@ import time
 import pytest
 from fastapi.testclient import TestClient
 
-from app.api import create_app
-from app.classroom.admission import JOIN_COOKIE, STUDENT_COOKIE, TEACHER_COOKIE, Classroom
-from app.classroom.rate import RateLimiter
-from app.classroom.settings import ENTRY_MAX_CHARACTERS, REQUEST_BURST, REQUESTS_PER_SECOND
-from app.classroom.tournament import Tournament, play_round
-from app.origins import SiteAddresses
-from app.paths import DATABASE_FILE
-from app.runs import RunManager
-from app.store import Store
-from fuzzy.vocabulary import Vocabulary
-from soccer.config import GameConfig
-from soccer.demo import demo_rules_text
+from soccer_lab.app.web.api import create_app
+from soccer_lab.app.web.classroom.admission import JOIN_COOKIE, STUDENT_COOKIE, TEACHER_COOKIE, Classroom
+from soccer_lab.app.web.classroom.rate import RateLimiter
+from soccer_lab.app.web.classroom.settings import ENTRY_MAX_CHARACTERS, REQUEST_BURST, REQUESTS_PER_SECOND
+from soccer_lab.app.web.classroom.tournament import Tournament, play_round
+from soccer_lab.app.web.origins import SiteAddresses
+from soccer_lab.app.paths import DATABASE_FILE
+from soccer_lab.app.runs.manager import RunManager
+from soccer_lab.app.store import Store
+from soccer_lab.fuzzy.vocabulary import Vocabulary
+from soccer_lab.soccer.config import GameConfig
+from soccer_lab.soccer.demo import demo_rules_text
 
 ADDRESS, PORT = "192.0.2.2", 8000  # the documentation network's address: the class's LAN address here
 CLASS_URL = f"http://{ADDRESS}:{PORT}"
@@ -366,7 +366,7 @@ def test_a_round_needs_entries_and_only_one_plays_at_a_time(room):
 
 
 def test_a_class_has_at_most_max_students(room, monkeypatch):
-    import app.classroom.admission as admission
+    import soccer_lab.app.web.classroom.admission as admission
 
     monkeypatch.setattr(admission, "MAX_STUDENTS", 2)
     room.student("Ada"), room.student("Ben")

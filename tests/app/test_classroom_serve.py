@@ -37,7 +37,7 @@ INJECTED = "<img src=x onerror=window.pwned=1>"
 
 def network_address() -> str | None:
     """This machine's address on its network (the interface of the default route), if it has one."""
-    from app.classroom.address import lan_address
+    from soccer_lab.app.web.classroom.address import lan_address
 
     address = lan_address()
     return None if address.startswith("127.") else address
@@ -59,7 +59,7 @@ class Served:
 
     def __init__(self, folder: Path):
         self.port, self.ui_port = free_port(), free_port()
-        arguments = [sys.executable, "-c", "from app.cli import main; main()", "serve", "--class",
+        arguments = [sys.executable, "-c", "from soccer_lab.app.cli import main; main()", "serve", "--class",
                      "--host", ADDRESS, "--join-code", CODE, "--data-dir", str(folder), "--port", str(self.port),
                      "--ui-port", str(self.ui_port)]
         self.process = subprocess.Popen(arguments, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
@@ -169,7 +169,7 @@ def test_the_ui_websocket_needs_the_code_and_the_apps_own_page(served):
 
 
 def test_a_students_tabs_are_bounded(served):
-    from app.ui import MAX_TABS_PER_STUDENT
+    from soccer_lab.app.web.ui import MAX_TABS_PER_STUDENT
 
     ben = join(served, "Ben")
 

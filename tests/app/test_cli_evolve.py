@@ -10,16 +10,16 @@ import numpy as np
 import pytest
 from typer.testing import CliRunner
 
-from app import recording
-from app.cli import app
-from fuzzy.export import rulebase_from_json
-from fuzzy.parser import parse_rulebase
-from fuzzy.vocabulary import Vocabulary
-from ga.codec import ChromosomeCodec
-from ga.statistics import NOT_MEASURED, GenerationStats
-from soccer.config import GameConfig
-from soccer.demo import demo_rulebase
-from soccer.engine import play_game
+from soccer_lab.app.runs import recording
+from soccer_lab.app.cli import app
+from soccer_lab.fuzzy.export import rulebase_from_json
+from soccer_lab.fuzzy.parser import parse_rulebase
+from soccer_lab.fuzzy.vocabulary import Vocabulary
+from soccer_lab.ga.codec import ChromosomeCodec
+from soccer_lab.ga.statistics import NOT_MEASURED, GenerationStats
+from soccer_lab.soccer.config import GameConfig
+from soccer_lab.soccer.demo import demo_rulebase
+from soccer_lab.soccer.engine import play_game
 
 VOCABULARY = Vocabulary.default()
 
@@ -123,7 +123,7 @@ def read_recording(path: Path) -> dict[str, dict]:
 
 
 def generation_bests(folder: Path) -> list[tuple[int, object]]:
-    from app.run_outputs import GenerationBestsFile
+    from soccer_lab.app.runs.outputs import GenerationBestsFile
 
     return GenerationBestsFile.read(folder / "generation_bests.jsonl")
 
@@ -249,7 +249,7 @@ def test_resume_rejects_bad_folders_and_extra_options(evolved, tmp_path):
 @pytest.fixture
 def demo_file(tmp_path) -> Path:
     path = tmp_path / "demo.rules"
-    from app.rulebase_files import rulebase_text
+    from soccer_lab.app.rulebase_files import rulebase_text
 
     path.write_text(rulebase_text(demo_rulebase(), VOCABULARY))
     return path
@@ -262,7 +262,7 @@ def test_play_prints_one_line_per_game_and_the_mean(demo_file):
     assert lines[0].split() == ["game", "seed", "goals", "kicks", "ticks", "fitness"]
     games = [line.split() for line in lines[1:4]]
     assert [g[:2] for g in games] == [["1", "11"], ["2", "12"], ["3", "13"]]
-    from soccer.config import GameConfig
+    from soccer_lab.soccer.config import GameConfig
 
     config = GameConfig(max_ticks=150)
     for game in games:  # each line is that seed's game, as the engine plays it
@@ -274,7 +274,7 @@ def test_play_prints_one_line_per_game_and_the_mean(demo_file):
 
 
 def test_play_reads_json_and_writes_replays(demo_file, tmp_path):
-    from app.rulebase_files import rulebase_json
+    from soccer_lab.app.rulebase_files import rulebase_json
 
     as_json = tmp_path / "demo.json"
     as_json.write_text(rulebase_json(demo_rulebase(), VOCABULARY))
@@ -310,7 +310,7 @@ def test_the_progress_bar_follows_the_generation_in_progress():
     """The CLI's second bar: players evaluated of the population, reset for each new generation (issue 22)."""
     from types import SimpleNamespace
 
-    from app.cli.evolve import GenerationProgress
+    from soccer_lab.app.cli.evolve import GenerationProgress
 
     bar = GenerationProgress(3)
     bar.on_progress(100, 250)

@@ -11,7 +11,7 @@ import pytest
 import typer.main
 from typer.testing import CliRunner
 
-from app.cli import COMMANDS, app
+from soccer_lab.app.cli import COMMANDS, app
 
 WIDTH = 80
 OPTION = re.compile(r"(?:\b([a-z][a-z-]*) )?(?<![\w-])(--[a-z][a-z0-9-]*)")
@@ -102,7 +102,7 @@ def test_help_imports_none_of_the_heavy_modules(path):
     """A fresh process showing the help: neither numpy nor the engine, app, plotting or progress bars."""
     code = ("import sys\n"
             f"sys.argv = {['soccer-lab', *path, '--help']!r}\n"
-            "from app.cli import main\n"
+            "from soccer_lab.app.cli import main\n"
             "try:\n    main()\nexcept SystemExit:\n    pass\n"
             f"print(' '.join(m for m in {HEAVY_MODULES!r} if m in sys.modules), file=sys.stderr)\n")
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=600)

@@ -11,10 +11,10 @@ import numpy as np
 import pytest
 from typer.testing import CliRunner
 
-from app.cli import app
-from soccer.rcss import client as rcss_client
-from soccer.rcss import servers as rcss_servers
-from soccer.rcss.messages import SeeGlobal, parse_message
+from soccer_lab.app.cli import app
+from soccer_lab.soccer.rcss import client as rcss_client
+from soccer_lab.soccer.rcss import servers as rcss_servers
+from soccer_lab.soccer.rcss.messages import SeeGlobal, parse_message
 from tests.app.rcss_fakes import (GOALS_CYCLES, GOALS_FITNESS, KICK_IN_FITNESS, replay_server, silent_server,
                                   transcripts_missing, two_recorded_trials)
 from tests.app.test_cli_evolve import assert_one_line_error, read_recording

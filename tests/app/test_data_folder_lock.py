@@ -10,7 +10,7 @@ import sys
 
 import pytest
 
-from app.paths import LOCK_FILE, DataFolderInUse, DataFolderLock
+from soccer_lab.app.paths import LOCK_FILE, DataFolderInUse, DataFolderLock
 from tests.app.test_serve_lifecycle import Serve, free_port, run_status, wait_for
 
 pytestmark = pytest.mark.skipif(sys.platform != "linux", reason="flock and the serve lifecycle are tested on Linux")
@@ -19,7 +19,7 @@ LONG_GA = {"population_size": 3000, "max_generations": 50, "seed": 3, "workers":
 
 
 def serve_arguments(data_dir, port: int, ui_port: int) -> list[str]:
-    return [sys.executable, "-c", "from app.cli import main; main()", "serve", "--data-dir", str(data_dir),
+    return [sys.executable, "-c", "from soccer_lab.app.cli import main; main()", "serve", "--data-dir", str(data_dir),
             "--port", str(port), "--ui-port", str(ui_port)]
 
 

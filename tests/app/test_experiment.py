@@ -13,14 +13,14 @@ from pathlib import Path
 import pytest
 from typer.testing import CliRunner
 
-from app.cli import app
-from app.experiment.executors import LocalExecutor
-from app.experiment.figures import FIGURES_FOLDER
-from app.experiment.presets import ALL, PRESET_NAMES, ExperimentOptions, preset, presets, trial_seed
-from app.experiment.report import REPORT_HTML, REPORT_MD
-from app.experiment.runner import STATISTICS_FILE, TrialFolder, plan, run_experiment
-from app.experiment.table import COLUMNS
-from ga.state import GA, RANDOM_SEARCH
+from soccer_lab.app.cli import app
+from soccer_lab.app.experiment.executors import LocalExecutor
+from soccer_lab.app.experiment.figures import FIGURES_FOLDER
+from soccer_lab.app.experiment.presets import ALL, PRESET_NAMES, ExperimentOptions, preset, presets, trial_seed
+from soccer_lab.app.experiment.report import REPORT_HTML, REPORT_MD
+from soccer_lab.app.experiment.runner import STATISTICS_FILE, TrialFolder, plan, run_experiment
+from soccer_lab.app.experiment.table import COLUMNS
+from soccer_lab.ga.state import GA, RANDOM_SEARCH
 
 TINY = ExperimentOptions(trials=2, population=6, generations=3, max_ticks=60, seed=7)
 FULL = ExperimentOptions()
@@ -113,7 +113,7 @@ def test_same_seed_same_statistics_whatever_the_number_of_workers(tmp_path):
 
 def test_ray_gives_the_same_statistics_as_local_processes(tmp_path):
     ray = pytest.importorskip("ray", reason="Ray is not installed: pip install -e '.[test]' (or '.[ray]')")
-    from app.experiment.executors import RayExecutor
+    from soccer_lab.app.experiment.executors import RayExecutor
 
     run_experiment("crossover", TINY, tmp_path / "local", LocalExecutor(1))
     ray.init(num_cpus=2, include_dashboard=False, log_to_driver=False)
@@ -127,7 +127,7 @@ def test_ray_gives_the_same_statistics_as_local_processes(tmp_path):
 def test_a_killed_experiment_resumes_skipping_finished_trials(tmp_path):
     options = TINY.model_copy(update={"trials": 6, "population": 12, "generations": 4, "max_ticks": 200})
     folder = tmp_path / "killed"
-    command = [sys.executable, "-c", "from app.cli import main; main()", "experiment", "initial",
+    command = [sys.executable, "-c", "from soccer_lab.app.cli import main; main()", "experiment", "initial",
                "--trials", "6", "--population", "12", "--generations", "4", "--max-ticks", "200", "--seed", "7",
                "--workers", "1", "--out", str(folder), "--no-library"]
     process = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
@@ -160,8 +160,8 @@ def test_cli_runs_a_preset_and_records_it_in_the_library(cli, tmp_path, monkeypa
                               "--max-ticks", "40", "--workers", "1", "--out", str(tmp_path / "out")])
     assert result.exit_code == 0, result.output
     assert "4 trials (4 run, 0 already finished)" in result.output
-    from app.paths import DATABASE_FILE
-    from app.store import Store
+    from soccer_lab.app.paths import DATABASE_FILE
+    from soccer_lab.app.store import Store
 
     store = Store(tmp_path / "data" / DATABASE_FILE)
     (record,) = store.list_experiments()

@@ -10,21 +10,22 @@ import json
 import numpy as np
 import pytest
 
-from app.experiment.beyond import NO_DIFFERENCE, assess_questions
-from app.experiment.executors import LocalExecutor
-from app.experiment.figures import FIGURES_FOLDER
-from app.experiment.presets import (ALL, ALL_PLUS, BEYOND_NAMES, PRESET_NAMES, ExperimentOptions, preset,
-                                    presets)
-from app.experiment.report import REPORT_MD, TOO_SMALL, write_report
-from app.experiment.runner import (BESTS_FILE, MANIFEST, TRIALS_FOLDER, ExperimentError, TrialSpec, plan,
-                                   run_experiment, run_trial)
-from app.experiment.table import BEST_COLUMNS, BestsTable, StatisticsTable
-from fuzzy.printer import format_rulebase
-from ga.algorithms import evolve
-from ga.codec import ChromosomeCodec
-from soccer.config import SOCCER_VOCABULARY, GameConfig
-from soccer.engine import play_games
-from soccer.evaluate import SimpleSoccerEvaluator
+from soccer_lab.app.experiment.beyond import NO_DIFFERENCE, assess_questions
+from soccer_lab.app.experiment.executors import LocalExecutor
+from soccer_lab.app.experiment.figures import FIGURES_FOLDER
+from soccer_lab.app.experiment.presets import (ALL, ALL_PLUS, BEYOND_NAMES, PRESET_NAMES, ExperimentOptions, preset,
+                                               presets)
+from soccer_lab.app.experiment.report import REPORT_MD, write_report
+from soccer_lab.app.experiment.verdicts import TOO_SMALL
+from soccer_lab.app.experiment.runner import (BESTS_FILE, MANIFEST, TRIALS_FOLDER, ExperimentError, TrialSpec, plan,
+                                              run_experiment, run_trial)
+from soccer_lab.app.experiment.table import BEST_COLUMNS, BestsTable, StatisticsTable
+from soccer_lab.fuzzy.printer import format_rulebase
+from soccer_lab.ga.algorithms import evolve
+from soccer_lab.ga.codec import ChromosomeCodec
+from soccer_lab.soccer.config import SOCCER_VOCABULARY, GameConfig
+from soccer_lab.soccer.engine import play_games
+from soccer_lab.soccer.evaluate import SimpleSoccerEvaluator
 from tests.app.test_experiment_report import fabricated, falling
 
 FULL = ExperimentOptions()

@@ -8,20 +8,21 @@ import csv
 import pytest
 from typer.testing import CliRunner
 
-from app.cli import app
-from app.experiment.executors import LocalExecutor
-from app.experiment.presets import ExperimentOptions
-from app.experiment.replicates import (VARIES, VERDICTS_FIGURE, VERDICTS_FILE, replicate_folder, replicate_seeds,
-                                       run_replicates, summarise)
-from app.experiment.report import AGREES, DISAGREES, INCONCLUSIVE, REPORT_HTML, REPORT_MD, TOO_SMALL, Assessment, Report
-from app.experiment.runner import ExperimentError, run_experiment
+from soccer_lab.app.cli import app
+from soccer_lab.app.experiment.executors import LocalExecutor
+from soccer_lab.app.experiment.presets import ExperimentOptions
+from soccer_lab.app.experiment.replicates import (VARIES, VERDICTS_FIGURE, VERDICTS_FILE, replicate_folder,
+                                                  replicate_seeds, run_replicates, summarise)
+from soccer_lab.app.experiment.report import REPORT_HTML, REPORT_MD, Report
+from soccer_lab.app.experiment.verdicts import AGREES, DISAGREES, INCONCLUSIVE, TOO_SMALL, Assessment
+from soccer_lab.app.experiment.runner import ExperimentError, run_experiment
 from tests.app.test_experiment import csv_rows
 
 TINY = ExperimentOptions(trials=2, population=6, generations=2, max_ticks=40, seed=7, replays=2)
 
 
 def reports_with(verdicts_per_replicate: list[list[str]]) -> list[Report]:
-    from app.experiment.report import FINDINGS
+    from soccer_lab.app.experiment.report import FINDINGS
 
     return [Report([(finding, Assessment("m", verdict, "t")) for finding, verdict in zip(FINDINGS, verdicts)], [])
             for verdicts in verdicts_per_replicate]
@@ -79,7 +80,7 @@ def test_each_replicate_is_the_experiment_at_its_seed_and_resumes(tmp_path):
 
 def test_replicates_on_ray_match_local_processes(tmp_path):
     ray = pytest.importorskip("ray")
-    from app.experiment.executors import RayExecutor
+    from soccer_lab.app.experiment.executors import RayExecutor
 
     run_replicates("crossover", TINY, [7, 8], tmp_path / "local", LocalExecutor(1))
     ray.init(num_cpus=2, include_dashboard=False, log_to_driver=False)
@@ -109,8 +110,8 @@ def test_cli_runs_replicates_and_records_them_as_one_experiment(cli, tmp_path, m
     assert "8 trials (8 run, 0 already finished)" in result.output
     assert "verdicts: 1 robust: too small to judge" in result.output
     assert {p.name for p in (tmp_path / "out").iterdir()} >= {"seed-3", "seed-913", REPORT_MD, VERDICTS_FILE}
-    from app.paths import DATABASE_FILE
-    from app.store import Store
+    from soccer_lab.app.paths import DATABASE_FILE
+    from soccer_lab.app.store import Store
 
     store = Store(tmp_path / "data" / DATABASE_FILE)
     (record,) = store.list_experiments()
@@ -150,8 +151,8 @@ def test_help_names_only_options_the_command_has(cli):
 
 def test_the_verdict_grid_never_labels_two_rows_alike():
     """Rows of the grid once repeated "initial 6.2, Fig. 11" for the two findings of that figure."""
-    from app.experiment.replicates import Row, row_labels
-    from app.experiment.report import FINDINGS
+    from soccer_lab.app.experiment.replicates import Row, row_labels
+    from soccer_lab.app.experiment.report import FINDINGS
 
     rows = [Row(f.preset, f.where, f.claim, ["agrees"] * 3, "agrees in 3 of 3", "agrees") for f in FINDINGS]
     labels = row_labels(rows)

@@ -5,9 +5,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from app.experiment.presets import ExperimentOptions, preset
-from app.experiment.report import AGREES, DISAGREES, NOT_RUN, REPORT_HTML, REPORT_MD, TOO_SMALL, write_report
-from app.experiment.table import COLUMNS, StatisticsTable
+from soccer_lab.app.experiment.presets import ExperimentOptions, preset
+from soccer_lab.app.experiment.report import REPORT_HTML, REPORT_MD, write_report
+from soccer_lab.app.experiment.verdicts import AGREES, DISAGREES, NOT_RUN, TOO_SMALL
+from soccer_lab.app.experiment.table import COLUMNS, StatisticsTable
 
 OPTIONS = ExperimentOptions(trials=10)  # the chapter's size: its findings can be judged
 
@@ -167,7 +168,7 @@ def test_fitness_equal_but_for_float_noise_is_no_difference():
     """Running means of equal fitnesses differ in the last bits; rank tests must not call that a difference."""
     import numpy as np
 
-    from app.experiment.report import _p_between, _settled
+    from soccer_lab.app.experiment.verdicts import _p_between, _settled
 
     noisy = {"50": _settled(np.array([0.05] * 9 + [0.1 / 2])), "500": _settled(np.array([0.05 + 1e-17] * 10)),
              "100": _settled(np.array([sum([0.05] * 3) / 3] * 10))}
@@ -182,7 +183,7 @@ def test_a_flat_curve_has_no_trend_and_says_so_without_warnings(tmp_path):
     disagrees with rho 0, and scipy is never asked for an undefined correlation."""
     import warnings
 
-    from app.experiment.report import trend
+    from soccer_lab.app.experiment.report import trend
 
     long = preset("long", OPTIONS)
     flat = {"100 generations": {"rules_mean": np.full((10, 10), 15.0), "mean": np.full((10, 10), 0.7)}}
@@ -199,7 +200,7 @@ def test_a_flat_curve_has_no_trend_and_says_so_without_warnings(tmp_path):
 
 def test_generation_axes_tick_whole_generations_and_histogram_bars_sit_on_them():
     """A 3-generation run used to tick 0.25, 0.5, ... with the goal histogram's bars beside the ticks."""
-    from app.experiment.figures import draw_figure
+    from soccer_lab.app.experiment.figures import draw_figure
 
     rng = np.random.default_rng(9)
     initial = preset("initial", ExperimentOptions(trials=2, generations=3))
@@ -234,7 +235,7 @@ def test_fewer_trials_than_the_chapter_is_said_beside_each_verdict_and_in_the_su
 
 
 def test_no_difference_states_the_smallest_difference_its_test_could_detect(tmp_path):
-    from app.experiment.report import detectable_difference
+    from soccer_lab.app.experiment.verdicts import detectable_difference
 
     rng = np.random.default_rng(10)
     crossover = preset("crossover", OPTIONS)
@@ -291,7 +292,7 @@ def test_each_disagreement_is_explained_under_it_from_the_runs_data(tmp_path):
 def test_legends_stand_beside_the_data_and_axes_say_means_or_medians(name):
     """Legends once covered the initial goal histogram and the max-length chromosome lengths; curves were
     means over trials beside tables of medians, unlabelled."""
-    from app.experiment.figures import DRAWERS, draw_figure
+    from soccer_lab.app.experiment.figures import DRAWERS, draw_figure
 
     rng = np.random.default_rng(13)
     chosen = preset(name, OPTIONS)
@@ -311,7 +312,7 @@ def test_legends_stand_beside_the_data_and_axes_say_means_or_medians(name):
 
 
 def test_a_fitness_figure_ends_at_the_median_its_table_gives(tmp_path):
-    from app.experiment.figures import draw_figure
+    from soccer_lab.app.experiment.figures import draw_figure
 
     rng = np.random.default_rng(14)
     crossover = preset("crossover", OPTIONS)

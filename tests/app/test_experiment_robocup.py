@@ -11,13 +11,14 @@ import numpy as np
 import pytest
 from typer.testing import CliRunner
 
-from app.cli import app
-from app.experiment.figures import FIGURES_FOLDER
-from app.experiment.presets import ExperimentOptions, preset, presets
-from app.experiment.report import AGREES, DISAGREES, NOT_RUN, REPORT_MD, write_report
-from app.experiment.runner import STATISTICS_FILE
-from app.experiment.table import StatisticsTable
-from ga.checkpoint import load_checkpoint
+from soccer_lab.app.cli import app
+from soccer_lab.app.experiment.figures import FIGURES_FOLDER
+from soccer_lab.app.experiment.presets import ExperimentOptions, preset, presets
+from soccer_lab.app.experiment.report import REPORT_MD, write_report
+from soccer_lab.app.experiment.verdicts import AGREES, DISAGREES, NOT_RUN
+from soccer_lab.app.experiment.runner import STATISTICS_FILE
+from soccer_lab.app.experiment.table import StatisticsTable
+from soccer_lab.ga.checkpoint import load_checkpoint
 from tests.app.test_experiment_report import fabricated, falling, verdict
 
 # 2 trials of Table 2 shrunk to 4 x 5 (5 generations: the fewest a trend test takes), 60-cycle trials.
@@ -62,8 +63,8 @@ def test_trial_options_added_later_keep_the_studies_trial_files_named_as_they_we
 def test_a_manifest_records_the_rcssserver_trials_as_they_were_played(given, tmp_path):
     """Left unset, max_ticks and noise mean the chapter's RoboCup values (1200 cycles, the server's noise), given
     they mean what they say: the manifest tells the two apart, and reads back as the options that were given."""
-    from app.experiment.presets import RCSS_TRIAL
-    from app.experiment.runner import ExperimentError, prepare_folder
+    from soccer_lab.app.experiment.presets import RCSS_TRIAL
+    from soccer_lab.app.experiment.runner import ExperimentError, prepare_folder
 
     options = ExperimentOptions(**given)
     identity = options.identity(on_servers=True)
@@ -79,7 +80,7 @@ def test_a_manifest_records_the_rcssserver_trials_as_they_were_played(given, tmp
 
 
 def test_a_folder_made_before_its_manifest_recorded_the_rcssserver_trials_still_resumes(tmp_path):
-    from app.experiment.runner import MANIFEST, prepare_folder
+    from soccer_lab.app.experiment.runner import MANIFEST, prepare_folder
 
     (tmp_path / MANIFEST).write_text(json.dumps(ExperimentOptions().identity()))
     prepare_folder(tmp_path, ExperimentOptions().identity(on_servers=True))
@@ -136,9 +137,9 @@ def test_bad_options_are_one_line(arguments, message, tmp_path):
 def test_a_shrunken_robocup_on_two_servers_resumes_inside_a_trial(rcssserver, tmp_path, monkeypatch):
     folder = tmp_path / "robocup"
     trials = folder / "trials"
-    import ga.algorithms
+    import soccer_lab.ga.algorithms
 
-    save = ga.algorithms.save_checkpoint
+    save = soccer_lab.ga.algorithms.save_checkpoint
 
     def interrupted_after_two_generations(path, state):  # Ctrl+C once a trial's second generation is kept
         save(path, state)
@@ -147,7 +148,7 @@ def test_a_shrunken_robocup_on_two_servers_resumes_inside_a_trial(rcssserver, tm
 
     command = ["experiment", "robocup", *SHRUNK, "--rcssserver", rcssserver, "--servers", "2", "--out", folder,
                "--no-library"]
-    monkeypatch.setattr(ga.algorithms, "save_checkpoint", interrupted_after_two_generations)
+    monkeypatch.setattr(soccer_lab.ga.algorithms, "save_checkpoint", interrupted_after_two_generations)
     stopped = run(*command)
     assert stopped.exit_code == 130, stopped.output
     assert "started 2 rcssservers: 127.0.0.1:" in stopped.output
@@ -155,7 +156,7 @@ def test_a_shrunken_robocup_on_two_servers_resumes_inside_a_trial(rcssserver, tm
     assert not list(trials.glob("*.csv"))
     kept = [stats.to_dict() for stats in load_checkpoint(checkpoint).history]
 
-    monkeypatch.setattr(ga.algorithms, "save_checkpoint", save)
+    monkeypatch.setattr(soccer_lab.ga.algorithms, "save_checkpoint", save)
     result = run(*command)
     assert result.exit_code == 0, result.output
     assert not checkpoint.exists()

@@ -12,13 +12,13 @@ import numpy as np
 import pytest
 from typer.testing import CliRunner
 
-from app.cli import app
-from app.experiment.presets import ExperimentOptions, preset, trial_seed
-from app.experiment.report import AGREES, DISAGREES
-from app.experiment.table import StatisticsTable
-from app.experiment.runner import read_runs
-from app.experiment.transfer import (FOLDER, PLAYERS_FILE, RANDOM_START, RCSS, REPORT_MD, SEEDED, SIMPLE, STARTS,
-                                     STATISTICS_FILE, TRANSFER, assess, start_seeds, transfer_plan)
+from soccer_lab.app.cli import app
+from soccer_lab.app.experiment.presets import ExperimentOptions, preset, trial_seed
+from soccer_lab.app.experiment.verdicts import AGREES, DISAGREES
+from soccer_lab.app.experiment.table import StatisticsTable
+from soccer_lab.app.experiment.runner import read_runs
+from soccer_lab.app.experiment.transfer import (FOLDER, PLAYERS_FILE, RANDOM_START, RCSS, REPORT_MD, SEEDED, SIMPLE,
+                                                STARTS, STATISTICS_FILE, TRANSFER, assess, start_seeds, transfer_plan)
 from tests.app.test_experiment_report import fabricated, falling
 
 SHRUNK = ["--trials", "2", "--population", "6", "--generations", "2", "--max-ticks", "80", "--seed", "4",

@@ -1,4 +1,4 @@
-"""Many tabs share the server's drawing (app/ui/frame_share.py): past ALL_TABS_FRAME_RATE frames a second in
+"""Many tabs share the server's drawing (app/web/ui/frame_share.py): past ALL_TABS_FRAME_RATE frames a second in
 all, each tab draws fewer frames and plays several ticks a frame, so its game keeps its speed. The figures
 for a class of 30 tabs are benchmarks/classroom.py's."""
 
@@ -14,10 +14,10 @@ import viser
 import websockets
 import zstandard
 
-from app.paths import DATABASE_FILE
-from app.runs import RunManager
-from app.store import Store
-from app.ui.frame_share import FrameShare
+from soccer_lab.app.paths import DATABASE_FILE
+from soccer_lab.app.runs.manager import RunManager
+from soccer_lab.app.store import Store
+from soccer_lab.app.web.ui.frame_share import FrameShare
 from tests.app.test_security import free_port
 
 TICK = re.compile(rb'data-tick="(\d+)"')
@@ -46,7 +46,7 @@ def test_each_tab_draws_its_share_and_never_more_than_the_frame_rate():
 
 @pytest.fixture
 def ui(tmp_path):
-    from app.ui import start_ui
+    from soccer_lab.app.web.ui import start_ui
 
     store = Store(tmp_path / DATABASE_FILE)
     runs = RunManager(store, tmp_path)

@@ -1,4 +1,4 @@
-"""Which game a run's recording replays for each generation's best (app/run.py, GenerationReplays), where
+"""Which game a run's recording replays for each generation's best (app/runs/run.py, GenerationReplays), where
 games cannot be played again: rcssserver trials, traced by the evaluator as they are played."""
 
 from __future__ import annotations
@@ -7,13 +7,13 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from app.environments import RcssTrials
-from app.run import GenerationReplays
-from ga.codec import ChromosomeCodec
-from ga.individual import Individual
-from ga.notation import parse_compact
-from soccer.config import SOCCER_VOCABULARY
-from soccer.rcss.trial import TrialConfig, TrialResult, TrialTrace
+from soccer_lab.app.runs.environments import RcssTrials
+from soccer_lab.app.runs.run import GenerationReplays
+from soccer_lab.ga.codec import ChromosomeCodec
+from soccer_lab.ga.individual import Individual
+from soccer_lab.ga.notation import parse_compact
+from soccer_lab.soccer.config import SOCCER_VOCABULARY
+from soccer_lab.soccer.rcss.trial import TrialConfig, TrialResult, TrialTrace
 
 CODEC = ChromosomeCodec(SOCCER_VOCABULARY)
 STRIKER, CHASER, TURNER = "(B,vN,A)(KG,n,H)", "(B,nF,A)(GB,n,M)", "(B,nA,A)(T,L,n)"

@@ -12,15 +12,15 @@ from urllib.parse import unquote
 import pytest
 from fastapi.testclient import TestClient
 
-from app.api import create_app
-from app.api.errors import MAX_ERROR_BYTES, MAX_ERRORS
-from app.classroom.names import display_name, skeleton
-from app.classroom.rate import RateLimiter
-from app.classroom.settings import REQUEST_BURST, REQUESTS_PER_SECOND
-from app.origins import SiteAddresses
-from app.paths import DATABASE_FILE
-from app.runs import RunManager
-from app.store import Store
+from soccer_lab.app.web.api import create_app
+from soccer_lab.app.web.api.errors import MAX_ERROR_BYTES, MAX_ERRORS
+from soccer_lab.app.web.classroom.names import display_name, skeleton
+from soccer_lab.app.web.classroom.rate import RateLimiter
+from soccer_lab.app.web.classroom.settings import REQUEST_BURST, REQUESTS_PER_SECOND
+from soccer_lab.app.web.origins import SiteAddresses
+from soccer_lab.app.paths import DATABASE_FILE
+from soccer_lab.app.runs.manager import RunManager
+from soccer_lab.app.store import Store
 from tests.app.test_classroom_api import CODE, Class
 
 PORT = 8000
@@ -208,7 +208,8 @@ def test_a_pupils_runs_count_against_the_pupil_whatever_their_names(room):
 def test_one_tick_games_count_their_setup(client):
     """A thousand one-tick games with a thousand rules took 10.1 s at the documented limit: the bound now
     counts each game's setup, so that request is refused and the most allowed is fewer games."""
-    from app.rule_inspection import GAME_COST_TICKS, MAX_GAMES, MAX_WORK, USAGE_PLAYS, affordable_games, request_work
+    from soccer_lab.app.rule_inspection import (GAME_COST_TICKS, MAX_GAMES, MAX_WORK, USAGE_PLAYS, affordable_games,
+                                                request_work)
 
     assert request_work(1000, 1, 1, USAGE_PLAYS) >= 1000 * GAME_COST_TICKS
     thousand = "\n".join(["if Ball is not At then GoToBall VeryHigh"] * 1000)
@@ -221,7 +222,7 @@ def test_one_tick_games_count_their_setup(client):
 
 def test_rules_of_many_premises_weigh_more(client):
     """A hundred rules of forty premises were counted as a hundred light rules; their premises count now."""
-    from app.rule_inspection import USAGE_PLAYS, affordable_games
+    from soccer_lab.app.rule_inspection import USAGE_PLAYS, affordable_games
 
     premises = " and ".join(["Ball is not At", "Goal is not At"] * 20)
     heavy = "\n".join([f"if {premises} then GoToBall VeryHigh"] * 100)

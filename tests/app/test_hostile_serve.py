@@ -50,7 +50,7 @@ class Serve:
 
     def __init__(self, folder: Path, *options: str, host: str = "127.0.0.1"):
         self.port = free_port(host)
-        arguments = [sys.executable, "-c", "from app.cli import main; main()", "serve", "--host", host,
+        arguments = [sys.executable, "-c", "from soccer_lab.app.cli import main; main()", "serve", "--host", host,
                      "--data-dir", str(folder), "--port", str(self.port), "--ui-port", str(free_port(host)), *options]
         self.process = subprocess.Popen(arguments, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
         self.printed = ""
@@ -99,7 +99,7 @@ def test_forwarded_for_is_believed_from_the_trusted_proxy_only(tmp_path):
 
 
 def test_trusted_proxy_must_be_an_address(tmp_path):
-    result = subprocess.run([sys.executable, "-c", "from app.cli import main; main()", "serve", "--trusted-proxy",
+    result = subprocess.run([sys.executable, "-c", "from soccer_lab.app.cli import main; main()", "serve", "--trusted-proxy",
                              "proxy.example", "--data-dir", str(tmp_path)], capture_output=True, text=True, timeout=120)
     assert result.returncode != 0 and "--trusted-proxy proxy.example" in result.stderr + result.stdout
     assert "Traceback" not in result.stderr

@@ -23,9 +23,9 @@ pytestmark = [
 def api_url(tmp_path):
     import uvicorn
 
-    from app.api import create_app
-    from app.runs import RunManager
-    from app.store import Store
+    from soccer_lab.app.web.api import create_app
+    from soccer_lab.app.runs.manager import RunManager
+    from soccer_lab.app.store import Store
 
     folder = tmp_path / "initial-seed0"
     (folder / "figures").mkdir(parents=True)

@@ -11,7 +11,7 @@ from pathlib import Path
 
 import pytest
 
-from app.ui import style
+from soccer_lab.app.web.ui import style
 from tests.app.test_ui_browser import (CHROMIUM, browser, choose, field, session_of, shot,  # noqa: F401 (fixtures)
                                        tick, ui, wait_until)
 from tests.app.test_ui_projector_browser import open_tab, seed_start

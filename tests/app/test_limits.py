@@ -7,12 +7,12 @@ from __future__ import annotations
 import pytest
 from typer.testing import CliRunner
 
-from app.cli import app
-from app.rule_inspection import (MAX_RULES, MAX_WORK, SIMPLIFY_PLAYS, USAGE_PLAYS, affordable_games,
-                                 request_work)
-from app.ui.panels.evolve import ga_fields
-from ga.config import MAX_POPULATION, MAX_WORKERS
-from soccer.config import MAX_GAMES_PER_EVALUATION, MAX_TICKS
+from soccer_lab.app.cli import app
+from soccer_lab.app.rule_inspection import (MAX_RULES, MAX_WORK, SIMPLIFY_PLAYS, USAGE_PLAYS, affordable_games,
+                                            request_work)
+from soccer_lab.app.web.ui.panels.evolve import ga_fields
+from soccer_lab.ga.config import MAX_POPULATION, MAX_WORKERS
+from soccer_lab.soccer.config import MAX_GAMES_PER_EVALUATION, MAX_TICKS
 from tests.app.api_client import api_client
 from tests.app.test_ui_wiring import gui  # noqa: F401  (fixture)
 
@@ -95,7 +95,7 @@ def test_the_cli_refuses_each_limit_in_one_line(tmp_path, option, value, limit):
 
 @pytest.mark.parametrize("name, limit", [("population_size", MAX_POPULATION), ("workers", MAX_WORKERS)])
 def test_the_ui_fields_refuse_past_the_limits_naming_them(gui, name, limit):  # noqa: F811
-    from app.ui.number_field import NumberField
+    from soccer_lab.app.web.ui.number_field import NumberField
 
     number = NumberField.for_field(gui, name, ga_fields()[name])
     number.text.value = str(limit + 1)

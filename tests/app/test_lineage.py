@@ -14,15 +14,15 @@ import numpy as np
 import pytest
 from typer.testing import CliRunner
 
-from app.cli import app
-from app.lineage import RunLineage, tree_data
-from app.run import Run, RunSettings
-from app.run_outputs import LineageFile
-from fuzzy.vocabulary import Vocabulary
-from ga.checkpoint import load_checkpoint
-from ga import lineage as ga_lineage
-from ga.lineage import RecordedPopulation, read_generation_record
-from ga.provenance import rebuild
+from soccer_lab.app.cli import app
+from soccer_lab.app.lineage.family_tree import RunLineage, tree_data
+from soccer_lab.app.runs.run import Run, RunSettings
+from soccer_lab.app.runs.outputs import LineageFile
+from soccer_lab.fuzzy.vocabulary import Vocabulary
+from soccer_lab.ga.checkpoint import load_checkpoint
+from soccer_lab.ga import lineage as ga_lineage
+from soccer_lab.ga.lineage import RecordedPopulation, read_generation_record
+from soccer_lab.ga.provenance import rebuild
 from tests.app.api_client import SHORT_GAMES, api_client, wait_for
 
 VOCABULARY = Vocabulary.default()
@@ -266,7 +266,7 @@ def test_the_api_refuses_parents_it_cannot_breed(api, parents, status, message):
 def test_a_database_from_before_lineage_gains_the_table_and_keeps_its_runs(tmp_path):
     import sqlite3
 
-    from app.store import MIGRATIONS, SCHEMA_VERSION, NotFound, Store
+    from soccer_lab.app.store import MIGRATIONS, SCHEMA_VERSION, NotFound, Store
 
     path = tmp_path / "old.sqlite3"
     connection = sqlite3.connect(path)
@@ -292,8 +292,8 @@ def test_a_database_from_before_lineage_gains_the_table_and_keeps_its_runs(tmp_p
 def test_statistics_saved_before_diversity_still_read(tmp_path):
     import csv
 
-    from app.experiment.table import COLUMNS, StatisticsTable
-    from ga.statistics import ADDED_LATER, GenerationStats
+    from soccer_lab.app.experiment.table import COLUMNS, StatisticsTable
+    from soccer_lab.ga.statistics import ADDED_LATER, GenerationStats
 
     older = [c for c in COLUMNS if c not in ADDED_LATER]
     path = tmp_path / "statistics.csv"

@@ -7,8 +7,8 @@ import re
 
 import pytest
 
-from app.paths import DATABASE_FILE
-from app.store import Store, StoreError
+from soccer_lab.app.paths import DATABASE_FILE
+from soccer_lab.app.store import Store, StoreError
 from tests.app.api_client import api_client
 
 TEXT = "if Ball is At then Kick Straight High"

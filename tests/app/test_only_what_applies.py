@@ -31,7 +31,7 @@ class Serve:
 
     def __init__(self, data_dir: Path):
         self.port = free_port()
-        arguments = [sys.executable, "-c", "from app.cli import main; main()", "serve", "--data-dir", str(data_dir),
+        arguments = [sys.executable, "-c", "from soccer_lab.app.cli import main; main()", "serve", "--data-dir", str(data_dir),
                      "--port", str(self.port), "--ui-port", str(free_port())]
         self.process = subprocess.Popen(arguments, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
         self.url = f"http://127.0.0.1:{self.port}"

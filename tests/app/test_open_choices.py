@@ -11,11 +11,11 @@ from pathlib import Path
 import pytest
 from typer.testing import CliRunner
 
-from app.cli import app
-from app.experiment.presets import ExperimentOptions
-from app.experiment.runner import plan
-from ga.config import GAConfig
-from soccer.config import GameConfig
+from soccer_lab.app.cli import app
+from soccer_lab.app.experiment.presets import ExperimentOptions
+from soccer_lab.app.experiment.runner import plan
+from soccer_lab.ga.config import GAConfig
+from soccer_lab.soccer.config import GameConfig
 from tests.app.api_client import SHORT_GAMES, TINY_GA, api_client, wait_for
 
 # "Kick toward the goal whenever the ball is in view": a striker only if the skill fetches the ball.

@@ -11,18 +11,18 @@ import zlib
 import pytest
 from fastapi.testclient import TestClient
 
-from app.api import create_app
-from app.paths import DATABASE_FILE
-from app.pitch_link import MAX_TOKEN_LENGTH, LinkError, PitchLink, decode_link
-from app.runs import RunManager
-from app.store import Store
-from app.ui.context import UiContext
-from app.ui.game import Game
-from fuzzy.parser import parse_rulebase
-from fuzzy.printer import format_rulebase
-from fuzzy.vocabulary import Vocabulary
-from soccer.config import GameConfig
-from soccer.demo import demo_rules_text
+from soccer_lab.app.web.api import create_app
+from soccer_lab.app.paths import DATABASE_FILE
+from soccer_lab.app.web.pitch_link import MAX_TOKEN_LENGTH, LinkError, PitchLink, decode_link
+from soccer_lab.app.runs.manager import RunManager
+from soccer_lab.app.store import Store
+from soccer_lab.app.web.ui.context import UiContext
+from soccer_lab.app.web.ui.game import Game
+from soccer_lab.fuzzy.parser import parse_rulebase
+from soccer_lab.fuzzy.printer import format_rulebase
+from soccer_lab.fuzzy.vocabulary import Vocabulary
+from soccer_lab.soccer.config import GameConfig
+from soccer_lab.soccer.demo import demo_rules_text
 
 VOCABULARY = Vocabulary.default()
 APP_GAME = GameConfig()
@@ -35,7 +35,7 @@ def token_of(state: dict) -> str:
 
 
 def opened(token: str) -> Game:
-    """What a tab opened with the link plays (app/ui/session.py, Session._open_link)."""
+    """What a tab opened with the link plays (app/web/ui/session.py, Session._open_link)."""
     link = decode_link(token)
     game = Game(CONTEXT, link.rulebase(VOCABULARY), link.name, link.seed, link.game_config(APP_GAME))
     while game.state.tick < link.tick and not game.done:

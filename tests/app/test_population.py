@@ -8,17 +8,17 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from app.runs import SAMPLED_PLAYERS, RunEvent, RunManager, SampledPlayer, sample_players
-from app.store import Store
-from app.ui import style
-from app.ui.panels.population import PopulationPanel
-from fuzzy.printer import format_rulebase
-from fuzzy.vocabulary import Vocabulary
-from ga.codec import ChromosomeCodec
-from ga.individual import Individual
-from ga.notation import parse_compact
-from soccer.config import GameConfig
-from soccer.engine import GameBatch
+from soccer_lab.app.runs.manager import SAMPLED_PLAYERS, RunEvent, RunManager, SampledPlayer, sample_players
+from soccer_lab.app.store import Store
+from soccer_lab.app.web.ui import style
+from soccer_lab.app.web.ui.panels.population import PopulationPanel
+from soccer_lab.fuzzy.printer import format_rulebase
+from soccer_lab.fuzzy.vocabulary import Vocabulary
+from soccer_lab.ga.codec import ChromosomeCodec
+from soccer_lab.ga.individual import Individual
+from soccer_lab.ga.notation import parse_compact
+from soccer_lab.soccer.config import GameConfig
+from soccer_lab.soccer.engine import GameBatch
 from tests.app.api_client import SHORT_GAMES, TINY_GA
 
 VOCABULARY = Vocabulary.default()

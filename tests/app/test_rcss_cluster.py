@@ -1,4 +1,4 @@
-"""rcssservers on a Ray cluster (app/rcss_cluster.py), with a local Ray and the real server: every node starts
+"""rcssservers on a Ray cluster (app/runs/rcss_cluster.py), with a local Ray and the real server: every node starts
 its own servers, trials spread over all of them, the results are those of local servers without noise (the
 GA's too, from the command line), a server whose actor is killed hands its trial on and dies with it, and no
 server is left running after a run or an interrupted one."""
@@ -17,12 +17,12 @@ from pathlib import Path
 import pytest
 from typer.testing import CliRunner
 
-from app.cli import app
-from app.rcss_cluster import ClusterServers, RayCluster, node_servers
-from fuzzy.parser import parse_rulebase
-from soccer.rcss.evaluate import RcssEvaluator
-from soccer.rcss.servers import NOISELESS_OPTIONS
-from soccer.rcss.trial import TrialConfig
+from soccer_lab.app.cli import app
+from soccer_lab.app.runs.rcss_cluster import ClusterServers, RayCluster, node_servers
+from soccer_lab.fuzzy.parser import parse_rulebase
+from soccer_lab.soccer.rcss.evaluate import RcssEvaluator
+from soccer_lab.soccer.rcss.servers import NOISELESS_OPTIONS
+from soccer_lab.soccer.rcss.trial import TrialConfig
 from tests.rcss.conftest import VOCABULARY
 
 ray = pytest.importorskip("ray")
@@ -73,7 +73,7 @@ def local_ray():
 @pytest.fixture(scope="module")
 def local_results(rcssserver):
     """BATCH played on a local server without noise: what the cluster must give."""
-    from soccer.rcss.servers import ServerPool
+    from soccer_lab.soccer.rcss.servers import ServerPool
 
     with ServerPool(rcssserver, 1, NOISELESS_OPTIONS) as pool, RcssEvaluator(pool.addresses, QUIET) as evaluate:
         results = evaluate(*zip(*BATCH))
@@ -115,7 +115,7 @@ def test_a_killed_actor_hands_its_trial_to_another_and_its_server_dies_with_it(l
 
 
 def test_a_server_that_cannot_start_on_the_cluster_is_one_line(local_ray, tmp_path):
-    from app.rcss_cluster import ClusterError
+    from soccer_lab.app.runs.rcss_cluster import ClusterError
 
     with pytest.raises(ClusterError, match=r"no rcssserver started on the Ray cluster: on Ray node \S+: no "
                                            r"rcssserver: '/no/such/rcssserver' does not exist"):
@@ -157,7 +157,7 @@ def test_robocup_and_evolve_on_the_cluster_give_the_local_statistics(local_ray, 
 def test_ctrl_c_stops_every_server_of_the_cluster(rcssserver, tmp_path):
     """An evolve run on a Ray it started, interrupted as by Ctrl+C once its servers play: exit status 130, the
     run resumable, and none of its servers left."""
-    command = [sys.executable, "-c", "from app.cli import main; main()", "evolve", "--env", "rcss", "--executor",
+    command = [sys.executable, "-c", "from soccer_lab.app.cli import main; main()", "evolve", "--env", "rcss", "--executor",
                "ray", "--servers", "2", "--rcssserver", str(rcssserver), "--population-size", "40",
                "--generations", "50", "--skills", "assisted", "--out", str(tmp_path / "run")]
     process = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)

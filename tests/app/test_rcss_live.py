@@ -16,8 +16,8 @@ from pathlib import Path
 import pytest
 from typer.testing import CliRunner
 
-from app.cli import app
-from soccer.rcss.servers import ServerPool
+from soccer_lab.app.cli import app
+from soccer_lab.soccer.rcss.servers import ServerPool
 from tests.app.api_client import api_client, wait_for
 from tests.rcss.conftest import CHASER
 from tests.rcss.real_server import kill, rcssserver_children, wait_until_gone

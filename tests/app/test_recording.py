@@ -1,4 +1,4 @@
-"""app/recording.py (rerun) and app/run_outputs.py (the run folder), read back with rerun's own reader."""
+"""app/runs/recording.py (rerun) and app/runs/outputs.py (the run folder), read back with rerun's own reader."""
 
 from __future__ import annotations
 
@@ -12,15 +12,16 @@ import numpy as np
 import pytest
 from rerun.chunk import RrdReader
 
-from app.recording import (COMPOSITION_SERIES, DISTANCE_SERIES, DIVERSITY_SERIES, FITNESS_SERIES, GENE_POOL_SERIES,
-                           GOAL_BINS, GOAL_HISTOGRAM_ENTITY, GOAL_SERIES, VIEW_CONE_LENGTH, RunRecorder, goal_outline, log_replay, open_stream,
-                           spread_entity, statistic_entity, view_cone)
-from app.run_outputs import RunFolder, RunFolderError, StatisticsFile, default_run_dir
-from fuzzy.vocabulary import Vocabulary
-from ga.statistics import GenerationStats
-from soccer.config import GameConfig, WorldConfig
-from soccer.demo import demo_rulebase
-from soccer.engine import play_game
+from soccer_lab.app.runs.recording import (COMPOSITION_SERIES, DISTANCE_SERIES, DIVERSITY_SERIES, FITNESS_SERIES,
+                                           GENE_POOL_SERIES, GOAL_BINS, GOAL_HISTOGRAM_ENTITY, GOAL_SERIES,
+                                           VIEW_CONE_LENGTH, RunRecorder, goal_outline, log_replay, open_stream,
+                                           spread_entity, statistic_entity, view_cone)
+from soccer_lab.app.runs.outputs import RunFolder, RunFolderError, StatisticsFile, default_run_dir
+from soccer_lab.fuzzy.vocabulary import Vocabulary
+from soccer_lab.ga.statistics import GenerationStats
+from soccer_lab.soccer.config import GameConfig, WorldConfig
+from soccer_lab.soccer.demo import demo_rulebase
+from soccer_lab.soccer.engine import play_game
 
 
 def columns(path, entity: str) -> dict[str, list]:

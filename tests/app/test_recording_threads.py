@@ -6,9 +6,9 @@ from __future__ import annotations
 
 import os
 
-from app.paths import DATABASE_FILE
-from app.runs import RunManager
-from app.store import Store
+from soccer_lab.app.paths import DATABASE_FILE
+from soccer_lab.app.runs.manager import RunManager
+from soccer_lab.app.store import Store
 from tests.app.api_client import SHORT_GAMES
 
 RUNS, GENERATIONS = 5, 20

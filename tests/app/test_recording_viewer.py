@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from app.recording import FITNESS_SERIES, GOAL_COLOUR, GRASS_COLOUR, PLAYER_COLOUR
+from soccer_lab.app.runs.recording import FITNESS_SERIES, GOAL_COLOUR, GRASS_COLOUR, PLAYER_COLOUR
 from tests.app.test_ui_browser import CHROMIUM, CHROMIUM_ARGS, SCREENSHOTS, free_port, offline
 
 pytestmark = [
@@ -36,7 +36,7 @@ POLL_SECONDS = 5.0  # longer than a frame: two equal screenshots in a row mean t
 @pytest.fixture(scope="module")
 def recorded_run(tmp_path_factory) -> tuple[Path, dict]:
     """A finished run's folder and its settings."""
-    from app.run import Run, RunSettings
+    from soccer_lab.app.runs.run import Run, RunSettings
 
     folder = tmp_path_factory.mktemp("viewer") / "run"
     settings = RunSettings.build({"population_size": 12, "max_generations": 3, "max_length": 24, "seed": 3},
@@ -52,10 +52,10 @@ def app_url(recorded_run, tmp_path):
     """The app as serve runs it, with the run in its store: (its address, the run's id)."""
     import uvicorn
 
-    from app.api import create_app
-    from app.rerun_viewer import viewer_files
-    from app.runs import RunManager
-    from app.store import RunStatus, Store
+    from soccer_lab.app.web.api import create_app
+    from soccer_lab.app.web.rerun_viewer import viewer_files
+    from soccer_lab.app.runs.manager import RunManager
+    from soccer_lab.app.store import RunStatus, Store
 
     folder, settings = recorded_run
     store = Store(tmp_path / "db.sqlite3")
@@ -84,7 +84,7 @@ def test_the_recording_opens_in_the_viewer_as_its_blueprint_lays_it_out(app_url)
     from PIL import Image
     from playwright.sync_api import sync_playwright
 
-    from app.rerun_viewer import recording_link
+    from soccer_lab.app.web.rerun_viewer import recording_link
 
     api_url, run_id = app_url
     shot = SCREENSHOTS / "recording-viewer.png"
@@ -129,8 +129,8 @@ VIEWER_SETTLES_SECONDS = 45.0
 
 
 def _ui_recording(folder: Path) -> Path:
-    """A run as the UI's Evolve tab runs it (app.run.Run, as the run manager does), with replays."""
-    from app.run import Run, RunSettings
+    """A run as the UI's Evolve tab runs it (soccer_lab.app.runs.run.Run, as the run manager does), with replays."""
+    from soccer_lab.app.runs.run import Run, RunSettings
 
     settings = RunSettings.build({"population_size": 12, "max_generations": 4, "max_length": 24, "seed": 5},
                                  {"max_ticks": 300})
@@ -145,7 +145,7 @@ def _cli_recording(folder: Path) -> Path:
     import sys
 
     out = folder / "cli-run"
-    subprocess.run([sys.executable, "-c", "from app.cli import main; main()", "evolve", "--out", str(out),
+    subprocess.run([sys.executable, "-c", "from soccer_lab.app.cli import main; main()", "evolve", "--out", str(out),
                     "--population-size", "12", "--generations", "4", "--max-ticks", "300", "--seed", "5"],
                    check=True, capture_output=True, timeout=600)
     (recording,) = out.glob("*.rrd")
@@ -153,9 +153,9 @@ def _cli_recording(folder: Path) -> Path:
 
 
 def _experiment_recording(folder: Path) -> Path:
-    from app.experiment.executors import LocalExecutor
-    from app.experiment.presets import ExperimentOptions
-    from app.experiment.runner import run_experiment
+    from soccer_lab.app.experiment.executors import LocalExecutor
+    from soccer_lab.app.experiment.presets import ExperimentOptions
+    from soccer_lab.app.experiment.runner import run_experiment
 
     run_experiment("crossover", ExperimentOptions(trials=1, population=6, generations=3, max_ticks=60, seed=7),
                    folder / "experiment", LocalExecutor(1))
@@ -183,10 +183,10 @@ def file_server(tmp_path):
     from starlette.routing import Mount
     from starlette.staticfiles import StaticFiles
 
-    from app.api import create_app
-    from app.rerun_viewer import viewer_files
-    from app.runs import RunManager
-    from app.store import Store
+    from soccer_lab.app.web.api import create_app
+    from soccer_lab.app.web.rerun_viewer import viewer_files
+    from soccer_lab.app.runs.manager import RunManager
+    from soccer_lab.app.store import Store
 
     served = tmp_path / "served"
     served.mkdir()
@@ -216,7 +216,7 @@ def test_a_recording_opens_in_the_viewer_without_a_warning_and_shows_the_player(
     from PIL import Image
     from playwright.sync_api import sync_playwright
 
-    from app.rerun_viewer import recording_link
+    from soccer_lab.app.web.rerun_viewer import recording_link
 
     api_url, served = file_server
     files.copy(RECORDINGS[source](tmp_path), served / "recording.rrd")

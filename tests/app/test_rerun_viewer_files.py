@@ -1,4 +1,4 @@
-"""rerun's web viewer as the app serves it (app/rerun_viewer.py): its files given once by the installed rerun
+"""rerun's web viewer as the app serves it (app/web/rerun_viewer.py): its files given once by the installed rerun
 CLI, kept per rerun version, the page without its links to a font service."""
 
 from __future__ import annotations
@@ -7,7 +7,8 @@ import socket
 
 import pytest
 
-from app.rerun_viewer import FILES, OFFLINE_SCRIPT, RerunViewerError, offline_page, rerun_version, viewer_files
+from soccer_lab.app.web.rerun_viewer import (FILES, OFFLINE_SCRIPT, RerunViewerError, offline_page, rerun_version,
+                                             viewer_files)
 
 
 def test_the_viewer_files_are_fetched_once_and_need_no_internet(tmp_path, monkeypatch):
@@ -35,7 +36,7 @@ def test_without_the_rerun_cli_the_error_says_what_to_do(tmp_path, monkeypatch):
 
 def test_the_cli_listens_only_on_this_machine_while_it_gives_the_files(tmp_path, monkeypatch):
     """rerun-sdk's own serve_web_viewer would listen on 0.0.0.0; the CLI is told 127.0.0.1."""
-    import app.rerun_viewer as viewer
+    import soccer_lab.app.web.rerun_viewer as viewer
 
     bound = []
     real = viewer._wait_until_served
@@ -71,7 +72,7 @@ def test_a_cache_that_cannot_be_written_is_one_clear_error(tmp_path):
 
 def test_serve_without_the_viewer_still_starts_and_says_why(tmp_path, monkeypatch):
     """The viewer is one page among many: serve runs on and prints why it is missing."""
-    import app.server as server
+    import soccer_lab.app.web.server as server
 
     def missing(cache):
         raise RerunViewerError("rerun's viewer program is missing at /nowhere (reinstall rerun-sdk)")
@@ -82,7 +83,7 @@ def test_serve_without_the_viewer_still_starts_and_says_why(tmp_path, monkeypatc
     def stop_before_serving(self):
         raise Stopped
 
-    monkeypatch.setattr("app.rerun_viewer.viewer_files", missing)
+    monkeypatch.setattr("soccer_lab.app.web.rerun_viewer.viewer_files", missing)
     monkeypatch.setattr("uvicorn.Server.run", stop_before_serving)
     printed = []
     options = server.ServeOptions(port=_free_port(), ui_port=_free_port(), data_dir=tmp_path / "data")

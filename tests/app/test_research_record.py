@@ -11,10 +11,10 @@ from pathlib import Path
 
 import pytest
 
-from app.experiment.executors import LocalExecutor
-from app.experiment.presets import ExperimentOptions
-from app.experiment.replicates import VERDICTS_FILE, replicate_folder, run_replicates
-from app.experiment.runner import RUNS_LOG, read_runs
+from soccer_lab.app.experiment.executors import LocalExecutor
+from soccer_lab.app.experiment.presets import ExperimentOptions
+from soccer_lab.app.experiment.replicates import VERDICTS_FILE, replicate_folder, run_replicates
+from soccer_lab.app.experiment.runner import RUNS_LOG, read_runs
 
 ROOT = Path(__file__).resolve().parents[2]
 TINY = ExperimentOptions(trials=2, population=6, generations=2, max_ticks=40, seed=7, replays=2)

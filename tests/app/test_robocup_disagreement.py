@@ -9,12 +9,12 @@ import json
 
 import numpy as np
 
-from app.experiment.presets import ExperimentOptions
-from app.experiment.runner import MANIFEST
-from app.experiment.table import StatisticsTable
-from fuzzy.parser import parse_rulebase
-from fuzzy.rule import Rulebase
-from soccer.config import SOCCER_VOCABULARY
+from soccer_lab.app.experiment.presets import ExperimentOptions
+from soccer_lab.app.experiment.runner import MANIFEST
+from soccer_lab.app.experiment.table import StatisticsTable
+from soccer_lab.fuzzy.parser import parse_rulebase
+from soccer_lab.fuzzy.rule import Rulebase
+from soccer_lab.soccer.config import SOCCER_VOCABULARY
 from tests.app.test_experiment_report import fabricated
 from tests.app.test_robocup_results import ROOT, load, pages
 

@@ -14,10 +14,10 @@ from pathlib import Path
 
 import numpy as np
 
-from app.experiment.presets import ROBOCUP, ExperimentOptions, preset
-from app.experiment.report import assess_findings
-from app.experiment.runner import MANIFEST, TrialFolder, plan
-from app.experiment.table import STATISTIC_COLUMNS, StatisticsTable
+from soccer_lab.app.experiment.presets import ROBOCUP, ExperimentOptions, preset
+from soccer_lab.app.experiment.report import assess_findings
+from soccer_lab.app.experiment.runner import MANIFEST, TrialFolder, plan
+from soccer_lab.app.experiment.table import STATISTIC_COLUMNS, StatisticsTable
 from tests.app.test_experiment_robocup import robocup_rows
 
 ROOT = Path(__file__).resolve().parents[2]

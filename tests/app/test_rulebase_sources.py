@@ -11,11 +11,11 @@ from pathlib import Path
 import pytest
 from typer.testing import CliRunner
 
-from app.cli import app
-from app.experiment.executors import LocalExecutor
-from app.experiment.presets import ExperimentOptions
-from app.experiment.runner import run_experiment
-from app.rulebase_files import load_rulebase
+from soccer_lab.app.cli import app
+from soccer_lab.app.experiment.executors import LocalExecutor
+from soccer_lab.app.experiment.presets import ExperimentOptions
+from soccer_lab.app.experiment.runner import run_experiment
+from soccer_lab.app.rulebase_files import load_rulebase
 from tests.app.api_client import api_client
 
 GAME = ["--max-ticks", "60"]
@@ -69,8 +69,8 @@ def test_every_saved_player_opens_in_every_tool(sources, tool, tmp_path):
 
 def test_an_experiments_best_is_the_player_its_figures_describe(sources):
     record = json.loads(sources["experiment best"].read_text())
-    from fuzzy.printer import format_rulebase
-    from soccer.config import SOCCER_VOCABULARY
+    from soccer_lab.fuzzy.printer import format_rulebase
+    from soccer_lab.soccer.config import SOCCER_VOCABULARY
 
     assert format_rulebase(load_rulebase(sources["experiment best"]), SOCCER_VOCABULARY) == record["rule_text"]
     assert load_rulebase(sources["experiment best, older folder"]) == load_rulebase(sources["experiment best"])

@@ -1,4 +1,4 @@
-"""The classroom queue's runs on Ray (`serve --class --executor ray`, app/run_games.py), with a local Ray:
+"""The classroom queue's runs on Ray (`serve --class --executor ray`, app/runs/games.py), with a local Ray:
 the same seed gives the same run on Ray as locally, the queue runs one run per CPU of the cluster, and
 the options are checked with one line."""
 
@@ -7,10 +7,10 @@ from __future__ import annotations
 import pytest
 from typer.testing import CliRunner
 
-from app.cli import app
-from app.paths import DATABASE_FILE
-from app.runs import RunManager
-from app.store import RunStatus, Store
+from soccer_lab.app.cli import app
+from soccer_lab.app.paths import DATABASE_FILE
+from soccer_lab.app.runs.manager import RunManager
+from soccer_lab.app.store import RunStatus, Store
 from tests.app.test_run_queue import SHORT_GAMES, comparable
 
 ray = pytest.importorskip("ray")
@@ -22,8 +22,8 @@ RUN = {"population_size": 6, "max_generations": 2, "workers": 2, "seed": 31}
 def ray_games():
     """A local Ray of 2 CPUs started by RayGames itself, as serve starts it without --ray-address (a busy
     machine may need a second try)."""
-    from app.experiment.executors import ExecutorError
-    from app.run_games import RayGames
+    from soccer_lab.app.experiment.executors import ExecutorError
+    from soccer_lab.app.runs.games import RayGames
 
     for attempt in range(2):
         games = RayGames(None, workers=2)

@@ -15,7 +15,7 @@ LIMIT_MB = 1024
 
 @pytest.mark.slow
 def test_evolve_at_population_10000_peaks_under_1_gb(tmp_path):
-    command = [sys.executable, "-c", "from app.cli import main; main()", "evolve", "--population-size", "10000",
+    command = [sys.executable, "-c", "from soccer_lab.app.cli import main; main()", "evolve", "--population-size", "10000",
                "--generations", "2", "--workers", "1", "--seed", "1", "--max-ticks", "100", "--out",
                str(tmp_path / "run")]
     child = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)

@@ -8,11 +8,11 @@ import time
 
 import pytest
 
-from app.paths import DATABASE_FILE
-from app.run import RunSettings
-from app.run_queue import QueuedRun, RunPace, RunQueue
-from app.runs import RunManager, RunStateError
-from app.store import RunRecord, RunStatus, Store
+from soccer_lab.app.paths import DATABASE_FILE
+from soccer_lab.app.runs.run import RunSettings
+from soccer_lab.app.runs.queue import QueuedRun, RunPace, RunQueue
+from soccer_lab.app.runs.manager import RunManager, RunStateError
+from soccer_lab.app.store import RunRecord, RunStatus, Store
 
 TINY = {"population_size": 4, "max_generations": 2, "workers": 1}
 SHORT_GAMES = {"max_ticks": 60, "games_per_evaluation": 1}
@@ -171,9 +171,9 @@ def test_the_desk_user_is_still_told_at_once_when_every_run_slot_is_busy(store, 
 
 def test_a_run_ending_frees_its_core_for_the_next_even_when_it_fails(classroom, store, monkeypatch):
     """A crashed run must not keep its core: the queue moves on."""
-    import app.runs
+    import soccer_lab.app.runs.manager
 
-    real = app.runs.RunManager._evolve
+    real = soccer_lab.app.runs.manager.RunManager._evolve
     calls = []
 
     def failing_first(self, record, *args):
@@ -182,7 +182,7 @@ def test_a_run_ending_frees_its_core_for_the_next_even_when_it_fails(classroom, 
             raise RuntimeError("boom")
         return real(self, record, *args)
 
-    monkeypatch.setattr(app.runs.RunManager, "_evolve", failing_first)
+    monkeypatch.setattr(soccer_lab.app.runs.manager.RunManager, "_evolve", failing_first)
     classroom.max_concurrent_runs = 1
     first = classroom.start(ga=TINY, game=SHORT_GAMES, owner=PUPILS[0])
     second = classroom.start(ga=TINY, game=SHORT_GAMES, owner=PUPILS[1])
@@ -204,7 +204,7 @@ def test_class_runs_play_their_games_in_game_processes_as_they_would_here(store,
     runs play theirs in game processes, bit for bit as here."""
     import os
 
-    from app.run_games import ProcessGames
+    from soccer_lab.app.runs.games import ProcessGames
 
     with ProcessGames(2) as games:
         assert set(games(ProcessId())([None, None], [1, 2])) - {os.getpid()}  # another process played them
@@ -229,7 +229,7 @@ def test_game_processes_outlive_the_runs_that_use_them(store, tmp_path):
     died with the first run, and every later run failed (BrokenProcessPool)."""
     import threading
 
-    from app.run_games import ProcessGames
+    from soccer_lab.app.runs.games import ProcessGames
 
     with ProcessGames(2) as games:
         runs = RunManager(store, tmp_path, max_concurrent_runs=2, queue_runs=True)
@@ -278,7 +278,7 @@ def test_the_seed_a_run_drew_replays_it_bit_for_bit(store, tmp_path):
 
 def test_a_seed_given_as_zero_is_kept(store, tmp_path):
     """0 is a seed like any other (the chapter's runs): only a missing seed is drawn."""
-    from ga.config import GAConfig
+    from soccer_lab.ga.config import GAConfig
 
     runs = RunManager(store, tmp_path, new_seed=lambda: 1234)
     try:
@@ -304,7 +304,7 @@ def gui():
 
 
 def evolve_panel(gui, runs, store):
-    from app.ui.panels.evolve import EvolvePanel
+    from soccer_lab.app.web.ui.panels.evolve import EvolvePanel
 
     panel = EvolvePanel(gui, runs, store, on_load=lambda *_: None, on_generation=lambda *_: None,
                         on_run_ended=lambda *_: None, on_runs_changed=lambda: None)
@@ -358,9 +358,9 @@ def test_the_evolve_tab_shows_a_queued_runs_place_and_stop_leaves_the_queue(gui,
 
 
 def test_the_teacher_cancels_a_pupils_queued_run_from_the_library_and_a_pupil_only_their_own(gui, store, tmp_path):
-    from app.access import ScopedRuns, ScopedStore, Visitor
-    from app.ui.panels.library import LibraryPanel, _label
-    from fuzzy.vocabulary import Vocabulary
+    from soccer_lab.app.web.access import ScopedRuns, ScopedStore, Visitor
+    from soccer_lab.app.web.ui.panels.library import LibraryPanel, _label
+    from soccer_lab.fuzzy.vocabulary import Vocabulary
 
     runs = RunManager(store, tmp_path, max_concurrent_runs=1, queue_runs=True)
     teacher, ada = Visitor(None, "", teacher=True), Visitor(PUPILS[0], "Ada", teacher=False)

@@ -12,11 +12,11 @@ import viser
 import websockets
 from fastapi.testclient import TestClient
 
-from app.api import create_app
-from app.origins import SiteAddresses
-from app.paths import DATABASE_FILE
-from app.runs import RunManager
-from app.store import Store
+from soccer_lab.app.web.api import create_app
+from soccer_lab.app.web.origins import SiteAddresses
+from soccer_lab.app.paths import DATABASE_FILE
+from soccer_lab.app.runs.manager import RunManager
+from soccer_lab.app.store import Store
 
 PORT = 8000
 OWN = f"http://127.0.0.1:{PORT}"
@@ -118,7 +118,7 @@ def free_port() -> int:
 
 @pytest.fixture(scope="module")
 def ui(tmp_path_factory):
-    from app.ui import start_ui
+    from soccer_lab.app.web.ui import start_ui
 
     folder = tmp_path_factory.mktemp("ui")
     store = Store(folder / DATABASE_FILE)

@@ -23,7 +23,7 @@ def free_port() -> int:
 
 def serve_first_lines(data_dir) -> tuple[list[str], int, int, subprocess.Popen]:
     port, ui_port = free_port(), free_port()
-    arguments = [sys.executable, "-c", "from app.cli import main; main()", "serve", "--data-dir", str(data_dir),
+    arguments = [sys.executable, "-c", "from soccer_lab.app.cli import main; main()", "serve", "--data-dir", str(data_dir),
                  "--port", str(port), "--ui-port", str(ui_port)]
     serve = subprocess.Popen(arguments, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
     lines: list[str] = []

@@ -53,7 +53,7 @@ def wait_for(condition, timeout: float = 60.0):
 
 def test_serve_binds_every_server_to_127_0_0_1_by_default(tmp_path):
     ports = {"--port": free_port(), "--ui-port": free_port()}
-    arguments = [sys.executable, "-c", "from app.cli import main; main()", "serve", "--data-dir", str(tmp_path)]
+    arguments = [sys.executable, "-c", "from soccer_lab.app.cli import main; main()", "serve", "--data-dir", str(tmp_path)]
     for option, port in ports.items():
         arguments += [option, str(port)]
     serve = subprocess.Popen(arguments, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
@@ -79,7 +79,7 @@ def test_the_network_needs_classroom_mode(host, tmp_path):
     refused in one line before anything listens."""
     from typer.testing import CliRunner
 
-    from app.cli import app
+    from soccer_lab.app.cli import app
 
     result = CliRunner().invoke(app, ["serve", "--host", host, "--data-dir", str(tmp_path)])
     assert result.exit_code == 2 and "add --class" in result.output and "Traceback" not in result.output
@@ -88,6 +88,6 @@ def test_the_network_needs_classroom_mode(host, tmp_path):
 
 @pytest.mark.parametrize("host", ["127.0.0.1", "127.0.0.2", "::1", "localhost"])
 def test_loopback_hosts_are_this_machine(host):
-    from app.cli.serve import _loopback
+    from soccer_lab.app.cli.serve import _loopback
 
     assert _loopback(host)

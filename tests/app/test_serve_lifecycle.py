@@ -16,7 +16,7 @@ import httpx
 import psutil
 import pytest
 
-from app.paths import DATABASE_FILE
+from soccer_lab.app.paths import DATABASE_FILE
 
 pytestmark = pytest.mark.skipif(sys.platform != "linux", reason="children die with serve through prctl (Linux)")
 # Generations of a few seconds each: a signal lands inside one however fast the machine is.
@@ -45,7 +45,7 @@ class Serve:
     """A `soccer-lab serve` process on given ports and data folder."""
 
     def __init__(self, data_dir: Path, ports: dict[str, int]):
-        arguments = [sys.executable, "-c", "from app.cli import main; main()", "serve", "--data-dir", str(data_dir)]
+        arguments = [sys.executable, "-c", "from soccer_lab.app.cli import main; main()", "serve", "--data-dir", str(data_dir)]
         for option, port in ports.items():
             arguments += [option, str(port)]
         self.api = f"http://127.0.0.1:{ports['--port']}"

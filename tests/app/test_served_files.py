@@ -7,7 +7,7 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
-from app.served_files import regular_file_inside
+from soccer_lab.app.web.served_files import regular_file_inside
 from tests.app.api_client import SHORT_GAMES, TINY_GA, api_client, wait_for
 
 

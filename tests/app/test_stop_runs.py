@@ -7,7 +7,7 @@ from __future__ import annotations
 import csv
 import threading
 
-from app.run import Run, RunSettings
+from soccer_lab.app.runs.run import Run, RunSettings
 from tests.app.api_client import SHORT_GAMES, api_client, wait_for
 
 # Generation 0 of this population takes many seconds here: a stop obeyed only between generations would

@@ -8,7 +8,7 @@ import threading
 import numpy as np
 import pytest
 
-from app.store import SCHEMA_VERSION, NotFound, RunStatus, Store, StoreError
+from soccer_lab.app.store import SCHEMA_VERSION, NotFound, RunStatus, Store, StoreError
 
 
 @pytest.fixture

@@ -1,4 +1,4 @@
-"""A best player's true quality (app/true_quality.py) stands beside the one-game fitness the GA saw: in
+"""A best player's true quality (app/runs/true_quality.py) stands beside the one-game fitness the GA saw: in
 evolve's progress and summary, run.json, `lineage`, and an experiment's bests; every player is re-played
 on the same seeded starts, so two players' figures compare."""
 
@@ -10,10 +10,10 @@ from pathlib import Path
 import pytest
 from typer.testing import CliRunner
 
-from app.cli import app
-from app.rulebase_files import load_rulebase
-from app.true_quality import TRUE_QUALITY_STARTS, TrueQuality, common_seeds, simple_soccer_replayer
-from soccer.config import SOCCER_VOCABULARY, GameConfig
+from soccer_lab.app.cli import app
+from soccer_lab.app.rulebase_files import load_rulebase
+from soccer_lab.app.runs.true_quality import TRUE_QUALITY_STARTS, TrueQuality, common_seeds, simple_soccer_replayer
+from soccer_lab.soccer.config import SOCCER_VOCABULARY, GameConfig
 
 TINY = ["--population-size", "8", "--generations", "3", "--max-ticks", "60", "--workers", "1"]
 GAME = GameConfig(max_ticks=60)
@@ -76,7 +76,7 @@ def test_lineage_states_the_players_true_quality(evolved):
 
 
 def test_run_json_without_a_best_record_reads_as_unknown(tmp_path):
-    from app.run_outputs import RunFolder
+    from soccer_lab.app.runs.outputs import RunFolder
 
     folder = RunFolder.create(tmp_path / "old", {"algorithm": "ga"})
     assert folder.best_quality() is None
@@ -85,7 +85,7 @@ def test_run_json_without_a_best_record_reads_as_unknown(tmp_path):
 
 
 def test_the_apis_best_carries_its_true_quality_beside_the_one_game_fitness(tmp_path):
-    from app.run_outputs import best_quality_of, replayed_note
+    from soccer_lab.app.runs.outputs import best_quality_of, replayed_note
     from tests.app.api_client import SHORT_GAMES, TINY_GA, api_client, wait_for
 
     with api_client(tmp_path) as client:
@@ -105,15 +105,15 @@ def test_the_evolve_tabs_best_so_far_and_loaded_best_say_their_true_quality(tmp_
     """"Load best so far" and the live status line once gave the one-game fitness alone."""
     import viser
 
-    from app.run_outputs import RunFolder, best_record
-    from app.runs import RunEvent, RunManager
-    from app.store import RunStatus, Store
-    from app.ui.panels.evolve import EvolvePanel
-    from ga.codec import ChromosomeCodec
-    from ga.individual import Individual
-    from ga.statistics import GenerationStats
-    from fuzzy.printer import format_rulebase
-    from soccer.demo import demo_rulebase
+    from soccer_lab.app.runs.outputs import RunFolder, best_record
+    from soccer_lab.app.runs.manager import RunEvent, RunManager
+    from soccer_lab.app.store import RunStatus, Store
+    from soccer_lab.app.web.ui.panels.evolve import EvolvePanel
+    from soccer_lab.ga.codec import ChromosomeCodec
+    from soccer_lab.ga.individual import Individual
+    from soccer_lab.ga.statistics import GenerationStats
+    from soccer_lab.fuzzy.printer import format_rulebase
+    from soccer_lab.soccer.demo import demo_rulebase
     from tests.app.test_ui_browser import free_port
 
     store = Store(tmp_path / "db.sqlite3")

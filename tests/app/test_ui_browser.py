@@ -36,9 +36,9 @@ def free_port() -> int:
 
 @pytest.fixture(scope="module")
 def ui(tmp_path_factory):
-    from app.runs import RunManager
-    from app.store import Store
-    from app.ui import start_ui
+    from soccer_lab.app.runs.manager import RunManager
+    from soccer_lab.app.store import Store
+    from soccer_lab.app.web.ui import start_ui
 
     data = tmp_path_factory.mktemp("ui-data")
     store = Store(data / "db.sqlite3")
@@ -211,7 +211,7 @@ def colour_pixels(png: bytes, rgb: tuple[int, int, int], tolerance: int = 12) ->
 
 
 def test_a_new_tab_paints_the_whole_pitch_with_player_and_ball(ui, browser):
-    from app.ui import style
+    from soccer_lab.app.web.ui import style
 
     before = set(ui.sessions)
     fresh = browser.new_page(viewport=VIEWPORT)
@@ -327,7 +327,7 @@ def test_a_small_evolution_shows_progress_and_its_best_player_can_be_loaded(ui, 
     wait_until(lambda: session.evolve.config()["population_size"] == 12 and session.evolve.config()["max_generations"] == 2)
     # The skill set and counting touches are Game choices of the panel: the defaults are GameConfig's, and a
     # pick reaches the run.
-    from soccer.config import GameConfig
+    from soccer_lab.soccer.config import GameConfig
 
     defaults = GameConfig()
     assert session.evolve.game_config() == {"skills": defaults.skills, "noise": defaults.noise,
@@ -417,8 +417,8 @@ def test_save_to_library_then_open_it_again(ui, page):
 
 
 def test_the_rule_editor_shows_a_whole_rulebase(ui, page):
-    from fuzzy.random_rulebase import random_rulebase
-    from fuzzy.rule import Rulebase
+    from soccer_lab.fuzzy.random_rulebase import random_rulebase
+    from soccer_lab.fuzzy.rule import Rulebase
     import numpy as np
 
     vocabulary = ui.context.vocabulary
@@ -432,7 +432,7 @@ def test_the_rule_editor_shows_a_whole_rulebase(ui, page):
     height, content = editor.evaluate("t => [t.clientHeight, t.scrollHeight]")
     assert content <= height + 1  # every rule in view, no scrolling
     # in the panel's text size (viser's inputs are 12 px, too small on a projector)
-    from app.ui import style
+    from soccer_lab.app.web.ui import style
 
     assert editor.evaluate("t => parseFloat(getComputedStyle(t).fontSize)") == style.FONT_SIZE - 1
     # two rules: the box fits them with room to type, and Apply stays in view below it

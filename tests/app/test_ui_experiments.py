@@ -6,9 +6,9 @@ import base64
 import re
 import shutil
 
-from app.experiment.library import ExperimentFolder
-from app.store import Store
-from app.ui.panels.experiments import experiment_html, experiment_label, figure_html
+from soccer_lab.app.experiment.library import ExperimentFolder
+from soccer_lab.app.store import Store
+from soccer_lab.app.web.ui.panels.experiments import experiment_html, experiment_label, figure_html
 
 PNG = b"\x89PNG\r\n\x1a\nfake image data"
 SUMMARY = {

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from fuzzy.export import export_rulebase
-from fuzzy.parser import parse_rulebase
+from soccer_lab.fuzzy.export import export_rulebase
+from soccer_lab.fuzzy.parser import parse_rulebase
 from tests.app.test_ui_browser import browser, choose, page, pytestmark, session_of, shot, ui, wait_until  # noqa: F401
 
 TEXT = "if Ball is At then Kick SlightlyRight High\nif Ball is not At then GoToBall High\n"

@@ -5,12 +5,12 @@ from __future__ import annotations
 
 import pytest
 
-from app.ui.context import UiContext
-from app.ui.game import Game
-from fuzzy.parser import parse_rulebase
-from fuzzy.vocabulary import Vocabulary
-from soccer.config import GameConfig
-from soccer.demo import demo_rulebase
+from soccer_lab.app.web.ui.context import UiContext
+from soccer_lab.app.web.ui.game import Game
+from soccer_lab.fuzzy.parser import parse_rulebase
+from soccer_lab.fuzzy.vocabulary import Vocabulary
+from soccer_lab.soccer.config import GameConfig
+from soccer_lab.soccer.demo import demo_rulebase
 
 VOCABULARY = Vocabulary.default()
 
@@ -57,10 +57,10 @@ def test_loading_a_rulebase_with_a_restart_explains_its_first_decision():
 def test_the_command_label_stays_whole_on_the_grass(player, label):
     """The label over the player, as long as it is and wherever the player stands (corners included), never
     reaches past the grass: the frame around the pitch would hide it."""
-    from app.ui.command_mark import label_half_width, label_place
-    from app.ui.pitch import PitchGeometry
-    from app.ui import style
-    from soccer.config import WorldConfig
+    from soccer_lab.app.web.ui.command_mark import label_half_width, label_place
+    from soccer_lab.app.web.ui.pitch import PitchGeometry
+    from soccer_lab.app.web.ui import style
+    from soccer_lab.soccer.config import WorldConfig
 
     x0, x1, y0, y1 = grass = PitchGeometry.from_world(WorldConfig()).grass
     x, y = label_place(*player, label, grass)  # the label's bottom centre

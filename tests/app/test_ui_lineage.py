@@ -13,12 +13,12 @@ from urllib.parse import urlparse
 import numpy as np
 import pytest
 
-from app.breeding import BreedingDescription, Parent, breed
-from app.lineage import RunLineage
-from fuzzy.vocabulary import Vocabulary
-from ga.codec import ChromosomeCodec
-from ga.lineage import Place
-from soccer.engine import GameBatch
+from soccer_lab.app.lineage.breeding import BreedingDescription, Parent, breed
+from soccer_lab.app.lineage.family_tree import RunLineage
+from soccer_lab.fuzzy.vocabulary import Vocabulary
+from soccer_lab.ga.codec import ChromosomeCodec
+from soccer_lab.ga.lineage import Place
+from soccer_lab.soccer.engine import GameBatch
 from tests.app.test_ui_browser import (CHROMIUM, CHROMIUM_ARGS, TIMEOUT_MS, VIEWPORT, choose,  # noqa: F401
                                        dismiss_notifications, field, free_port, pytestmark, shot, wait_until)
 
@@ -40,9 +40,9 @@ def session_of(ui):
 
 @pytest.fixture(scope="module")
 def ui(tmp_path_factory):
-    from app.runs import RunManager
-    from app.store import Store
-    from app.ui import start_ui
+    from soccer_lab.app.runs.manager import RunManager
+    from soccer_lab.app.store import Store
+    from soccer_lab.app.web.ui import start_ui
 
     data = tmp_path_factory.mktemp("ui-lineage")
     store = Store(data / "db.sqlite3")

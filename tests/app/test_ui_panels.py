@@ -8,19 +8,19 @@ import re
 import numpy as np
 import pytest
 
-from app.ui.panels import membership as membership_module
-from app.ui.panels.membership import kick_reach, membership_html
-from app.ui.panels.outputs import outputs_html
-from app.ui.panels.policy import COLUMNS, ROWS, policy_grid, policy_map_html
-from app.ui.panels.rules import HUNT_TEXT, decision_html, rules_html
-from app.ui.panels.svg import Axis
-from app.ui.pitch import PitchGeometry, to_scene, yaw_quaternion
-from app.ui.pitch_pictures import marking_segments
-from fuzzy.batched import NO_ACTION
-from fuzzy.engine import Engine
-from fuzzy.parser import parse_rulebase
-from fuzzy.vocabulary import Vocabulary
-from soccer.config import WorldConfig
+from soccer_lab.app.web.ui.panels import membership as membership_module
+from soccer_lab.app.web.ui.panels.membership import kick_reach, membership_html
+from soccer_lab.app.web.ui.panels.outputs import outputs_html
+from soccer_lab.app.web.ui.panels.policy import COLUMNS, ROWS, policy_grid, policy_map_html
+from soccer_lab.app.web.ui.panels.rules import HUNT_TEXT, decision_html, rules_html
+from soccer_lab.app.web.ui.panels.svg import Axis
+from soccer_lab.app.web.ui.pitch import PitchGeometry, to_scene, yaw_quaternion
+from soccer_lab.app.web.ui.pitch_pictures import marking_segments
+from soccer_lab.fuzzy.batched import NO_ACTION
+from soccer_lab.fuzzy.engine import Engine
+from soccer_lab.fuzzy.parser import parse_rulebase
+from soccer_lab.fuzzy.vocabulary import Vocabulary
+from soccer_lab.soccer.config import WorldConfig
 
 VOCABULARY = Vocabulary.default()
 RULES = parse_rulebase(
@@ -135,8 +135,8 @@ def test_pitch_is_drawn_in_scene_coordinates_with_y_flipped():
 def test_population_grid_draws_one_small_pitch_per_game():
     from types import SimpleNamespace
 
-    from app.ui.panels.population import population_html
-    from soccer.engine import END_REASONS, Observation
+    from soccer_lab.app.web.ui.panels.population import population_html
+    from soccer_lab.soccer.engine import END_REASONS, Observation
 
     geometry = PitchGeometry.from_world(WorldConfig())
     observation = Observation(player_x=np.array([-10.0, 20.0]), player_y=np.array([5.0, -4.0]),

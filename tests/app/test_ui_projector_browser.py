@@ -13,10 +13,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from app.ui import style
-from app.ui.pitch import PitchGeometry
-from app.ui.projector import PROJECTOR_KEY_SCRIPT
-from soccer.config import GameConfig
+from soccer_lab.app.web.ui import style
+from soccer_lab.app.web.ui.pitch import PitchGeometry
+from soccer_lab.app.web.ui.projector import PROJECTOR_KEY_SCRIPT
+from soccer_lab.soccer.config import GameConfig
 from tests.app.test_ui_browser import (CHROMIUM, browser, choose, dismiss_notifications,  # noqa: F401 (fixtures)
                                        session_of, shot, ui, wait_until)
 
@@ -33,7 +33,7 @@ FRAMES = 100
 
 
 def open_tab(ui, browser, viewport):
-    """A new tab at `viewport`, with the page's projector key (the app's page, app/api/ui_page.py, has it)."""
+    """A new tab at `viewport`, with the page's projector key (the app's page, app/web/api/ui_page.py, has it)."""
     page = browser.new_page(viewport=viewport)
     page.set_default_timeout(60_000)
     page.add_init_script(PROJECTOR_KEY_SCRIPT)
@@ -142,7 +142,7 @@ def test_projector_button_shows_the_population_grid_larger(ui, browser):
 def test_pitch_panel_and_status_show_one_tick_in_every_frame(ui, browser, speed):
     """While playing, the pitch's label said "dash 100" and the Inference panel "Dribble: kick 8": the status
     line and the decision carry the tick they show, read together in one animation frame, FRAMES frames in a
-    row. (The pitch's drawing, which the page cannot read, goes in the same message: app/ui/session.py _render.)"""
+    row. (The pitch's drawing, which the page cannot read, goes in the same message: app/web/ui/session.py _render.)"""
     page, session = open_tab(ui, browser, PROJECTOR_SIZES[0])
     try:
         with session.lock:
@@ -213,7 +213,7 @@ def test_a_game_over_stays_until_the_teacher_starts_the_next_and_skills_replay_t
 
 def seed_start(session) -> tuple[np.ndarray, np.ndarray]:
     """The player's and the ball's places at the start of the tab's seed, from a game of its own."""
-    from app.ui.game import Game
+    from soccer_lab.app.web.ui.game import Game
 
     replay = Game(session.context, session.game.rulebase, session.game.name, session.game.seed, session.game.config)
     return np.array(replay.state.player), np.array(replay.state.ball)

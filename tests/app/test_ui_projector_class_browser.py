@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from app.ui.projector import PROJECTOR_KEY_SCRIPT
+from soccer_lab.app.web.ui.projector import PROJECTOR_KEY_SCRIPT
 from tests.app.test_ui_browser import (CHROMIUM, browser, dismiss_notifications, free_port,  # noqa: F401 (fixtures)
                                        session_of, shot, wait_until)
 from tests.app.test_ui_projector_browser import band_tab
@@ -26,14 +26,14 @@ ENTRIES = {"Grace": "if Ball is not At then GoToBall VeryHigh\nif Ball is At the
 @pytest.fixture(scope="module")
 def class_ui(tmp_path_factory):
     """The UI with a class tournament (its Class tab), every tab the teacher's (no admission: one machine)."""
-    from app.access import LOCAL
-    from app.classroom.settings import ClassSettings
-    from app.classroom.tournament import Tournament
-    from app.runs import RunManager
-    from app.store import Store
-    from app.ui import start_ui
-    from fuzzy.vocabulary import Vocabulary
-    from soccer.config import GameConfig
+    from soccer_lab.app.web.access import LOCAL
+    from soccer_lab.app.web.classroom.settings import ClassSettings
+    from soccer_lab.app.web.classroom.tournament import Tournament
+    from soccer_lab.app.runs.manager import RunManager
+    from soccer_lab.app.store import Store
+    from soccer_lab.app.web.ui import start_ui
+    from soccer_lab.fuzzy.vocabulary import Vocabulary
+    from soccer_lab.soccer.config import GameConfig
 
     data = tmp_path_factory.mktemp("class-ui")
     store = Store(data / "db.sqlite3")

@@ -5,8 +5,8 @@ from __future__ import annotations
 from fastapi import FastAPI
 from fastapi.testclient import TestClient
 
-from app.api.ui_page import ui_router
-from app.ui.projector import LEAVE_LABEL, PROJECTOR_KEY_SCRIPT, TOGGLE_LABEL
+from soccer_lab.app.web.api.ui_page import ui_router
+from soccer_lab.app.web.ui.projector import LEAVE_LABEL, PROJECTOR_KEY_SCRIPT, TOGGLE_LABEL
 
 
 def test_the_ui_page_has_the_projector_key():

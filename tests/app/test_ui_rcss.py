@@ -8,12 +8,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from app.run_outputs import RECORDING
-from app.runs import RunManager
-from app.store import RunStatus, Store
-from ga.codec import ChromosomeCodec
-from soccer.config import SOCCER_VOCABULARY
-from soccer.rcss.trial import start_position
+from soccer_lab.app.runs.outputs import RECORDING
+from soccer_lab.app.runs.manager import RunManager
+from soccer_lab.app.store import RunStatus, Store
+from soccer_lab.ga.codec import ChromosomeCodec
+from soccer_lab.soccer.config import SOCCER_VOCABULARY
+from soccer_lab.soccer.rcss.trial import start_position
 from tests.app.api_client import wait_for
 from tests.app.test_cli_evolve import generation_bests, read_recording
 from tests.app.test_ui_wiring import gui  # noqa: F401  (fixture)
@@ -30,7 +30,7 @@ def runs(tmp_path, rcssserver):
 
 
 def test_a_run_on_two_rcssservers_from_the_evolve_panel(gui, runs):  # noqa: F811
-    from app.ui.panels.evolve import RCSSSERVER, EvolvePanel
+    from soccer_lab.app.web.ui.panels.evolve import RCSSSERVER, EvolvePanel
 
     manager, store = runs
     before = rcssserver_children()

@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from app.ui import style
+from soccer_lab.app.web.ui import style
 from tests.app.test_ui_browser import (CHROMIUM, VIEWPORT, browser, choose, field,  # noqa: F401 (fixtures)
                                        page, pause, session_of, shot, ui, wait_until)
 

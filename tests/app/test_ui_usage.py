@@ -11,14 +11,14 @@ from pathlib import Path
 
 import pytest
 
-from app.ui.panels.rules import rules_html
-from fuzzy.engine import Engine
-from fuzzy.parser import parse_rulebase
-from fuzzy.printer import format_rule
-from fuzzy.vocabulary import Vocabulary
-from soccer.config import GameConfig
-from soccer.engine import play_game
-from soccer.usage import measure_usage
+from soccer_lab.app.web.ui.panels.rules import rules_html
+from soccer_lab.fuzzy.engine import Engine
+from soccer_lab.fuzzy.parser import parse_rulebase
+from soccer_lab.fuzzy.printer import format_rule
+from soccer_lab.fuzzy.vocabulary import Vocabulary
+from soccer_lab.soccer.config import GameConfig
+from soccer_lab.soccer.engine import play_game
+from soccer_lab.soccer.usage import measure_usage
 from tests.app.test_ui_browser import (CHROMIUM, browser, page,  # noqa: F401 (fixtures; page opens this ui)
                                        field, free_port, pause, session_of, shot, wait_until)
 
@@ -49,9 +49,9 @@ def test_rules_panel_shows_a_usage_bar_per_rule_and_greys_rules_that_never_won()
 def test_the_editor_simplifies_through_its_callbacks_and_undo_goes_back(tmp_path):
     import viser
 
-    from app.store import Store
-    from app.ui.panels.editor import SIMPLIFIED_NAME, EditorPanel
-    from soccer.simplify import simplify_rulebase
+    from soccer_lab.app.store import Store
+    from soccer_lab.app.web.ui.panels.editor import SIMPLIFIED_NAME, EditorPanel
+    from soccer_lab.soccer.simplify import simplify_rulebase
 
     server = viser.ViserServer(host="127.0.0.1", port=free_port(), verbose=False)
     asked, applied = [], []
@@ -89,9 +89,9 @@ def test_the_editor_simplifies_through_its_callbacks_and_undo_goes_back(tmp_path
 
 @pytest.fixture(scope="module")
 def ui(tmp_path_factory):
-    from app.runs import RunManager
-    from app.store import Store
-    from app.ui import start_ui
+    from soccer_lab.app.runs.manager import RunManager
+    from soccer_lab.app.store import Store
+    from soccer_lab.app.web.ui import start_ui
 
     data = tmp_path_factory.mktemp("ui-usage-data")
     store = Store(data / "db.sqlite3")

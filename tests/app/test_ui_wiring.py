@@ -8,12 +8,12 @@ from pathlib import Path
 
 import pytest
 
-from fuzzy.parser import parse_rulebase
-from fuzzy.printer import format_rulebase
-from fuzzy.vocabulary import Vocabulary
+from soccer_lab.fuzzy.parser import parse_rulebase
+from soccer_lab.fuzzy.printer import format_rulebase
+from soccer_lab.fuzzy.vocabulary import Vocabulary
 from tests.app.test_ui_browser import free_port
 
-PANELS = Path(__file__).resolve().parents[2] / "app" / "ui" / "panels"
+PANELS = Path(__file__).resolve().parents[2] / "app" / "web" / "ui" / "panels"
 VOCABULARY = Vocabulary.default()
 DEMO = parse_rulebase("if Ball is At then KickTowardGoal High\nif Ball is not At then GoToBall VeryHigh", VOCABULARY)
 
@@ -29,7 +29,7 @@ def gui():
 
 @pytest.fixture
 def store(tmp_path):
-    from app.store import Store
+    from soccer_lab.app.store import Store
 
     store = Store(tmp_path / "db.sqlite3")
     yield store
@@ -39,11 +39,11 @@ def store(tmp_path):
 def test_no_panel_imports_the_session():
     for path in PANELS.glob("*.py"):
         imported = {node.module for node in ast.walk(ast.parse(path.read_text())) if isinstance(node, ast.ImportFrom)}
-        assert "app.ui.session" not in imported, f"{path.name} reaches into the session"
+        assert "soccer_lab.app.web.ui.session" not in imported, f"{path.name} reaches into the session"
 
 
 def test_editor_applies_undoes_and_saves_through_its_callbacks(gui, store):
-    from app.ui.panels.editor import EDITED_NAME, EditorPanel
+    from soccer_lab.app.web.ui.panels.editor import EDITED_NAME, EditorPanel
 
     applied, saved = [], []
     editor = EditorPanel(gui, VOCABULARY, store, (DEMO, "demo"), on_apply=lambda r, n: applied.append((r, n)),
@@ -64,7 +64,7 @@ def test_editor_applies_undoes_and_saves_through_its_callbacks(gui, store):
 
 
 def test_editor_with_an_error_calls_nothing(gui, store):
-    from app.ui.panels.editor import EditorPanel
+    from soccer_lab.app.web.ui.panels.editor import EditorPanel
 
     applied = []
     editor = EditorPanel(gui, VOCABULARY, store, (DEMO, "demo"), on_apply=lambda r, n: applied.append(n),
@@ -75,8 +75,8 @@ def test_editor_with_an_error_calls_nothing(gui, store):
 
 
 def test_editor_plays_a_picked_example_with_its_sentence(gui, store):
-    from app.ui.panels.editor import PICK_EXAMPLE, EditorPanel
-    from soccer.examples import example
+    from soccer_lab.app.web.ui.panels.editor import PICK_EXAMPLE, EditorPanel
+    from soccer_lab.soccer.examples import example
 
     played = []
     editor = EditorPanel(gui, VOCABULARY, store, (DEMO, "demo"), on_apply=lambda r, n: None,
@@ -92,7 +92,7 @@ def test_editor_plays_a_picked_example_with_its_sentence(gui, store):
 
 def test_editor_forgets_its_message_when_other_rules_go_on_the_pitch(gui, store):
     """"Applied 2 rules" must not stay on screen after "Load best" put another player on the pitch."""
-    from app.ui.panels.editor import EditorPanel
+    from soccer_lab.app.web.ui.panels.editor import EditorPanel
 
     editor = EditorPanel(gui, VOCABULARY, store, (DEMO, "demo"), on_apply=lambda r, n: None,
                          on_example=lambda r, n: None, on_saved=lambda: None, simplify=lambda rulebase, games: None)
@@ -104,8 +104,8 @@ def test_editor_forgets_its_message_when_other_rules_go_on_the_pitch(gui, store)
 
 
 def test_library_opens_a_saved_rulebase_through_on_load(gui, store, tmp_path):
-    from app.runs import RunManager
-    from app.ui.panels.library import LibraryPanel
+    from soccer_lab.app.runs.manager import RunManager
+    from soccer_lab.app.web.ui.panels.library import LibraryPanel
 
     record = store.create_rulebase("striker", format_rulebase(DEMO, VOCABULARY))
     loaded = []
@@ -117,8 +117,8 @@ def test_library_opens_a_saved_rulebase_through_on_load(gui, store, tmp_path):
 
 
 def test_library_watches_a_runs_best_naming_the_run(gui, store, tmp_path):
-    from app.runs import RunManager
-    from app.ui.panels.library import LibraryPanel
+    from soccer_lab.app.runs.manager import RunManager
+    from soccer_lab.app.web.ui.panels.library import LibraryPanel
     from tests.app.api_client import SHORT_GAMES, TINY_GA
 
     runs = RunManager(store, tmp_path)
@@ -134,7 +134,7 @@ def test_library_watches_a_runs_best_naming_the_run(gui, store, tmp_path):
 
 
 def test_policy_map_redraws_for_a_control_change_and_a_new_rulebase(gui):
-    from app.ui.panels.policy_view import PolicyPanel
+    from soccer_lab.app.web.ui.panels.policy_view import PolicyPanel
 
     redraws = []
     policy = PolicyPanel(gui, VOCABULARY, DEMO, 45.0, on_change=lambda: redraws.append(True))
@@ -150,8 +150,8 @@ def test_policy_map_redraws_for_a_control_change_and_a_new_rulebase(gui):
 
 
 def test_library_lists_newest_first_and_selects_what_was_just_made(gui, store, tmp_path):
-    from app.runs import RunManager
-    from app.ui.panels.library import LibraryPanel
+    from soccer_lab.app.runs.manager import RunManager
+    from soccer_lab.app.web.ui.panels.library import LibraryPanel
 
     first = store.create_rulebase("first", format_rulebase(DEMO, VOCABULARY))
     library = LibraryPanel(gui, store, RunManager(store, tmp_path), VOCABULARY, None, on_load=lambda *_: None)
@@ -169,7 +169,7 @@ def test_library_lists_newest_first_and_selects_what_was_just_made(gui, store, t
 def test_policy_map_controls_show_the_goal_inputs_the_map_is_drawn_for(gui):
     """Following the player, the "Goal in view" box and the sliders show the player's goal inputs (and cannot be
     changed): the caption never says "Goal out of view" beside a ticked "Goal in view"."""
-    from app.ui.panels.policy_view import PolicyPanel
+    from soccer_lab.app.web.ui.panels.policy_view import PolicyPanel
 
     policy = PolicyPanel(gui, VOCABULARY, DEMO, 45.0, on_change=lambda: None)
     assert policy.follow.value and policy.goal_visible.disabled and policy.goal_distance.disabled
@@ -185,11 +185,11 @@ def test_policy_map_controls_show_the_goal_inputs_the_map_is_drawn_for(gui):
 def test_evolve_panel_shows_best_so_far_beside_each_generation_s_best(gui, store, tmp_path):
     """The live "best" jumped 0.25 -> 0.5 -> 0.167 (each generation's best) and the end message's "best
     0.167" contradicted the last point: both are shown and named, in the plot, the status and the end."""
-    from app.environments import default_workers
-    from app.runs import RunEvent, RunManager
-    from app.store import RunStatus
-    from app.ui.panels.evolve import RCSSSERVER, SIMPLESOCCER, EvolvePanel
-    from ga.statistics import GenerationStats
+    from soccer_lab.app.runs.environments import default_workers
+    from soccer_lab.app.runs.manager import RunEvent, RunManager
+    from soccer_lab.app.store import RunStatus
+    from soccer_lab.app.web.ui.panels.evolve import RCSSSERVER, SIMPLESOCCER, EvolvePanel
+    from soccer_lab.ga.statistics import GenerationStats
 
     panel = EvolvePanel(gui, RunManager(store, tmp_path), store, on_load=lambda *_: None,
                         on_generation=lambda *_: None, on_run_ended=lambda *_: None, on_runs_changed=lambda: None)
@@ -223,9 +223,9 @@ def test_evolve_shows_the_progress_within_a_generation_and_stops_it(gui, store, 
     import threading
     import time
 
-    from app.runs import RunManager
-    from app.store import RunStatus
-    from app.ui.panels.evolve import EvolvePanel
+    from soccer_lab.app.runs.manager import RunManager
+    from soccer_lab.app.store import RunStatus
+    from soccer_lab.app.web.ui.panels.evolve import EvolvePanel
 
     runs = RunManager(store, tmp_path)
     ended = threading.Event()
@@ -254,7 +254,7 @@ def test_evolve_shows_the_progress_within_a_generation_and_stops_it(gui, store, 
 def test_the_viewer_link_says_why_when_the_app_has_no_viewer():
     """serve starts without rerun's viewer when it cannot set it up (and prints why): the UI then says why
     instead of linking to a page that would answer 404."""
-    from app.ui.panels.viewer_link import run_viewer_link
+    from soccer_lab.app.web.ui.panels.viewer_link import run_viewer_link
 
     link = run_viewer_link("http://127.0.0.1:8000", 3)
     assert 'href="http://127.0.0.1:8000/viewer/' in link and "Open run #3" in link

@@ -1,12 +1,12 @@
-"""app/validation.py: pydantic's errors as one line for a person, as the CLI, the API and the UI show them."""
+"""app/web/validation.py: pydantic's errors as one line for a person, as the CLI, the API and the UI show them."""
 
 from __future__ import annotations
 
 import pytest
 from pydantic import ValidationError
 
-from app.validation import describe_problems
-from ga.config import GAConfig
+from soccer_lab.app.web.validation import describe_problems
+from soccer_lab.ga.config import GAConfig
 
 
 def problems(values: dict, **options) -> str:

@@ -43,7 +43,7 @@ def page(site: Path, path: str) -> str:
 def test_the_cli_reference_lists_every_command_and_option(site):
     import typer.main
 
-    from app.cli import COMMANDS, app
+    from soccer_lab.app.cli import COMMANDS, app
 
     shown = page(site, "reference/cli")
     root = typer.main.get_command(app)
@@ -57,7 +57,7 @@ def test_the_cli_reference_lists_every_command_and_option(site):
 
 
 def test_the_api_reference_lists_every_route_of_the_app(site):
-    from app.api import create_app
+    from soccer_lab.app.web.api import create_app
 
     shown = page(site, "reference/api")
     for path in create_app(None, None).openapi()["paths"]:
@@ -65,7 +65,7 @@ def test_the_api_reference_lists_every_route_of_the_app(site):
 
 
 def test_the_vocabulary_reference_has_every_term_with_its_parameters(site):
-    from fuzzy.vocabulary import Vocabulary
+    from soccer_lab.fuzzy.vocabulary import Vocabulary
 
     shown = page(site, "reference/vocabulary")
     vocabulary = Vocabulary.default()

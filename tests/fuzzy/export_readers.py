@@ -21,7 +21,7 @@ from typing import Callable
 import numba
 import numpy as np
 
-from fuzzy.term import Term
+from soccer_lab.fuzzy.term import Term
 
 FUZZYLITE = shutil.which("fuzzylite")
 FUZZYLITE_EPSILON = 1e-6  # fuzzylite 6 compares scalars within this (fl::fuzzylite::macheps)

@@ -4,10 +4,10 @@ import numpy as np
 from hypothesis import given
 from hypothesis import strategies as st
 
-from fuzzy.batched import NO_ACTION, Scratch, compile_rulebases, decide, decide_batch, infer_batch
-from fuzzy.engine import Engine
-from fuzzy.random_rulebase import random_rulebase
-from fuzzy.vocabulary import Vocabulary
+from soccer_lab.fuzzy.batched import NO_ACTION, Scratch, compile_rulebases, decide, decide_batch, infer_batch
+from soccer_lab.fuzzy.engine import Engine
+from soccer_lab.fuzzy.random_rulebase import random_rulebase
+from soccer_lab.fuzzy.vocabulary import Vocabulary
 
 VOCABULARY = Vocabulary.default()
 INPUT_VARIABLES = [VOCABULARY.variables[kind] for kind in VOCABULARY.inputs.values()]

@@ -5,10 +5,10 @@ import json
 import pytest
 from typer.testing import CliRunner
 
-from app.cli import rules
-from fuzzy.export import rulebase_from_json
-from fuzzy.parser import parse_rulebase
-from fuzzy.vocabulary import Vocabulary
+from soccer_lab.app.cli import rules
+from soccer_lab.fuzzy.export import rulebase_from_json
+from soccer_lab.fuzzy.parser import parse_rulebase
+from soccer_lab.fuzzy.vocabulary import Vocabulary
 
 VOCABULARY = Vocabulary.default()
 

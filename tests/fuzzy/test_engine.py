@@ -2,10 +2,10 @@
 
 import pytest
 
-from fuzzy.defuzzifier import mean_of_maximum, sampled_error_bound
-from fuzzy.engine import Engine
-from fuzzy.parser import parse_rulebase
-from fuzzy.vocabulary import Vocabulary
+from soccer_lab.fuzzy.defuzzifier import mean_of_maximum, sampled_error_bound
+from soccer_lab.fuzzy.engine import Engine
+from soccer_lab.fuzzy.parser import parse_rulebase
+from soccer_lab.fuzzy.vocabulary import Vocabulary
 
 VOCABULARY = Vocabulary.default()
 

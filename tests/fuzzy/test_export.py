@@ -9,11 +9,12 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from fuzzy.export import RulebaseFormatError, export_rulebase, rulebase_from_json, to_fcl, to_fis, to_fll, to_json
-from fuzzy.export.layout import FisLayout
-from fuzzy.parser import parse_rulebase
-from fuzzy.random_rulebase import random_rulebase
-from fuzzy.vocabulary import Vocabulary
+from soccer_lab.fuzzy.export import (RulebaseFormatError, export_rulebase, rulebase_from_json, to_fcl, to_fis, to_fll,
+                                     to_json)
+from soccer_lab.fuzzy.export.layout import FisLayout
+from soccer_lab.fuzzy.parser import parse_rulebase
+from soccer_lab.fuzzy.random_rulebase import random_rulebase
+from soccer_lab.fuzzy.vocabulary import Vocabulary
 from tests.fuzzy.iec_fcl import FclError, parse_fcl
 
 fl = pytest.importorskip("fuzzylite", reason="pyfuzzylite is not installed: "

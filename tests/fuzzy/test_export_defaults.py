@@ -6,10 +6,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from app.rulebase_files import load_rulebase
-from fuzzy.export import export_rulebase
-from fuzzy.export.layout import FisLayout
-from fuzzy.vocabulary import Vocabulary
+from soccer_lab.app.rulebase_files import load_rulebase
+from soccer_lab.fuzzy.export import export_rulebase
+from soccer_lab.fuzzy.export.layout import FisLayout
+from soccer_lab.fuzzy.vocabulary import Vocabulary
 from tests.fuzzy.export_readers import FUZZYLITE, fuzzylite_outputs, fuzzylite_view
 
 VOCABULARY = Vocabulary.default()

@@ -22,12 +22,12 @@ from collections import Counter
 import numpy as np
 import pytest
 
-from fuzzy.defuzzifier import merge_intervals, sampled_error_bound
-from fuzzy.engine import Engine
-from fuzzy.export import export_rulebase
-from fuzzy.export.layout import FIRED_TERM, FisLayout, parameter_output, support_output, visibility_input
-from fuzzy.random_rulebase import random_rulebase
-from fuzzy.vocabulary import Vocabulary
+from soccer_lab.fuzzy.defuzzifier import merge_intervals, sampled_error_bound
+from soccer_lab.fuzzy.engine import Engine
+from soccer_lab.fuzzy.export import export_rulebase
+from soccer_lab.fuzzy.export.layout import FIRED_TERM, FisLayout, parameter_output, support_output, visibility_input
+from soccer_lab.fuzzy.random_rulebase import random_rulebase
+from soccer_lab.fuzzy.vocabulary import Vocabulary
 from tests.fuzzy.export_readers import (FUZZYLITE, INDETERMINATE, EngineView, fuzzylite_outputs, fuzzylite_view,
                                         pyfuzzylite_outputs, pyfuzzylite_view, reader_value)
 

@@ -2,8 +2,8 @@
 
 import pytest
 
-from fuzzy.term import Term
-from fuzzy.vocabulary import Vocabulary
+from soccer_lab.fuzzy.term import Term
+from soccer_lab.fuzzy.vocabulary import Vocabulary
 
 VOCABULARY = Vocabulary.default()
 VARIABLES = list(VOCABULARY.variables.values())

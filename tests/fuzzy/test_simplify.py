@@ -7,17 +7,17 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from fuzzy.batched import compile_rulebases, decide_batch, infer_batch
-from fuzzy.engine import Engine
-from fuzzy.parser import parse_rulebase
-from fuzzy.printer import format_rulebase
-from fuzzy.random_rulebase import random_rule, random_rulebase
-from fuzzy.rule import AND, OR, Rule, Rulebase
-from fuzzy.simplify import (EXACT_STEPS, Context, Entry, premise_count, simplify_exactly, unused_fields)
-from fuzzy.vocabulary import Vocabulary
-from ga.codec import ChromosomeCodec
-from ga.genes import GeneSpace
-from ga.initialisation import random_chromosome
+from soccer_lab.fuzzy.batched import compile_rulebases, decide_batch, infer_batch
+from soccer_lab.fuzzy.engine import Engine
+from soccer_lab.fuzzy.parser import parse_rulebase
+from soccer_lab.fuzzy.printer import format_rulebase
+from soccer_lab.fuzzy.random_rulebase import random_rule, random_rulebase
+from soccer_lab.fuzzy.rule import AND, OR, Rule, Rulebase
+from soccer_lab.fuzzy.simplify import EXACT_STEPS, Context, Entry, premise_count, simplify_exactly, unused_fields
+from soccer_lab.fuzzy.vocabulary import Vocabulary
+from soccer_lab.ga.codec import ChromosomeCodec
+from soccer_lab.ga.genes import GeneSpace
+from soccer_lab.ga.initialisation import random_chromosome
 
 VOCABULARY = Vocabulary.default()
 INPUT_VARIABLES = [VOCABULARY.variables[kind] for kind in VOCABULARY.inputs.values()]

@@ -4,11 +4,11 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from fuzzy.parser import RuleSyntaxError, parse_rule, parse_rulebase
-from fuzzy.printer import format_rule, format_rulebase
-from fuzzy.rule import AND, OR, Consequent, Premise, Rule, Rulebase
-from fuzzy.tokenizer import tokenize_line
-from fuzzy.vocabulary import Vocabulary
+from soccer_lab.fuzzy.parser import RuleSyntaxError, parse_rule, parse_rulebase
+from soccer_lab.fuzzy.printer import format_rule, format_rulebase
+from soccer_lab.fuzzy.rule import AND, OR, Consequent, Premise, Rule, Rulebase
+from soccer_lab.fuzzy.tokenizer import tokenize_line
+from soccer_lab.fuzzy.vocabulary import Vocabulary
 
 VOCABULARY = Vocabulary.default()
 

@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from fuzzy.rule import Rulebase
+from soccer_lab.fuzzy.rule import Rulebase
 
 GOAL_CAP = 10
 
@@ -25,7 +25,7 @@ class SyntheticResult:
 @dataclass(frozen=True)
 class SyntheticEvaluator:
     delay: float = 0.0  # seconds per call, to give a test time to kill a run mid-way
-    chunk_size: int | None = None  # rulebases per chunk of a generation (None: ga.evaluation's default)
+    chunk_size: int | None = None  # rulebases per chunk of a generation (None: soccer_lab.ga.evaluation's default)
 
     def __call__(self, rulebases: list[Rulebase], seeds: list[int]) -> list[SyntheticResult]:
         time.sleep(self.delay)

@@ -3,11 +3,11 @@ import threading
 import pytest
 from ga_synthetic import RecordingEvaluator, SyntheticEvaluator
 
-from fuzzy.vocabulary import Vocabulary
-from ga.algorithms import evolve, random_search
-from ga.codec import ChromosomeCodec
-from ga.config import GAConfig
-from ga.result import GENERATIONS_DONE, STOPPED, TARGET_REACHED
+from soccer_lab.fuzzy.vocabulary import Vocabulary
+from soccer_lab.ga.algorithms import evolve, random_search
+from soccer_lab.ga.codec import ChromosomeCodec
+from soccer_lab.ga.config import GAConfig
+from soccer_lab.ga.result import GENERATIONS_DONE, STOPPED, TARGET_REACHED
 
 VOCABULARY = Vocabulary.default()
 

@@ -10,10 +10,10 @@ from pathlib import Path
 import pytest
 from ga_synthetic import SyntheticEvaluator
 
-from fuzzy.vocabulary import Vocabulary
-from ga.algorithms import evolve, random_search, resume
-from ga.checkpoint import CheckpointError, load_checkpoint
-from ga.config import GAConfig
+from soccer_lab.fuzzy.vocabulary import Vocabulary
+from soccer_lab.ga.algorithms import evolve, random_search, resume
+from soccer_lab.ga.checkpoint import CheckpointError, load_checkpoint
+from soccer_lab.ga.config import GAConfig
 
 VOCABULARY = Vocabulary.default()
 
@@ -25,9 +25,9 @@ RUN_IN_SUBPROCESS = """
 import sys
 sys.path.insert(0, sys.argv[2])
 from ga_synthetic import SyntheticEvaluator
-from ga.algorithms import evolve
-from ga.config import GAConfig
-from fuzzy.vocabulary import Vocabulary
+from soccer_lab.ga.algorithms import evolve
+from soccer_lab.ga.config import GAConfig
+from soccer_lab.fuzzy.vocabulary import Vocabulary
 evolve(GAConfig.model_validate_json(sys.argv[3]), SyntheticEvaluator(delay=0.15), Vocabulary.default(),
        checkpoint=sys.argv[1])
 """

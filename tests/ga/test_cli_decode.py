@@ -2,7 +2,7 @@
 
 from typer.testing import CliRunner
 
-from app.cli import rules
+from soccer_lab.app.cli import rules
 
 RUNNER = CliRunner()
 

@@ -2,12 +2,12 @@ import numpy as np
 from hypothesis import given
 from hypothesis import strategies as st
 
-from fuzzy.rule import Consequent, Premise, Rule, Rulebase
-from fuzzy.vocabulary import Vocabulary
-from ga.codec import ChromosomeCodec
-from ga.genes import GeneSpace
-from ga.initialisation import random_chromosome
-from ga.notation import parse_compact
+from soccer_lab.fuzzy.rule import Consequent, Premise, Rule, Rulebase
+from soccer_lab.fuzzy.vocabulary import Vocabulary
+from soccer_lab.ga.codec import ChromosomeCodec
+from soccer_lab.ga.genes import GeneSpace
+from soccer_lab.ga.initialisation import random_chromosome
+from soccer_lab.ga.notation import parse_compact
 
 VOCABULARY = Vocabulary.default()
 

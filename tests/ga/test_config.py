@@ -1,7 +1,7 @@
 import pytest
 from pydantic import ValidationError
 
-from ga.config import GAConfig
+from soccer_lab.ga.config import GAConfig
 
 
 def test_defaults_are_the_chapters_table_2():
@@ -29,5 +29,5 @@ def test_elite_count_is_five_percent_for_elitist_selection_only():
     {"selection": "elitist", "population_size": 4, "elite_fraction": 0.9},
 ])
 def test_out_of_range_values_are_refused(values):
-    with pytest.raises(ValidationError):  # app/validation.py words it for people (tests/app/test_validation.py)
+    with pytest.raises(ValidationError):  # app/web/validation.py words it for people (tests/app/test_validation.py)
         GAConfig(**values)

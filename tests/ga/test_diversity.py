@@ -8,16 +8,16 @@ import numpy as np
 import pytest
 from ga_synthetic import SyntheticEvaluator, play
 
-from fuzzy.vocabulary import Vocabulary
-from ga.algorithms import evolve, resume
-from ga.codec import ChromosomeCodec
-from ga.config import GAConfig
-from ga import diversity
-from ga.diversity import behaviour_seeds, genotypic_diversity
-from ga.genes import GeneSpace
-from ga.initialisation import random_population
-from ga.notation import parse_compact
-from ga.statistics import NOT_MEASURED
+from soccer_lab.fuzzy.vocabulary import Vocabulary
+from soccer_lab.ga.algorithms import evolve, resume
+from soccer_lab.ga.codec import ChromosomeCodec
+from soccer_lab.ga.config import GAConfig
+from soccer_lab.ga import diversity
+from soccer_lab.ga.diversity import behaviour_seeds, genotypic_diversity
+from soccer_lab.ga.genes import GeneSpace
+from soccer_lab.ga.initialisation import random_population
+from soccer_lab.ga.notation import parse_compact
+from soccer_lab.ga.statistics import NOT_MEASURED
 
 VOCABULARY = Vocabulary.default()
 CODEC = ChromosomeCodec(VOCABULARY)

@@ -2,13 +2,13 @@
 
 import numpy as np
 
-from fuzzy.vocabulary import Vocabulary
-from ga import GAConfig, evolve
-from ga.codec import ChromosomeCodec
-from ga.individual import Individual
-from soccer.config import GameConfig
-from soccer.engine import play_game
-from soccer.evaluate import SimpleSoccerEvaluator
+from soccer_lab.fuzzy.vocabulary import Vocabulary
+from soccer_lab.ga import GAConfig, evolve
+from soccer_lab.ga.codec import ChromosomeCodec
+from soccer_lab.ga.individual import Individual
+from soccer_lab.soccer.config import GameConfig
+from soccer_lab.soccer.engine import play_game
+from soccer_lab.soccer.evaluate import SimpleSoccerEvaluator
 
 VOCABULARY = Vocabulary.default()
 

@@ -5,15 +5,16 @@ import numpy as np
 import pytest
 from ga_synthetic import SyntheticEvaluator
 
-from fuzzy.vocabulary import Vocabulary
-from ga.algorithms import evolve
-from ga.codec import ChromosomeCodec
-from ga.config import GAConfig
-from ga.genes import TERM
-from ga.individual import Individual
-from ga.lineage import (CUT, DRAWN, EARLIER, MUTATED, Lineage, LineageError, Place, best_place, parent_position)
-from ga.notation import parse_compact
-from ga.provenance import Birth, Mutation, Splice
+from soccer_lab.fuzzy.vocabulary import Vocabulary
+from soccer_lab.ga.algorithms import evolve
+from soccer_lab.ga.codec import ChromosomeCodec
+from soccer_lab.ga.config import GAConfig
+from soccer_lab.ga.genes import TERM
+from soccer_lab.ga.individual import Individual
+from soccer_lab.ga.lineage import (CUT, DRAWN, EARLIER, MUTATED, Lineage, LineageError, Place, best_place,
+                                   parent_position)
+from soccer_lab.ga.notation import parse_compact
+from soccer_lab.ga.provenance import Birth, Mutation, Splice
 
 VOCABULARY = Vocabulary.default()
 CODEC = ChromosomeCodec(VOCABULARY)
@@ -24,7 +25,7 @@ def member(text, birth, fitness=0.5):
 
 
 def applied(birth, parents):
-    from ga.provenance import rebuild
+    from soccer_lab.ga.provenance import rebuild
 
     return rebuild(birth, [parents[p].chromosome for p in birth.parents])
 

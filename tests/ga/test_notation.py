@@ -3,10 +3,10 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from fuzzy.vocabulary import Vocabulary
-from ga.genes import GeneSpace
-from ga.initialisation import random_chromosome
-from ga.notation import NotationError, format_compact, parse_compact
+from soccer_lab.fuzzy.vocabulary import Vocabulary
+from soccer_lab.ga.genes import GeneSpace
+from soccer_lab.ga.initialisation import random_chromosome
+from soccer_lab.ga.notation import NotationError, format_compact, parse_compact
 
 VOCABULARY = Vocabulary.default()
 

@@ -7,11 +7,11 @@ import numpy as np
 from hypothesis import given
 from hypothesis import strategies as st
 
-from fuzzy.vocabulary import Vocabulary
-from ga.crossover import one_point, rule_segments, two_point, uniform
-from ga.genes import CONSEQUENT, GENE_WIDTH, KIND, MIN_LENGTH, GeneSpace
-from ga.initialisation import random_chromosome, random_population
-from ga.mutation import mutate
+from soccer_lab.fuzzy.vocabulary import Vocabulary
+from soccer_lab.ga.crossover import one_point, rule_segments, two_point, uniform
+from soccer_lab.ga.genes import CONSEQUENT, GENE_WIDTH, KIND, MIN_LENGTH, GeneSpace
+from soccer_lab.ga.initialisation import random_chromosome, random_population
+from soccer_lab.ga.mutation import mutate
 
 VOCABULARY = Vocabulary.default()
 

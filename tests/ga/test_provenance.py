@@ -9,12 +9,12 @@ import numpy as np
 import pytest
 from ga_synthetic import SyntheticEvaluator
 
-from fuzzy.vocabulary import Vocabulary
-from ga import crossover as crossover_module
-from ga.algorithms import evolve, random_search, resume
-from ga.config import GAConfig
-from ga.lineage import generation_record, read_generation_record
-from ga.provenance import ELITE, RANDOM, Birth, Mutation, Splice, rebuild
+from soccer_lab.fuzzy.vocabulary import Vocabulary
+from soccer_lab.ga import crossover as crossover_module
+from soccer_lab.ga.algorithms import evolve, random_search, resume
+from soccer_lab.ga.config import GAConfig
+from soccer_lab.ga.lineage import generation_record, read_generation_record
+from soccer_lab.ga.provenance import ELITE, RANDOM, Birth, Mutation, Splice, rebuild
 
 VOCABULARY = Vocabulary.default()
 CONFIG = GAConfig(population_size=30, max_generations=6, max_length=24, target_fitness=0.0, seed=21)

@@ -1,14 +1,14 @@
 import numpy as np
 import pytest
 
-from fuzzy.vocabulary import Vocabulary
-from ga.config import GAConfig
-from ga.genes import GeneSpace
-from ga.individual import Individual
-from ga.provenance import Birth
-from ga.initialisation import random_population
-from ga.reproduction import next_generation
-from ga.selection import elite, roulette, tournament
+from soccer_lab.fuzzy.vocabulary import Vocabulary
+from soccer_lab.ga.config import GAConfig
+from soccer_lab.ga.genes import GeneSpace
+from soccer_lab.ga.individual import Individual
+from soccer_lab.ga.provenance import Birth
+from soccer_lab.ga.initialisation import random_population
+from soccer_lab.ga.reproduction import next_generation
+from soccer_lab.ga.selection import elite, roulette, tournament
 
 VOCABULARY = Vocabulary.default()
 

@@ -1,10 +1,10 @@
 import numpy as np
 import pytest
 
-from fuzzy.vocabulary import Vocabulary
-from ga.individual import Individual
-from ga.notation import parse_compact
-from ga.statistics import GenerationStats, generation_stats
+from soccer_lab.fuzzy.vocabulary import Vocabulary
+from soccer_lab.ga.individual import Individual
+from soccer_lab.ga.notation import parse_compact
+from soccer_lab.ga.statistics import GenerationStats, generation_stats
 
 VOCABULARY = Vocabulary.default()
 

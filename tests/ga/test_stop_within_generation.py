@@ -7,10 +7,10 @@ import threading
 import pytest
 from ga_synthetic import SyntheticEvaluator
 
-from fuzzy.vocabulary import Vocabulary
-from ga.algorithms import evolve, resume
-from ga.config import GAConfig
-from ga.result import GENERATIONS_DONE, STOPPED
+from soccer_lab.fuzzy.vocabulary import Vocabulary
+from soccer_lab.ga.algorithms import evolve, resume
+from soccer_lab.ga.config import GAConfig
+from soccer_lab.ga.result import GENERATIONS_DONE, STOPPED
 
 VOCABULARY = Vocabulary.default()
 CONFIG = GAConfig(population_size=40, max_generations=5, max_length=24, target_fitness=0.0, seed=11)

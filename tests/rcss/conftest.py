@@ -8,8 +8,8 @@ from typing import Iterator
 
 import pytest
 
-from fuzzy.parser import parse_rulebase
-from fuzzy.vocabulary import Vocabulary
+from soccer_lab.fuzzy.parser import parse_rulebase
+from soccer_lab.fuzzy.vocabulary import Vocabulary
 from tests.rcss.replay import Line, read_transcript, with_fresh_start
 
 VOCABULARY = Vocabulary.default()

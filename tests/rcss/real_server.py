@@ -17,7 +17,8 @@ from typing import Callable, Iterator, Mapping
 
 import pytest
 
-from soccer.rcss.servers import EXECUTABLE_VARIABLE, RcssLaunchError, RcssServerProcess, ServerPool, find_rcssserver
+from soccer_lab.soccer.rcss.servers import (EXECUTABLE_VARIABLE, RcssLaunchError, RcssServerProcess, ServerPool,
+                                            find_rcssserver)
 
 REPOSITORY = Path(__file__).resolve().parents[2]
 SHARED_SERVER = Path("shared/rcss/server/bin/rcssserver")

@@ -4,8 +4,8 @@ import statistics
 
 import pytest
 
-from soccer.rcss.localisation import LANDMARKS, Pose, goal_relative, localise
-from soccer.rcss.messages import parse_message
+from soccer_lab.soccer.rcss.localisation import LANDMARKS, Pose, goal_relative, localise
+from soccer_lab.soccer.rcss.messages import parse_message
 from tests.rcss.replay import read_transcript
 
 from .conftest import GOALS, OUT_OF_PLAY, received_messages

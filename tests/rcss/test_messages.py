@@ -2,25 +2,11 @@ import math
 
 import pytest
 
-from soccer.rcss.errors import RcssParseError
-from soccer.rcss.messages import (
-    ErrorReply,
-    Hear,
-    Ok,
-    Other,
-    PlayerInit,
-    PlayerParamMessage,
-    PlayerTypeMessage,
-    See,
-    SeeGlobal,
-    SenseBody,
-    ServerParamMessage,
-    Think,
-    TrainerInit,
-    WarningReply,
-    parse_message,
-)
-from soccer.rcss.sexp import Quoted, parse
+from soccer_lab.soccer.rcss.errors import RcssParseError
+from soccer_lab.soccer.rcss.messages import (ErrorReply, Hear, Ok, Other, PlayerInit, PlayerParamMessage,
+                                             PlayerTypeMessage, See, SeeGlobal, SenseBody, ServerParamMessage, Think,
+                                             TrainerInit, WarningReply, parse_message)
+from soccer_lab.soccer.rcss.sexp import Quoted, parse
 from tests.rcss.replay import read_transcript
 
 from .conftest import ALL_TRANSCRIPTS, received_messages

@@ -1,9 +1,9 @@
 import pytest
 
-from soccer.config import WorldConfig
-from soccer.rcss.errors import RcssConfigError
-from soccer.rcss.messages import parse_message
-from soccer.rcss.params import ServerParams
+from soccer_lab.soccer.config import WorldConfig
+from soccer_lab.soccer.rcss.errors import RcssConfigError
+from soccer_lab.soccer.rcss.messages import parse_message
+from soccer_lab.soccer.rcss.params import ServerParams
 from tests.rcss.replay import read_transcript
 
 from .conftest import GOALS

@@ -3,12 +3,12 @@ engine's does (soccer/skills.py is shared), here one decision on a made-up view.
 
 import pytest
 
-from fuzzy.parser import parse_rulebase
-from soccer.config import SOCCER_VOCABULARY
-from soccer.rcss.client import PlayerCycle
-from soccer.rcss.messages import SenseBody, parse_message
-from soccer.rcss.params import ServerParams
-from soccer.rcss.player import RcssPlayer
+from soccer_lab.fuzzy.parser import parse_rulebase
+from soccer_lab.soccer.config import SOCCER_VOCABULARY
+from soccer_lab.soccer.rcss.client import PlayerCycle
+from soccer_lab.soccer.rcss.messages import SenseBody, parse_message
+from soccer_lab.soccer.rcss.params import ServerParams
+from soccer_lab.soccer.rcss.player import RcssPlayer
 
 BODY = SenseBody(0, "high", "normal", 0.0, 0.0, 0.0)
 # The ball at the player's feet, 10 m beyond the centre mark; facing its own goal, or the goal it attacks.

@@ -12,14 +12,14 @@ import time
 import numpy as np
 import pytest
 
-from fuzzy.parser import parse_rulebase
-from soccer.config import MAX_TICKS, WorldConfig
-from soccer.rcss.client import Session
-from soccer.rcss.errors import RcssConfigError, RcssError
-from soccer.rcss.evaluate import RcssEvaluator
-from soccer.rcss.player import RcssPlayer, load_compiled_skills
-from soccer.rcss.servers import NOISELESS_OPTIONS
-from soccer.rcss.trial import TrialConfig, run_trial, start_position
+from soccer_lab.fuzzy.parser import parse_rulebase
+from soccer_lab.soccer.config import MAX_TICKS, WorldConfig
+from soccer_lab.soccer.rcss.client import Session
+from soccer_lab.soccer.rcss.errors import RcssConfigError, RcssError
+from soccer_lab.soccer.rcss.evaluate import RcssEvaluator
+from soccer_lab.soccer.rcss.player import RcssPlayer, load_compiled_skills
+from soccer_lab.soccer.rcss.servers import NOISELESS_OPTIONS
+from soccer_lab.soccer.rcss.trial import TrialConfig, run_trial, start_position
 
 from .conftest import VOCABULARY
 from .real_server import connected_players, kill
@@ -141,7 +141,7 @@ def test_a_server_started_without_a_required_option_is_named(start_servers, opti
 
 
 def test_a_traced_trial_is_where_the_server_put_player_and_ball_cycle_by_cycle(start_servers, chaser):
-    """What a run's recording replays of an rcss trial (app/run.py, GenerationReplays): one row a cycle,
+    """What a run's recording replays of an rcss trial (app/runs/run.py, GenerationReplays): one row a cycle,
     from the trainer's see_global, traced in the clients' own processes and sent back with the result."""
     pool = start_servers(2)
     with RcssEvaluator(pool.addresses, SHORT, trace=True) as evaluate:

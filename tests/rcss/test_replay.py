@@ -4,18 +4,13 @@ import time
 
 import pytest
 
-from soccer.rcss.client import Session, Timeouts
-from soccer.rcss.errors import (
-    RcssCommandError,
-    RcssConfigError,
-    RcssNoServerError,
-    RcssRefusedError,
-    RcssTimeoutError,
-)
-from soccer.rcss.evaluate import RcssEvaluator
-from soccer.rcss.player import load_compiled_skills
+from soccer_lab.soccer.rcss.client import Session, Timeouts
+from soccer_lab.soccer.rcss.errors import (RcssCommandError, RcssConfigError, RcssNoServerError, RcssRefusedError,
+                                           RcssTimeoutError)
+from soccer_lab.soccer.rcss.evaluate import RcssEvaluator
+from soccer_lab.soccer.rcss.player import load_compiled_skills
 from tests.rcss.replay import TRAINER, Line, ReplayServer, read_transcript, with_fresh_start
-from soccer.rcss.trial import TrialConfig, run_trial
+from soccer_lab.soccer.rcss.trial import TrialConfig, run_trial
 
 from .conftest import GOALS, player_thinks
 
@@ -130,7 +125,7 @@ def test_evaluator_runs_servers_in_parallel_and_keeps_order(goals_lines, out_of_
 
 
 def test_empty_rulebase_scores_worst_without_playing():
-    from fuzzy.rule import Rulebase
+    from soccer_lab.fuzzy.rule import Rulebase
 
     result = run_trial(None, Rulebase(()), 5)  # no session needed: nothing is played
     assert (result.fitness, result.ticks, result.end) == (1.0, 0, "no rules")

@@ -15,8 +15,8 @@ from pathlib import Path
 
 import pytest
 
-from soccer.rcss.client import Session
-from soccer.rcss.servers import RcssLaunchError, ServerPool, find_rcssserver
+from soccer_lab.soccer.rcss.client import Session
+from soccer_lab.soccer.rcss.servers import RcssLaunchError, ServerPool, find_rcssserver
 
 from .real_server import process_exists, wait_until_gone
 
@@ -48,7 +48,7 @@ def child(rcssserver: Path, body: str) -> subprocess.Popen:
         # Ctrl+C as a terminal's program gets it: a parent that ignores SIGINT (something in a long test
         # session can leave it so) would hand the ignoring on to this child
         signal.signal(signal.SIGINT, signal.default_int_handler)
-        from soccer.rcss.servers import ServerPool
+        from soccer_lab.soccer.rcss.servers import ServerPool
         def report(pool):
             print(" ".join(f"{s.pid}:{s.folder}" for s in pool.servers), flush=True)
     """) + textwrap.dedent(body)

@@ -7,14 +7,14 @@ import sys
 import numpy as np
 import pytest
 
-from fuzzy.random_rulebase import random_rulebase
-from fuzzy.vocabulary import Vocabulary
-from soccer.config import GameConfig
-from soccer.demo import demo_rulebase
-from soccer.engine import GameBatch, play_game
-from soccer.random_stream import mix64, next_uniform, seed_states
-from soccer.config import WorldConfig
-from soccer.world import PitchOutline, PitchSpace, RoundBody, pitch_offset, pitch_slot
+from soccer_lab.fuzzy.random_rulebase import random_rulebase
+from soccer_lab.fuzzy.vocabulary import Vocabulary
+from soccer_lab.soccer.config import GameConfig
+from soccer_lab.soccer.demo import demo_rulebase
+from soccer_lab.soccer.engine import GameBatch, play_game
+from soccer_lab.soccer.random_stream import mix64, next_uniform, seed_states
+from soccer_lab.soccer.config import WorldConfig
+from soccer_lab.soccer.world import PitchOutline, PitchSpace, RoundBody, pitch_offset, pitch_slot
 
 VOCABULARY = Vocabulary.default()
 
@@ -130,10 +130,10 @@ def test_slot_hash_is_splitmix64_as_the_game_streams_use_it():
 WALL_GAME = """
 import json, sys
 import numpy as np
-from fuzzy.random_rulebase import random_rulebase
-from fuzzy.vocabulary import Vocabulary
-from soccer.config import GameConfig
-from soccer.engine import play_game
+from soccer_lab.fuzzy.random_rulebase import random_rulebase
+from soccer_lab.fuzzy.vocabulary import Vocabulary
+from soccer_lab.soccer.config import GameConfig
+from soccer_lab.soccer.engine import play_game
 rng = np.random.default_rng(0)
 rulebase = [random_rulebase(rng, Vocabulary.default(), rules=10) for _ in range(116)][115]
 result, trace = play_game(rulebase, 5115, GameConfig(skills="assisted"))

@@ -1,7 +1,7 @@
 import pytest
 from pydantic import ValidationError
 
-from soccer.config import GameConfig, WorldConfig
+from soccer_lab.soccer.config import GameConfig, WorldConfig
 
 
 def test_defaults_are_rcssserver_and_chapter_values():

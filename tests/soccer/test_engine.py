@@ -7,15 +7,15 @@ import numpy as np
 import pymunk
 import pytest
 
-from fuzzy.parser import parse_rulebase
-from fuzzy.random_rulebase import random_rulebase
-from fuzzy.rule import Consequent, Premise, Rule, Rulebase
-from fuzzy.vocabulary import Vocabulary
-from soccer.config import GameConfig
-from soccer.demo import demo_rulebase
-from soccer.engine import GameBatch, body_vectors, borrowed, play_game, play_games
-from soccer.physics import COLLISION_GAP
-from soccer.world import vectors_address
+from soccer_lab.fuzzy.parser import parse_rulebase
+from soccer_lab.fuzzy.random_rulebase import random_rulebase
+from soccer_lab.fuzzy.rule import Consequent, Premise, Rule, Rulebase
+from soccer_lab.fuzzy.vocabulary import Vocabulary
+from soccer_lab.soccer.config import GameConfig
+from soccer_lab.soccer.demo import demo_rulebase
+from soccer_lab.soccer.engine import GameBatch, body_vectors, borrowed, play_game, play_games
+from soccer_lab.soccer.physics import COLLISION_GAP
+from soccer_lab.soccer.world import vectors_address
 
 VOCABULARY = Vocabulary.default()
 

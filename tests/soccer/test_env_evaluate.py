@@ -3,13 +3,13 @@
 import pickle
 from statistics import fmean
 
-from fuzzy.parser import parse_rulebase
-from fuzzy.vocabulary import Vocabulary
-from soccer.config import GameConfig
-from soccer.demo import demo_rulebase
-from soccer.engine import play_game, play_games
-from soccer.env import SoccerEnv
-from soccer.evaluate import SimpleSoccerEvaluator, game_seeds
+from soccer_lab.fuzzy.parser import parse_rulebase
+from soccer_lab.fuzzy.vocabulary import Vocabulary
+from soccer_lab.soccer.config import GameConfig
+from soccer_lab.soccer.demo import demo_rulebase
+from soccer_lab.soccer.engine import play_game, play_games
+from soccer_lab.soccer.env import SoccerEnv
+from soccer_lab.soccer.evaluate import SimpleSoccerEvaluator, game_seeds
 
 VOCABULARY = Vocabulary.default()
 
@@ -75,7 +75,7 @@ def test_evaluator_means_over_several_games():
 
 def test_the_ball_trail_is_the_last_six_seconds_of_its_path_not_its_last_moves():
     """A shot long past leaves the pitch: once the ball has rested TRAIL_LENGTH ticks its trail is one point."""
-    from soccer.env import TRAIL_LENGTH
+    from soccer_lab.soccer.env import TRAIL_LENGTH
 
     spinning = parse_rulebase("if Goal is not At then Turn Right", VOCABULARY)  # the ball is never touched
     env = SoccerEnv(spinning)

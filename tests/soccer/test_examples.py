@@ -6,11 +6,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from fuzzy.parser import parse_rulebase
-from soccer.config import SKILL_SET_NAMES, SOCCER_VOCABULARY as VOCABULARY, GameConfig
-from soccer.engine import play_game, play_games
-from soccer.examples import example, games_stalled_at_ball
-from soccer.skills import GOAL_OUT_OF_VIEW
+from soccer_lab.fuzzy.parser import parse_rulebase
+from soccer_lab.soccer.config import SKILL_SET_NAMES, SOCCER_VOCABULARY as VOCABULARY, GameConfig
+from soccer_lab.soccer.engine import play_game, play_games
+from soccer_lab.soccer.examples import example, games_stalled_at_ball
+from soccer_lab.soccer.skills import GOAL_OUT_OF_VIEW
 
 STARTS = list(range(100))
 

@@ -4,13 +4,13 @@ Gymnasium's reset returns the first observation (the UI shows it before anything
 import numpy as np
 import pytest
 
-from fuzzy.batched import NO_ACTION
-from fuzzy.random_rulebase import random_rulebase
-from fuzzy.vocabulary import Vocabulary
-from soccer.config import GameConfig
-from soccer.demo import demo_rulebase
-from soccer.engine import GameBatch
-from soccer.perception import BALL, DISTANCE, GOAL, perceive
+from soccer_lab.fuzzy.batched import NO_ACTION
+from soccer_lab.fuzzy.random_rulebase import random_rulebase
+from soccer_lab.fuzzy.vocabulary import Vocabulary
+from soccer_lab.soccer.config import GameConfig
+from soccer_lab.soccer.demo import demo_rulebase
+from soccer_lab.soccer.engine import GameBatch
+from soccer_lab.soccer.perception import BALL, DISTANCE, GOAL, perceive
 
 VOCABULARY = Vocabulary.default()
 SHORT = GameConfig(max_ticks=50)

@@ -1,7 +1,7 @@
 import pytest
 
-from soccer.config import WorldConfig
-from soccer.fitness import fitness, goals_only, robocup_composite, simple_composite
+from soccer_lab.soccer.config import WorldConfig
+from soccer_lab.soccer.fitness import fitness, goals_only, robocup_composite, simple_composite
 
 FIELD = WorldConfig().pitch_length  # 105 m, as rcssserver's
 

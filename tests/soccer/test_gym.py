@@ -11,17 +11,17 @@ import numpy as np
 import pytest
 from gymnasium.utils.env_checker import check_env
 
-import soccer.gym
-from fuzzy.random_rulebase import random_rulebase
-from soccer.config import SOCCER_VOCABULARY, GameConfig
-from soccer.engine import GameBatch, play_game, play_games
-from soccer.examples import example
-from soccer.gym.env import NO_CONTROLLER, SimpleSoccerEnv
-from soccer.gym.policy import FuzzyPolicy
-from soccer.gym.render import BALL, PLAYER, PIXELS_PER_METRE, MARGIN
-from soccer.gym.vector import SimpleSoccerVectorEnv
+import soccer_lab.soccer.gym
+from soccer_lab.fuzzy.random_rulebase import random_rulebase
+from soccer_lab.soccer.config import SOCCER_VOCABULARY, GameConfig
+from soccer_lab.soccer.engine import GameBatch, play_game, play_games
+from soccer_lab.soccer.examples import example
+from soccer_lab.soccer.gym.env import NO_CONTROLLER, SimpleSoccerEnv
+from soccer_lab.soccer.gym.policy import FuzzyPolicy
+from soccer_lab.soccer.gym.render import BALL, PLAYER, PIXELS_PER_METRE, MARGIN
+from soccer_lab.soccer.gym.vector import SimpleSoccerVectorEnv
 
-ENV_ID = soccer.gym.ENV_ID
+ENV_ID = soccer_lab.soccer.gym.ENV_ID
 SHORT = GameConfig(max_ticks=300)
 IDLE_SOON = GameConfig(max_ticks=300, idle_ticks=20)  # a random player that stands still ends the game early
 GOAL_CAP = GameConfig(goal_cap=1, skills="assisted")  # the demo scores within 1000 ticks: ends by the cap
@@ -246,11 +246,11 @@ def test_a_batch_is_played_by_its_controllers_or_by_given_actions_not_both():
 
 
 def test_soccer_imports_without_gymnasium():
-    """Gymnasium is an optional extra: only soccer.gym needs it."""
+    """Gymnasium is an optional extra: only soccer_lab.soccer.gym needs it."""
     code = ("import sys, pkgutil, importlib; sys.modules['gymnasium'] = None\n"
             "import soccer\n"
             "names = [m.name for m in pkgutil.walk_packages(soccer.__path__, 'soccer.') "
-            "if not m.name.startswith('soccer.gym')]\n"
+            "if not m.name.startswith('soccer_lab.soccer.gym')]\n"
             "[importlib.import_module(n) for n in names]\n"
             "print(len(names))")
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=600)
@@ -259,9 +259,9 @@ def test_soccer_imports_without_gymnasium():
 
 
 def test_make_with_the_module_prefix_needs_no_import_first():
-    """Gymnasium 1.x loads no plugins: "soccer.gym:<id>" makes gymnasium import the package that registers it."""
+    """Gymnasium 1.x loads no plugins: "soccer_lab.soccer.gym:<id>" makes gymnasium import the package that registers it."""
     code = ("import gymnasium\n"
-            f"env = gymnasium.make('soccer.gym:{ENV_ID}')\n"
+            f"env = gymnasium.make('soccer_lab.soccer.gym:{ENV_ID}')\n"
             "observation, info = env.reset(seed=0)\n"
             "print(sorted(observation))")
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=600)

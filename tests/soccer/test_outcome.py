@@ -3,14 +3,14 @@ a teacher reads for them (soccer/outcome.py)."""
 
 from collections import Counter
 
-from fuzzy.parser import parse_rulebase
-from fuzzy.vocabulary import Vocabulary
-from soccer.config import GameConfig
-from soccer.engine import play_game
-from soccer.examples import example
-from soccer.outcome import Outcome, end_reason_sentence, skill_set_sentence
-from soccer.skills import (ACTED, AT_BALL, BALL_OUT_OF_VIEW, DASH, FETCHING, GOAL_OUT_OF_VIEW, HUNT_BALL,
-                           HUNT_LAST_SEEN, KICK, NO_DASH_NEEDED, NONE, NOT_KICKABLE, TURN, TURN_FIRST)
+from soccer_lab.fuzzy.parser import parse_rulebase
+from soccer_lab.fuzzy.vocabulary import Vocabulary
+from soccer_lab.soccer.config import GameConfig
+from soccer_lab.soccer.engine import play_game
+from soccer_lab.soccer.examples import example
+from soccer_lab.soccer.outcome import Outcome, end_reason_sentence, skill_set_sentence
+from soccer_lab.soccer.skills import (ACTED, AT_BALL, BALL_OUT_OF_VIEW, DASH, FETCHING, GOAL_OUT_OF_VIEW, HUNT_BALL,
+                                      HUNT_LAST_SEEN, KICK, NO_DASH_NEEDED, NONE, NOT_KICKABLE, TURN, TURN_FIRST)
 
 VOCABULARY = Vocabulary.default()
 STRIKER = example("striker").rulebase(VOCABULARY)

@@ -2,8 +2,8 @@
 
 import pytest
 
-from soccer.config import WorldConfig
-from soccer.perception import normalize_angle, perceive, relative_position
+from soccer_lab.soccer.config import WorldConfig
+from soccer_lab.soccer.perception import normalize_angle, perceive, relative_position
 
 C = WorldConfig().constants()
 

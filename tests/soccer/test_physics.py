@@ -4,8 +4,9 @@ import math
 
 import pytest
 
-from soccer.config import WorldConfig
-from soccer.physics import COLLISION_GAP, cap_speed, dash, decay, is_kickable, kick, kick_acceleration, separate, turn
+from soccer_lab.soccer.config import WorldConfig
+from soccer_lab.soccer.physics import (COLLISION_GAP, cap_speed, dash, decay, is_kickable, kick, kick_acceleration,
+                                       separate, turn)
 
 C = WorldConfig().constants()
 

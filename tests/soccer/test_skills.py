@@ -4,11 +4,12 @@ import math
 
 import pytest
 
-from soccer.config import WorldConfig
-from soccer.skills import (ACTED, AT_BALL, BALL_OUT_OF_VIEW, DASH, FETCHING, GOAL_OUT_OF_VIEW, HUNT, HUNT_BALL,
-                           HUNT_LAST_SEEN, KICK, LEFT, NO_DASH_NEEDED, NONE, NOT_KICKABLE, NOTHING, RIGHT, TURN_FIRST, SKILL_DASH, SKILL_DONOTHING, SKILL_DRIBBLE,
-                           SKILL_DRIBBLETOWARDGOAL, SKILL_GOTOBALL, SKILL_KICK, SKILL_KICKTOWARDGOAL,
-                           SKILL_RUNTOWARDBALL, SKILL_RUNTOWARDGOAL, SKILL_TURN, TURN, skill_command)
+from soccer_lab.soccer.config import WorldConfig
+from soccer_lab.soccer.skills import (ACTED, AT_BALL, BALL_OUT_OF_VIEW, DASH, FETCHING, GOAL_OUT_OF_VIEW, HUNT,
+                                      HUNT_BALL, HUNT_LAST_SEEN, KICK, LEFT, NO_DASH_NEEDED, NONE, NOT_KICKABLE,
+                                      NOTHING, RIGHT, TURN_FIRST, SKILL_DASH, SKILL_DONOTHING, SKILL_DRIBBLE,
+                                      SKILL_DRIBBLETOWARDGOAL, SKILL_GOTOBALL, SKILL_KICK, SKILL_KICKTOWARDGOAL,
+                                      SKILL_RUNTOWARDBALL, SKILL_RUNTOWARDGOAL, SKILL_TURN, TURN, skill_command)
 
 C = WorldConfig().constants()
 

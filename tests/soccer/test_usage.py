@@ -4,15 +4,15 @@ behaviour-checked simplification: the rules it drops leave every game identical.
 import numpy as np
 import pytest
 
-from fuzzy.batched import NO_ACTION
-from fuzzy.parser import parse_rulebase
-from fuzzy.rule import Rulebase
-from fuzzy.simplify import CHECKED, EXACT
-from fuzzy.vocabulary import Vocabulary
-from soccer.config import GameConfig
-from soccer.engine import play_game
-from soccer.simplify import NEVER_WON, replay_difference, simplify_rulebase
-from soccer.usage import measure_usage
+from soccer_lab.fuzzy.batched import NO_ACTION
+from soccer_lab.fuzzy.parser import parse_rulebase
+from soccer_lab.fuzzy.rule import Rulebase
+from soccer_lab.fuzzy.simplify import CHECKED, EXACT
+from soccer_lab.fuzzy.vocabulary import Vocabulary
+from soccer_lab.soccer.config import GameConfig
+from soccer_lab.soccer.engine import play_game
+from soccer_lab.soccer.simplify import NEVER_WON, replay_difference, simplify_rulebase
+from soccer_lab.soccer.usage import measure_usage
 
 VOCABULARY = Vocabulary.default()
 GAME = GameConfig(max_ticks=200, idle_ticks=60)

@@ -5,13 +5,13 @@ perception cannot serve is refused with a message that says why."""
 import numpy as np
 import pytest
 
-from fuzzy.random_rulebase import random_rulebase
-from fuzzy.vocabulary import Vocabulary, VocabularyError
-from ga.codec import ChromosomeCodec
-from ga.notation import format_compact, parse_compact
-from soccer.config import GameConfig
-from soccer.demo import demo_rulebase
-from soccer.engine import GameBatch, play_game, play_games
+from soccer_lab.fuzzy.random_rulebase import random_rulebase
+from soccer_lab.fuzzy.vocabulary import Vocabulary, VocabularyError
+from soccer_lab.ga.codec import ChromosomeCodec
+from soccer_lab.ga.notation import format_compact, parse_compact
+from soccer_lab.soccer.config import GameConfig
+from soccer_lab.soccer.demo import demo_rulebase
+from soccer_lab.soccer.engine import GameBatch, play_game, play_games
 
 VOCABULARY = Vocabulary.default()
 # Assisted skills: random rulebases then reach the ball often, so kicks and goals are part of what is compared.

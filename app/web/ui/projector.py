@@ -1,0 +1,176 @@
+"""The projector view of one tab: the pitch fills the window, the score, the tick, the action and what the
+player did in the world stand in large type in a band above it, and the side panels fold into their rails.
+The band's other tabs hold the population grid drawn larger and the class round's table (classroom mode),
+so a teacher can show them without leaving the view.
+
+The side panels are the server's (app/web/ui/layout.py); folding them for one tab only sends that tab the
+placement command viser's own `main_panel` handle sends (a client-scoped command for a panel every client
+renders). The key "P" is the page's (app/web/api/ui_page.py, PROJECTOR_KEY_SCRIPT): it clicks the button.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Callable
+
+import viser
+from viser._gui_handles import _PlacementMixin  # the placement commands main_panel's handle sends
+
+from soccer_lab.app.web.ui import style
+from soccer_lab.app.web.ui.game import Game
+from soccer_lab.app.web.ui.panels.rules import HUNT_TEXT, parameters_text
+from soccer_lab.app.web.ui.panels.svg import escape
+from soccer_lab.app.web.ui.pitch import CAMERA_FOV, PitchView
+
+TOGGLE_LABEL = "Projector view (P)"
+LEAVE_LABEL = "Leave projector view (P)"
+TOGGLE_TAB, LEAVE_TAB = "Play", "View"  # the tabs the two buttons are on
+
+
+class _ClientPlacement(_PlacementMixin):
+    """Placement commands for a server panel, sent to one client only (as viser's MainPanelHandle does)."""
+
+    def __init__(self, gui: viser.GuiApi, panel_id: str):
+        self._placement_uuid = panel_id
+        self._placement_gui_api = gui
+
+    def _placement_removed(self) -> bool:
+        return False
+
+
+class ProjectorView:
+    """`right_panel_id`: the right panel's (folded with the main panel while on); `on_leave()`: the way back's
+    click (the session toggles under its lock); `on_toggle()`: redraw after a switch. The band (a floating panel over the canvas's top PROJECTOR_BAND px) has the tabs Game (the large
+    type), Population and, in classroom mode, Class; beside it a small panel holds the way back."""
+
+    def __init__(self, client: viser.ClientHandle, pitch: PitchView, right_panel_id: str,
+                 on_leave: Callable[[], None], on_toggle: Callable[[], None]):
+        self.client = client
+        self.pitch = pitch
+        self.on = False
+        self._sides = (client.gui.main_panel, _ClientPlacement(client.gui, right_panel_id))
+        self._on_toggle = on_toggle
+        gui = client.gui
+        # The band: the large type, and in its other tabs what the teacher opens over the pitch.
+        self.band = gui.add_panel(visible=False)
+        with self.band.add_tab("Game"):
+            self.status = gui.add_html("")
+        with self.band.add_tab("Population"):
+            self.population = gui.add_html("")
+        self._population_shown: str | None = None
+        # Beside it, the way back.
+        self.way_back = gui.add_panel(visible=False)
+        with self.way_back.add_tab(LEAVE_TAB):
+            leave = gui.add_button(LEAVE_LABEL)
+            leave.on_click(lambda _: on_leave())
+
+    def class_tab(self) -> viser.GuiTabHandle:
+        """The band's tab the class round's table goes in (classroom mode)."""
+        return self.band.add_tab("Class")
+
+    def toggle(self) -> None:
+        self.on = not self.on
+        for side in self._sides:
+            if self.on:
+                side.minimize()
+            else:
+                side.expand()
+        self.band.visible = self.way_back.visible = self.on
+        if self.on:
+            self._place()
+        self.fit_camera()
+        self._on_toggle()
+
+    def canvas_changed(self) -> None:
+        """The canvas took a new shape (a panel folded, a window resized): the band and the pitch follow."""
+        if self.on:
+            self._place()
+        self.fit_camera()
+
+    def _place(self) -> None:
+        gap, way_back = style.PROJECTOR_GAP, style.PROJECTOR_WAY_BACK_WIDTH
+        width = self.client.camera.image_width or 960
+        self.band.float(x=gap, y=gap, width=max(width - way_back - 3 * gap, 320))
+        self.way_back.float(x=-gap, y=gap, width=way_back)
+
+    def fit_camera(self) -> None:
+        """The whole pitch in view; in the projector view, its lines below the band (which may cover the grass's
+        margin above them): the pitch as large as the rest of the canvas allows."""
+        camera = self.client.camera
+        if not self.on or camera.image_height <= style.PROJECTOR_BAND:
+            self.pitch.fit_camera(camera)
+            return
+        self.pitch.fit_camera(camera)  # lens, far plane, up: as in the panels' view
+        band = style.PROJECTOR_BAND / camera.image_height  # of the canvas's height
+        g, margin = self.pitch.geometry, style.PITCH_MARGIN
+        grass_length = 2 * (g.half_length + margin) + g.goal_depth
+        below_band = 2 * g.half_width + margin  # metres from the top line to the grass's bottom edge
+        half_height = max(below_band / (1.0 - band), grass_length / camera.aspect) * 1.01 / 2  # the canvas's
+        distance = half_height / math.tan(CAMERA_FOV / 2)
+        # The middle of those metres (scene y = -margin / 2: the scene's y is the world's, flipped) in the
+        # middle of the canvas under the band.
+        centre = -margin / 2 + half_height * band
+        camera.far = distance * 2
+        camera.position = (g.goal_depth / 2, centre, distance)
+        camera.look_at = (g.goal_depth / 2, centre, 0.0)
+
+    def show(self, game: Game) -> None:
+        if not self.on:
+            return
+        html = projector_html(game)
+        if self.status.content != html:
+            self.status.content = html
+
+    def show_population(self, grid_html: str) -> None:
+        """The population grid, larger than in its panel (style.PROJECTOR_ZOOM)."""
+        if not self.on or grid_html == self._population_shown:
+            return
+        self._population_shown = grid_html
+        self.population.content = (f'<div class="projector-population" style="zoom:{style.PROJECTOR_ZOOM}">'
+                                   f"{grid_html}</div>")
+
+
+def projector_html(game: Game) -> str:
+    """Goals, tick, the action and what the player did in the world, in type a class reads from the back."""
+    s, inference = game.state, game.inference()
+    selected = inference.selected
+    action = (f"{escape(game.vocabulary.display(selected.action))} "
+              f'<span style="font-weight:400">{escape(parameters_text(game.vocabulary, selected.parameters))}</span>'
+              if selected is not None else escape(HUNT_TEXT))
+    outcome = game.outcome_text()
+    refused = game.outcome_refused()
+    world = f"Then in the world: {outcome}" if outcome is not None else "Then in the world: nothing yet."
+    over = ""
+    if game.done:
+        over = (f'<span class="projector-over" style="color:{style.ERROR}"> · game over: '
+                f"{escape(game.end_sentence())}</span>")
+    big = style.PROJECTOR_FONT_SIZE
+    return (
+        f'<div class="projector-status" data-tick="{s.tick}" style="{style.FONT}; color:{style.INK}; '
+        f'font-size:{big}px; line-height:1.25">'
+        f'<div><b class="projector-score">Goals {s.goals}</b> <span class="projector-tick">· tick {s.tick} / '
+        f'{game.config.max_ticks} ·</span> <span class="projector-action" style="font-weight:700; '
+        f'color:{style.SELECTED}">{action}</span>{over}</div>'
+        f'<div class="projector-world" style="font-weight:600; color:{style.ERROR if refused else style.FIRED}">'
+        f"{escape(world)}</div></div>"
+    )
+
+
+# The page's key for the view (viser has no keys of its own): "P" clicks the button that enters or leaves it,
+# first opening the tab it is on (viser mounts only the open tab), unless the user is typing (a rule, a name).
+PROJECTOR_KEY_SCRIPT = """
+document.addEventListener("keydown", (event) => {
+  if (event.key !== "p" && event.key !== "P") return;
+  if (event.ctrlKey || event.metaKey || event.altKey || event.repeat) return;
+  const typing = event.target;
+  if (typing && (typing.isContentEditable || /^(INPUT|TEXTAREA|SELECT)$/.test(typing.tagName))) return;
+  const on = document.querySelector(".projector-status") !== null;
+  const [label, tab] = on ? [%r, %r] : [%r, %r];
+  const find = (selector, text) => [...document.querySelectorAll(selector)].find((e) => e.textContent.trim() === text);
+  event.preventDefault();
+  const button = find("button", label);
+  if (button) { button.click(); return; }
+  const opener = find('[role="tab"]', tab);
+  if (opener) { opener.click(); setTimeout(() => { const b = find("button", label); if (b) b.click(); }, 150); }
+});
+""" % (LEAVE_LABEL, LEAVE_TAB, TOGGLE_LABEL, TOGGLE_TAB)
