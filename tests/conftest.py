@@ -31,3 +31,11 @@ def evolved_rulebases():
     codec = ChromosomeCodec(result.vocabulary)
     rulebases = [codec.decode(i.chromosome) for i in result.population]
     return [result.best_rulebase] + [r for r in rulebases if len(r)]
+
+
+@pytest.fixture(scope="session")
+def installed_wheel(tmp_path_factory):
+    """This checkout as a user installs it: the wheel, in a folder of its own (tests/wheel_install.py)."""
+    from tests.wheel_install import install
+
+    return install(tmp_path_factory.mktemp("wheel"))

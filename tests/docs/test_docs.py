@@ -16,6 +16,8 @@ from pathlib import Path
 
 import pytest
 
+from tests.wheel_install import wheel_environment
+
 REPOSITORY = Path(__file__).resolve().parents[2]
 DOCUMENTS = sorted((REPOSITORY / "docs").rglob("*.md")) + [REPOSITORY / "README.md"]
 CONSOLE_BLOCK = re.compile(r"^```console\n(.*?)^```", re.MULTILINE | re.DOTALL)
@@ -120,9 +122,9 @@ def scratch(tmp_path) -> Path:
 
 
 @pytest.mark.parametrize("block", console_examples())
-def test_console_example_prints_what_it_shows(block, scratch):
-    environment = dict(os.environ, PATH=f"{Path(sys.executable).parent}{os.pathsep}{os.environ.get('PATH', '')}",
-                       COLUMNS="80", SOCCER_LAB_DATA=str(scratch / "data"))
+def test_console_example_prints_what_it_shows(block, scratch, installed_wheel):
+    """Run against the installed wheel (tests/wheel_install.py), as a user who installed soccer-lab runs them."""
+    environment = wheel_environment(installed_wheel, COLUMNS="80", SOCCER_LAB_DATA=str(scratch / "data"))
     for command, expected in steps(block):
         program = command.split()[0]
         if program not in ("printf", "echo", "cat") and shutil.which(program, path=environment["PATH"]) is None:
