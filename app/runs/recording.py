@@ -27,6 +27,7 @@ for the process (`send_blueprint`), and closing a recording sweeps its stream aw
 from __future__ import annotations
 
 import math
+import threading
 from pathlib import Path
 from typing import Any, Mapping, Sequence
 
@@ -100,21 +101,27 @@ CONE_RADIUS = 0.05
 HUNT = "HUNT"  # the label of ticks where no rule fired and the player hunted
 
 
+# One blueprint sent at a time in the process: two runs' threads sending at once deadlocked in rerun's bindings (a
+# new blueprint stream made while the other thread swept orphaned recordings; two API runs hung for good).
+_BLUEPRINT_LOCK = threading.Lock()
+
+
 def send_blueprint(stream: rr.RecordingStream, blueprint: rrb.Blueprint, *, make_active: bool = True) -> None:
     """What `stream.send_blueprint` does, without leaving threads behind. Each blueprint gets a blueprint store
     of its own, as rerun's own helper makes it: blueprints sent into one store (a recording sends one as it
     opens and more as its replays come) pile up there, and the viewer warns, in a toast over the views, that
     the earlier ones' containers are "broken references" no longer reachable from the root."""
-    blueprint_stream = rr.RecordingStream._from_native(rerun_bindings.new_blueprint(
-        application_id=APPLICATION_ID, make_default=False, make_thread_default=False, default_enabled=True))
-    storage = blueprint_stream.memory_recording()  # only this blueprint's messages
-    blueprint_stream.set_time("blueprint", sequence=0)
-    blueprint._log_to_stream(blueprint_stream)
-    rerun_bindings.send_blueprint(storage.storage, make_active=make_active, make_default=True,
-                                  recording=stream.to_native())
-    blueprint_stream.disconnect()
-    del blueprint_stream, storage  # the last references: the sweep ends the stream's threads
-    rerun_bindings.flush_and_cleanup_orphaned_recordings()
+    with _BLUEPRINT_LOCK:
+        blueprint_stream = rr.RecordingStream._from_native(rerun_bindings.new_blueprint(
+            application_id=APPLICATION_ID, make_default=False, make_thread_default=False, default_enabled=True))
+        storage = blueprint_stream.memory_recording()  # only this blueprint's messages
+        blueprint_stream.set_time("blueprint", sequence=0)
+        blueprint._log_to_stream(blueprint_stream)
+        rerun_bindings.send_blueprint(storage.storage, make_active=make_active, make_default=True,
+                                      recording=stream.to_native())
+        blueprint_stream.disconnect()
+        del blueprint_stream, storage  # the last references: the sweep ends the stream's threads
+        rerun_bindings.flush_and_cleanup_orphaned_recordings()
 
 
 def open_stream(path: str | Path, recording_id: str | None = None,

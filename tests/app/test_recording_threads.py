@@ -36,3 +36,32 @@ def test_threads_stay_flat_across_100_generations_of_runs(tmp_path):
     # thread or so comes and goes (rerun's and sqlite's own). A stream left per generation added 2 threads
     # each: 160 over these runs.
     assert max(counts) - min(counts) <= 2, counts
+
+
+def test_two_runs_sending_blueprints_at_once_do_not_deadlock(tmp_path):
+    """Two runs' threads each sending their recording's blueprints (as every generation's replay does) both
+    finish: unserialised, rerun's bindings deadlocked and two API runs hung for good."""
+    import threading
+
+    import rerun as rr
+    import rerun.blueprint as rrb
+
+    from soccer_lab.app.runs.recording import open_stream, send_blueprint
+
+    finished = []
+
+    def send_many(name: str) -> None:
+        stream = open_stream(tmp_path / f"{name}.rrd")
+        for generation in range(150):
+            stream.set_time("generation", sequence=generation)
+            stream.log("/fitness/best", rr.Scalars(1.0 / (generation + 1)))
+            send_blueprint(stream, rrb.Blueprint(rrb.TimeSeriesView(origin="/fitness")))
+        stream.flush()
+        finished.append(name)
+
+    senders = [threading.Thread(target=send_many, args=(name,), daemon=True) for name in ("a", "b", "c")]
+    for sender in senders:
+        sender.start()
+    for sender in senders:
+        sender.join(60)
+    assert sorted(finished) == ["a", "b", "c"]
