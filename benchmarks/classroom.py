@@ -55,8 +55,9 @@ counted (the lesson's windows are shorter than a game), so a session alone recei
 stall: the longest time a session received no new tick while its game was on (not while its ended game
 waited for the next start). Failed requests: every HTTP request this script made (joins, entries, the
 round, the polling), every response with status 400 or more and every failed request of the browser pages,
-every websocket that closed before the end, every tab that did not open the class's link (target: none). CPU: cores busy in each window, of `serve`, of Chromium (and Playwright's driver), of this script,
-and of the whole machine (2 cores: more than 2 means waiting for a core).
+every websocket that closed before the end, every tab that did not open the class's link (target: none).
+CPU: cores busy in each window, of `serve`, of Chromium (and Playwright's driver), of this script, and of
+the whole machine (2 cores: more than 2 means waiting for a core).
 
     python benchmarks/classroom.py [--students 30] [--browser-tabs 3] [--starts 20] [--seconds 20] [--no-queue]
         [--record]

@@ -58,7 +58,9 @@ async def one_pupil(served) -> object:
         tasks = [asyncio.create_task(classroom.protocol_tab(tab, served, classroom.cookie_header(client),
                                                             classroom.class_link(), connections, ending)),
                  asyncio.create_task(classroom.press_next_games([tab], ending))]
-        playing_again = lambda: tab.next_games >= RESTARTS and tab.ticks[-1][1] > 0 and not tab.ticks[-1][2]  # noqa: E731
+        def playing_again() -> bool:
+            return tab.next_games >= RESTARTS and tab.ticks[-1][1] > 0 and not tab.ticks[-1][2]
+
         await classroom.wait_until(lambda: playing_again() or tab.closed is not None, WAIT_S)
         ending.set()
         for connection in connections:
