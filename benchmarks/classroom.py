@@ -7,8 +7,12 @@ meets it; a fixed join code; an empty data folder) and its printed teacher token
 join (POST /api/class/join, each its own cookies and name). All of them join from this one machine's
 address, whose join attempts the class's rate limit counts ten requests each (app/web/api/guard.py: about one a
 second): the joins are paced to stay within it, so none is refused. Then every student opens one tab of
-the UI, each its own viser session playing its own game (a session plays as it opens: the UI's demo player
-at the UI's speed, 2x real time, 20 ticks a second; nothing is pressed):
+the UI at the pitch link the teacher gives the class (`/ui/?pitch=TOKEN`, app/web/pitch_link.py: the UI's demo
+player from the UI's first seed at the UI's speed, 2x real time, 20 ticks a second, in games that neither an
+idle spell nor the goal cap ends, only GameConfig's largest tick limit, 10,000 ticks: over 8 minutes), each
+its own viser session playing its own game. A game that ends stays ended until its pupil starts the next
+(app/web/ui/session.py), so when one does (in the queue's long scenario) its pupil reads the end for 2 s and
+presses "New random start", as a pupil would:
 
 - BROWSER_TABS tabs are real headless Chromium (the flags of benchmarks/ui_browser.py, software WebGL, one
   window each), the student's cookies set on the browser context; a script in the page records each new
@@ -22,8 +26,10 @@ at the UI's speed, 2x real time, 20 ticks a second; nothing is pressed):
   connecting (viser builds a session only then) and reads every message. viser's messages are zstd-
   compressed msgpack (8 bytes of size, 8 of compressed size, the zstd frame): each is decompressed and
   the tick counter's HTML (`data-tick="N" ... data-done=...`) and the round's table (`class-table"
-  data-round="N"`) found in its UTF-8 text. A protocol client draws nothing: it costs the server what a
-  browser costs it, and this machine far less than a Chromium tab.
+  data-round="N"`) found in its UTF-8 text; "New random start" is pressed with the message a browser sends
+  for the click (viser's GuiUpdateMessage to the button group the Play tab's creation named). A protocol
+  client draws nothing: it costs the server what a browser costs it, and this machine far less than a
+  Chromium tab.
 
 One protocol session is first measured alone (the reference: what one tab receives on an idle server).
 Once all are playing, every student submits an entry (POST /api/class/entries: the examples of
@@ -44,13 +50,14 @@ prints them); each session's ticks per second while the queue plays; the estimat
 Start against their real wait.
 
 Ticks per second: the game's progress each tab saw (the counter's advance; a new game counts from 0),
-over the window. Between two games the last position stays 2 s on screen (app/web/ui/session.py,
-GAME_OVER_PAUSE), so a session alone receives a little under 20. A stall: the longest time a session
-received no new tick while its game was on (not in the pause after a game). Failed requests: every HTTP
-request this script made (joins, entries, the round, the polling), every response with status 400 or
-more and every failed request of the browser pages, every websocket that closed before the end (target:
-none). CPU: cores busy in each window, of `serve`, of Chromium (and Playwright's driver), of this script,
-and of the whole machine (2 cores: more than 2 means waiting for a core).
+over the window, the 2 s a pupil reads a game's end included; the games that ended in each window are
+counted (the lesson's windows are shorter than a game), so a session alone receives the UI's speed, 20. A
+stall: the longest time a session received no new tick while its game was on (not while its ended game
+waited for the next start). Failed requests: every HTTP request this script made (joins, entries, the
+round, the polling), every response with status 400 or more and every failed request of the browser pages,
+every websocket that closed before the end, every tab that did not open the class's link (target: none).
+CPU: cores busy in each window, of `serve`, of Chromium (and Playwright's driver), of this script, and of
+the whole machine (2 cores: more than 2 means waiting for a core).
 
     python benchmarks/classroom.py [--students 30] [--browser-tabs 3] [--starts 20] [--seconds 20] [--no-queue]
         [--record]
@@ -106,6 +113,12 @@ POLL_RUNS_S = 0.25  # the teacher's poll of GET /api/runs while the queue plays
 QUEUE_TIMEOUT_S = 3600.0
 QUEUE_TARGET = 1.3  # the last finish within 1.3 x (the sum of the runs' own times / the runs at once)
 ENDED = {"finished", "failed", "stopped", "interrupted"}
+# Every tab opens the teacher's pitch link (app/web/pitch_link.py): the demo player at the UI's speed, in games that
+# neither an idle spell nor goals end: only the tick limit, 10,000 ticks (GameConfig's largest), over 8 minutes.
+LONG_GAME = {"max_ticks": 10_000, "idle_ticks": 10_000, "goal_cap": 10_000}
+# A game that ends stays ended (app/web/ui/session.py): its pupil reads the end, then presses the next start.
+NEXT_GAME = "New random start"
+READ_THE_END_S = 2.0
 TICK = re.compile(rb'data-tick="(\d+)"[^>]*?data-done="(true|false)"')
 TABLE = re.compile(rb'class="class-table" data-round="(\d+)"')
 # What a browser sends on connecting (viser's CameraControls): a session is built once it arrives.
@@ -136,7 +149,7 @@ WATCH_PAGE = """
 })();
 """
 READ_WATCH = """() => { const w = window.__classWatch;
-  return w ? {ticks: w.ticks.splice(0), table: w.table} : null; }"""
+  return w ? {ticks: w.ticks.splice(0), table: w.table, refused: !!document.querySelector(".link-notice")} : null; }"""
 
 
 def free_port() -> int:
@@ -210,12 +223,29 @@ class Tab:
     table: float | None = None
     opened: float = 0.0
     closed: str | None = None  # why it closed before the end
+    link_refused: bool = False  # the session played the demo instead of the link's pitch
     messages: int = 0
     received: int = 0  # bytes
+    next_games: int = 0  # the times its pupil pressed NEXT_GAME
+    answered_end: float | None = None  # the game over last answered with NEXT_GAME
+    connection: object = None  # a protocol tab's websocket
+    next_game_button: str | None = None  # a protocol tab's: the uuid of the Play tab's "Start" buttons
 
     def saw(self, when: float, tick: int, done: bool) -> None:
         if not self.ticks or self.ticks[-1][1:] != (tick, done):
             self.ticks.append((when, tick, done))
+
+    def next_game_due(self, now: float) -> bool:
+        """Whether its game ended READ_THE_END_S ago and its pupil has not pressed NEXT_GAME for it yet (and now
+        does: counted)."""
+        if not self.ticks or not self.ticks[-1][2]:
+            return False
+        ended = self.ticks[-1][0]
+        if ended == self.answered_end or now - ended < READ_THE_END_S:
+            return False
+        self.answered_end = ended
+        self.next_games += 1
+        return True
 
     def playing_since(self) -> float | None:
         return next((when for when, tick, _ in self.ticks if tick > 0), None)
@@ -278,17 +308,45 @@ def cookie_header(client: httpx.AsyncClient) -> str:
     return "; ".join(f"{name}={value}" for name, value in client.cookies.items())
 
 
+def class_link() -> str:
+    """The token of the pitch link the teacher gives the class: the demo from the UI's first seed, at the UI's
+    speed, in LONG_GAME's games."""
+    from soccer_lab.app.web.pitch_link import PitchLink
+    from soccer_lab.app.web.ui import style
+    from soccer_lab.app.web.ui.context import DEMO_NAME
+    from soccer_lab.soccer.demo import demo_rules_text
+
+    return PitchLink(demo_rules_text(), DEMO_NAME, style.DEFAULT_SEED, speed=style.DEFAULT_SPEED,
+                     game=LONG_GAME).token()
+
+
+def next_game_button(text: bytes) -> str | None:
+    """The uuid of the Play tab's Start button group, when this (decompressed) viser message creates it."""
+    import msgspec
+
+    if NEXT_GAME.encode() not in text:
+        return None
+    for message in msgspec.msgpack.decode(text).get("messages", ()):
+        if message.get("type") == "GuiButtonGroupMessage" and NEXT_GAME in message["props"]["options"]:
+            return message["uuid"]
+    return None
+
+
 # ---- the sessions ---------------------------------------------------------------------------------
-async def protocol_tab(tab: Tab, served: Served, cookies: str, connections: list, ending: asyncio.Event) -> None:
+async def protocol_tab(tab: Tab, served: Served, cookies: str, link: str, connections: list,
+                       ending: asyncio.Event) -> None:
     import msgspec
 
     decompressor = zstandard.ZstdDecompressor()
     tab.opened = time.time()
     try:
-        async with websockets.connect(served.ws_url, origin=served.url, additional_headers={"Cookie": cookies},
+        # the page at /ui/?pitch=TOKEN opens viser's websocket with the link in its query (app/web/api/ui_page.py)
+        async with websockets.connect(f"{served.ws_url}/?pitch={link}", origin=served.url,
+                                      additional_headers={"Cookie": cookies},
                                       subprotocols=[f"viser-v{viser.__version__}"], open_timeout=120,
                                       max_size=None) as connection:
             connections.append(connection)
+            tab.connection = connection
             await connection.send(msgspec.msgpack.encode(CAMERA))
             async for message in connection:
                 now = time.time()
@@ -300,11 +358,30 @@ async def protocol_tab(tab: Tab, served: Served, cookies: str, connections: list
                     tab.saw(now, int(tick), done == b"true")
                 if tab.table is None and TABLE.search(text):
                     tab.table = now
+                tab.next_game_button = tab.next_game_button or next_game_button(text)
+                tab.link_refused = tab.link_refused or b'class="link-notice"' in text
             if not ending.is_set():
                 tab.closed = f"closed by the server ({connection.close_code} {connection.close_reason})"
     except Exception as exc:  # noqa: BLE001 - a session that ends early is a failure, shown
         if not ending.is_set():
             tab.closed = f"{type(exc).__name__}: {exc}"
+
+
+async def press_next_games(tabs: list[Tab], ending: asyncio.Event) -> None:
+    """The protocol clients' pupils: a game that ended READ_THE_END_S ago gets NEXT_GAME pressed (the message a
+    browser sends when the button is clicked)."""
+    import msgspec
+
+    while not ending.is_set():
+        now = time.time()
+        for tab in tabs:
+            if tab.kind == "protocol" and tab.next_game_button and tab.closed is None and tab.next_game_due(now):
+                press = {"type": "GuiUpdateMessage", "uuid": tab.next_game_button, "updates": {"value": NEXT_GAME}}
+                try:
+                    await tab.connection.send(msgspec.msgpack.encode(press))
+                except Exception as exc:  # noqa: BLE001 - a session that cannot be used is a failure, shown
+                    tab.closed = f"{NEXT_GAME} could not be pressed: {type(exc).__name__}: {exc}"
+        await asyncio.sleep(0.5)
 
 
 class Browser:
@@ -320,7 +397,7 @@ class Browser:
     async def launch(self) -> None:
         self.browser = await self.playwright.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS)
 
-    async def open(self, tab: Tab, served: Served, client: httpx.AsyncClient) -> None:
+    async def open(self, tab: Tab, served: Served, client: httpx.AsyncClient, link: str) -> None:
         context = await self.browser.new_context(viewport=VIEWPORT)
         await context.add_cookies([{"name": name, "value": value, "url": served.url, "httpOnly": True,
                                     "sameSite": "Strict"} for name, value in client.cookies.items()])
@@ -346,7 +423,7 @@ class Browser:
         page.on("requestfailed", on_failed)
         page.on("websocket", on_socket)
         tab.opened = time.time()
-        await page.goto(f"{served.url}/ui/", wait_until="commit")
+        await page.goto(f"{served.url}/ui/?pitch={link}", wait_until="commit")
         self.pages.append((tab, page))
 
     async def mount_class_tabs(self) -> None:
@@ -376,8 +453,17 @@ class Browser:
                 continue
             for when, tick, done in watch["ticks"]:
                 tab.saw(when / 1000, int(tick), bool(done))
+            tab.link_refused = tab.link_refused or watch["refused"]
             if tab.table is None and watch["table"] is not None:
                 tab.table = watch["table"][0] / 1000
+            if tab.next_game_due(time.time()):
+                await self.press_next_game(tab, page)
+
+    async def press_next_game(self, tab: Tab, page) -> None:
+        try:
+            await page.get_by_role("button", name=NEXT_GAME).click(timeout=30_000)
+        except Exception as exc:  # noqa: BLE001 - counted and shown; the tab's ticks are still measured
+            self.ledger.failures.append(f"{tab.student}'s page: {NEXT_GAME} could not be pressed: {exc}")
 
     async def watch(self, ending: asyncio.Event) -> None:
         while not ending.is_set():
@@ -401,6 +487,12 @@ def tick_rate(tab: Tab, start: float, end: float) -> float:
                 advanced += tick - previous if tick >= previous else tick
             previous = tick
     return advanced / (end - start)
+
+
+def games_ended(tab: Tab, start: float, end: float) -> int:
+    """The games that ended in [start, end] on the tab (each then waited for its pupil's next start)."""
+    return sum(1 for (_, _, was_done), (when, _, done) in zip(tab.ticks, tab.ticks[1:])
+               if done and not was_done and start <= when <= end)
 
 
 def longest_stall(tab: Tab, start: float, end: float) -> float:
@@ -481,10 +573,13 @@ async def lesson(served: Served, args: argparse.Namespace) -> dict[str, object]:
             await ledger.call(client, "POST", "/api/class/join", f"{name} joins", json={"code": CODE, "name": name})
         result["joined s"] = time.monotonic() - started
 
-        # One protocol session alone: the reference
+        # One protocol session alone: the reference. Every tab opens the teacher's link; the pupils press
+        # NEXT_GAME when a game ends
+        link = class_link()
         tabs = [Tab("protocol", names[-1])]
-        tasks.append(asyncio.create_task(protocol_tab(tabs[0], served, cookie_header(clients[-1]), connections,
-                                                      ending)))
+        tasks.append(asyncio.create_task(protocol_tab(tabs[0], served, cookie_header(clients[-1]), link,
+                                                      connections, ending)))
+        tasks.append(asyncio.create_task(press_next_games(tabs, ending)))
         await wait_until(lambda: tabs[0].playing_since() is not None or tabs[0].closed, PLAYING_TIMEOUT_S)
         await asyncio.sleep(2.0)  # its panels built (app/web/ui/session.py: PANELS_AFTER)
         alone_start = time.time()
@@ -500,10 +595,10 @@ async def lesson(served: Served, args: argparse.Namespace) -> dict[str, object]:
             tab = Tab(kind, names[index])
             tabs.append(tab)
             if kind == "browser":
-                await browser.open(tab, served, clients[index])
+                await browser.open(tab, served, clients[index], link)
             else:
-                tasks.append(asyncio.create_task(protocol_tab(tab, served, cookie_header(clients[index]), connections,
-                                                              ending)))
+                tasks.append(asyncio.create_task(protocol_tab(tab, served, cookie_header(clients[index]), link,
+                                                              connections, ending)))
         tasks.append(asyncio.create_task(browser.watch(ending)))
         await wait_until(lambda: all(t.playing_since() is not None or t.closed for t in tabs[1:]), PLAYING_TIMEOUT_S)
         result["all playing s"] = max((t.playing_since() or math.inf) for t in tabs[1:]) - opening
@@ -583,6 +678,8 @@ async def lesson(served: Served, args: argparse.Namespace) -> dict[str, object]:
         for client in [*clients, teacher]:
             await client.aclose()
     result["closed early"] = [f"{t.student} ({t.kind}): {t.closed}" for t in result.get("tabs", []) if t.closed]
+    ledger.failures += [f"{t.student} ({t.kind}): the class's pitch link was not opened (the demo played instead)"
+                        for t in result.get("tabs", []) if t.link_refused]
     return result
 
 
@@ -686,8 +783,7 @@ def report(result: dict[str, object], args: argparse.Namespace, load_before: lis
           f"clients), a round of {args.students} entries x {args.starts} starts; load average before {load_before}")
     print(f"  {args.students} students joined in {result['joined s']:.1f} s (paced: {JOIN_COST} requests of this "
           f"one address's rate each)")
-    print(f"  one session alone: {result['alone ticks/s']:.1f} ticks/s (the UI's speed: {nominal:g} ticks/s, less "
-          "the pause after each game)")
+    print(f"  one session alone: {result['alone ticks/s']:.1f} ticks/s (the UI's speed: {nominal:g} ticks/s)")
     opened = result["open to playing s"]
     print(f"  the other {args.students - 1} tabs opened: all playing {result['all playing s']:.1f} s after the first "
           "was asked for")
@@ -697,10 +793,13 @@ def report(result: dict[str, object], args: argparse.Namespace, load_before: lis
     print(f"  {args.students} entries submitted one after another in {result['entries s']:.1f} s")
     print(f"\n  ticks/s each session received          min  median    max   longest stall (s, max)")
     figures.append(Figure("one session alone", round(result["alone ticks/s"], 1), "ticks/s",
-                          note=f"the UI's speed is {nominal:g} ticks/s, less a 2 s pause after each game"))
+                          note=f"the UI's speed is {nominal:g} ticks/s; its game does not end while measured"))
     for window, (start, end) in result["windows"].items():
         rates, stalls = result["rates"][window], result["stalls"][window]
-        print(f"  {window} ({end - start:.1f} s)")
+        ended = {kind: sum(games_ended(t, start, end) for t in result["tabs"] if t.kind == kind)
+                 for kind in ("browser", "protocol")}
+        print(f"  {window} ({end - start:.1f} s; games ended: {ended['browser']} in Chromium, "
+              f"{ended['protocol']} in protocol tabs)")
         for kind in ("browser", "protocol"):
             if rates[kind]:
                 print(f"    {kind:<10} {len(rates[kind]):>3} tabs      {shown(rates[kind])}   {max(stalls[kind]):.1f}")
@@ -710,8 +809,10 @@ def report(result: dict[str, object], args: argparse.Namespace, load_before: lis
                 figures.append(Figure(f"ticks/s per {kind} tab, {window}", round(middle, 1), "ticks/s",
                                       target="every session keeps playing",
                                       note=f"median of {len(rates[kind])} tabs; min {low:.1f}, max {high:.1f}; "
-                                           f"longest stall {max(stalls[kind]):.1f} s; window {end - start:.1f} s"))
+                                           f"longest stall {max(stalls[kind]):.1f} s; window {end - start:.1f} s; "
+                                           f"{ended[kind]} games ended, each restarted by its pupil"))
     print(f"  protocol clients received {shown(result['received KiB/s'])} KiB/s (min median max)")
+    print(f"  pupils pressed {NEXT_GAME} {sum(t.next_games for t in result['tabs'])} times (a game had ended)")
 
     answered, api = result["round answered s"], result["api table s"]
     sessions = [*result["session table s"]["browser"], *result["session table s"]["protocol"]]
