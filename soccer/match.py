@@ -40,7 +40,6 @@ from soccer_lab.soccer.skills import DASH, KICK, LEFT, TURN
 from soccer_lab.soccer.world import PitchOutline, World, vectors_address
 
 OPPONENT = "OPPONENT"  # the object an opponent-seeing vocabulary names (fuzzy/data/opponent_vocabulary.json)
-SIDES = ("left", "right")
 HALVES = 2
 
 
