@@ -113,3 +113,33 @@ def test_the_opponent_vocabulary_is_off_by_default_and_lets_rules_see_the_oppone
     distance = vocabulary.input_names.index("opponent_distance")
     assert batch.observation.inputs[:, distance] == pytest.approx([20.0, 20.0])
     assert batch.decision.strengths[:, 0].min() > 0  # the rule naming the opponent fired on both sides
+
+
+def test_the_ga_writes_plays_and_notates_rules_about_the_opponent():
+    from soccer_lab.fuzzy.random_rulebase import random_rulebase
+    from soccer_lab.ga.codec import ChromosomeCodec
+    from soccer_lab.ga.notation import CompactNotation
+
+    vocabulary = Vocabulary.with_opponent()
+    rng = np.random.default_rng(0)
+    players = [random_rulebase(rng, vocabulary, rules=10) for _ in range(10)]
+    assert any(premise.object == OPPONENT for player in players for rule in player for premise in rule.premises)
+    codec, notation = ChromosomeCodec(vocabulary), CompactNotation(vocabulary)
+    for player in players:
+        chromosome = codec.encode(player)
+        assert codec.decode(chromosome) == player
+        assert ("(Op," in notation.format(chromosome)) == (OPPONENT in str(player))  # the chapter's notation
+    played = play_matches(players[0], players[1], [0, 1], SHORT, vocabulary)
+    assert play_matches(players[0], players[1], [0, 1], SHORT, vocabulary) == played
+
+
+def test_a_malformed_vocabulary_extension_is_one_clear_error(tmp_path):
+    from soccer_lab.fuzzy.vocabulary import VocabularyError
+
+    broken, unknown = tmp_path / "broken.json", tmp_path / "unknown.json"
+    broken.write_text('{"objects": ["OPPONENT"]}')
+    unknown.write_text('{"objects": {"OPPONENT": {"distance": "nowhere", "direction": "nowhere"}}}')
+    for path, fragment in ((broken, "objects is not a mapping"), (unknown, "not a distance input"),
+                           (tmp_path / "missing.json", "cannot read")):
+        with pytest.raises(VocabularyError, match=fragment):
+            V.extended(path)
