@@ -29,10 +29,12 @@ import numpy as np
 from soccer_lab.fuzzy.batched import NO_ACTION, CompiledRulebases, Scratch, VocabularyTables, compile_rulebases
 from soccer_lab.fuzzy.rule import Rulebase
 from soccer_lab.fuzzy.vocabulary import Vocabulary, VocabularyError
-from soccer_lab.soccer.config import GameConfig, WorldConfig, WorldConstants
+from soccer_lab.soccer.config import SOCCER_VOCABULARY, GameConfig, WorldConfig, WorldConstants
 from soccer_lab.soccer.engine import (END_REASONS, GOAL_CAP, IDLE, MAX_TICKS, NO_OUTCOME, RUNNING, Decision,
-                                      GameRules, Observation, VocabularyLayout, act_step, body_vectors, borrowed,
-                                      decide_step, perceive_step, plain)
+                                      GameResult, GameRules, Observation, VocabularyLayout, act_step, body_vectors,
+                                      borrowed, decide_step, perceive_step, plain)
+from soccer_lab.soccer.evaluate import CHUNK_GAMES, game_seeds
+from soccer_lab.soccer.fitness import WORST_FITNESS, goals_fitness
 from soccer_lab.soccer.perception import DIRECTION, DISTANCE, in_view, relative_position
 from soccer_lab.soccer.physics import cap_speed, dash, decay, kick_acceleration, part, separate, turn
 from soccer_lab.soccer.random_stream import seed_states, uniform
@@ -457,3 +459,63 @@ def play_matches(a: Rulebase, b: Rulebase, seeds: Sequence[int], config: GameCon
     halves = MatchBatch([(a, b), (b, a)] * len(seeds), [s for s in seeds for _ in range(HALVES)], config,
                         vocabulary).run()
     return [MatchResult(seed, (halves[2 * i], halves[2 * i + 1])) for i, seed in enumerate(seeds)]
+
+
+# ---- the fitness of a player over matches against a fixed opponent ------------------------------
+
+
+def match_fitness(goal_difference: int, kicks: int, min_ball_goal_distance: float, field_length: float) -> float:
+    """The chapter's simple composite (soccer/fitness.py) carried over to goal difference; lower is better.
+    A win by d goals scores 1 / (2 d), as d goals scored alone do. Otherwise a player that kicked scores in
+    [0.5, 1): a quarter of the ball's closest approach to the goal it attacks over the field length (the
+    chapter's Equation 3 at half weight) plus a quarter of 1 - 1 / (1 - d) (0 for a draw, toward 1 for a
+    heavy loss). A player that never kicked scores 1.0, the chapter's "no ball movement"."""
+    if goal_difference > 0:
+        return goals_fitness(goal_difference)
+    if kicks == 0:
+        return WORST_FITNESS
+    margin = 1.0 - 1.0 / (1 - goal_difference)
+    return 0.5 + (min(min_ball_goal_distance / field_length, 1.0) + margin) / 4.0
+
+
+@dataclass(frozen=True)
+class MatchEvaluator:
+    """The GA's evaluator (soccer/evaluate.py's, for matches): each rulebase plays one match (two halves,
+    the sides swapped) against the fixed `opponent` from its seed, k matches from seeds derived from it
+    with games_per_evaluation = k, all in one batch. Its GameResult: `match_fitness` over its matches' goal
+    difference, kicks and closest approach; goals and kicks its own (a mean over k); ticks the halves'
+    total (mean); end_reason the first half's."""
+
+    opponent: Rulebase
+    config: GameConfig = GameConfig()
+    vocabulary: Vocabulary = SOCCER_VOCABULARY
+
+    @property
+    def chunk_size(self) -> int:
+        """Rulebases per chunk of a generation: as many halves as a chunk of games has games."""
+        return max(1, CHUNK_GAMES // (HALVES * self.config.games_per_evaluation))
+
+    def __call__(self, rulebases: Sequence[Rulebase], seeds: Sequence[int]) -> list[GameResult]:
+        if len(rulebases) != len(seeds):
+            raise ValueError(f"{len(rulebases)} rulebases but {len(seeds)} seeds: need one seed per rulebase")
+        k = self.config.games_per_evaluation
+        pairs, match_seeds = [], []
+        for rulebase, seed in zip(rulebases, seeds):
+            for match_seed in game_seeds(int(seed), k):
+                pairs += [(rulebase, self.opponent), (self.opponent, rulebase)]
+                match_seeds += [match_seed] * HALVES
+        halves = MatchBatch(pairs, match_seeds, self.config, self.vocabulary).run() if pairs else []
+        per_player = HALVES * k
+        return [self._result(halves[i * per_player:(i + 1) * per_player]) for i in range(len(rulebases))]
+
+    def _result(self, halves: list[HalfResult]) -> GameResult:
+        """The player's result over its halves (the player is on the left in even halves, right in odd)."""
+        scored = sum(h.goals[i % 2] for i, h in enumerate(halves))
+        conceded = sum(h.goals[1 - i % 2] for i, h in enumerate(halves))
+        kicks = sum(h.kicks[i % 2] for i, h in enumerate(halves))
+        distance = min(h.min_ball_goal_distance[i % 2] for i, h in enumerate(halves))
+        k = len(halves) // HALVES
+        return GameResult(fitness=match_fitness(scored - conceded, kicks, distance, self.config.world.pitch_length),
+                          goals=scored / k if k > 1 else scored, kicks=kicks / k if k > 1 else kicks,
+                          ticks=sum(h.ticks for h in halves) / k if k > 1 else sum(h.ticks for h in halves),
+                          min_ball_goal_distance=distance, end_reason=halves[0].end_reason)

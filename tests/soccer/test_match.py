@@ -143,3 +143,34 @@ def test_a_malformed_vocabulary_extension_is_one_clear_error(tmp_path):
                            (tmp_path / "missing.json", "cannot read")):
         with pytest.raises(VocabularyError, match=fragment):
             V.extended(path)
+
+
+def test_match_fitness_carries_the_chapters_composite_over_to_goal_difference():
+    from soccer_lab.soccer.match import match_fitness
+
+    length = 100.0
+    assert match_fitness(2, 5, 0.0, length) == 0.25  # a win by 2 scores as 2 goals alone
+    assert match_fitness(1, 0, 50.0, length) == 0.5  # a win needs no kick (a goal pushed in)
+    assert match_fitness(0, 0, 0.0, length) == 1.0  # no kick, no win: the chapter's "no ball movement"
+    assert match_fitness(0, 3, 0.0, length) == 0.5
+    assert match_fitness(0, 3, 50.0, length) == 0.625  # a draw: the ball's approach at half weight
+    assert match_fitness(-1, 3, 0.0, length) == 0.625  # a loss by 1: half the margin's range
+    assert match_fitness(-3, 3, 150.0, length) == 0.9375  # the approach capped at the field's length
+    assert match_fitness(-1000, 3, 150.0, length) < 1.0  # any player that kicked beats one that never did
+
+
+def test_the_match_evaluator_scores_each_player_by_its_matches_alone_or_in_a_population():
+    from soccer_lab.soccer.match import MatchEvaluator, match_fitness
+
+    evaluate = MatchEvaluator(DEMO, SHORT, V)
+    players, seeds = [STRIKER, HUNTER, DRIBBLER, DEMO], [10, 11, 12, 13]
+    together = evaluate(players, seeds)
+    assert together == [evaluate([player], [seed])[0] for player, seed in zip(players, seeds)]
+    for player, seed, result in zip(players, seeds, together):
+        played = play_matches(player, DEMO, [seed], SHORT, V)[0]
+        kicks = played.halves[0].kicks[0] + played.halves[1].kicks[1]
+        assert (result.goals, result.kicks) == (played.goals[0], kicks)
+        assert result.fitness == match_fitness(played.goals[0] - played.goals[1], kicks,
+                                               result.min_ball_goal_distance, SHORT.world.pitch_length)
+    twice = MatchEvaluator(DEMO, SHORT.model_copy(update={"games_per_evaluation": 2}), V)([STRIKER], [10])[0]
+    assert twice.ticks > 0 and twice.fitness <= 1.0
