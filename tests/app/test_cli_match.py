@@ -78,3 +78,58 @@ def test_bad_input_is_one_line_and_status_2(args, fragment):
 def test_the_api_refuses_bad_options(arguments, error):
     with pytest.raises(error):
         sl.match(STRIKER, DEMO, **arguments)
+
+
+# ---- evolve --opponent: the GA's fitness over matches against a fixed player ------------------------------
+EVOLVE = ["--population-size", "12", "--generations", "2", "--max-ticks", "300", "--workers", "1", "--seed", "1"]
+
+
+def evolve(*args: object) -> subprocess.CompletedProcess:
+    return subprocess.run([str(SOCCER_LAB), "evolve", *map(str, args)], capture_output=True, text=True, timeout=600)
+
+
+def test_evolve_against_an_opponent_plays_matches_keeps_the_opponent_and_the_api_agrees(tmp_path):
+    from soccer_lab.app.runs.run import Run, RunSettings
+    from soccer_lab.fuzzy.printer import format_rulebase
+    from soccer_lab.soccer.config import SOCCER_VOCABULARY
+    from soccer_lab.soccer.match import MatchEvaluator
+
+    done = evolve(*EVOLVE, "--opponent", STRIKER, "--out", tmp_path / "cli")
+    assert done.returncode == 0, done.stderr
+    assert "matches against the opponent" in done.stdout
+    run = Run.open(tmp_path / "cli")
+    striker = sl.load_rules(STRIKER)
+    assert run.settings.opponent == format_rulebase(striker, SOCCER_VOCABULARY)
+    assert RunSettings.from_dict(run.settings.to_dict()) == run.settings  # resume plays the same opponent
+    with run.evaluator() as evaluate:
+        assert evaluate == MatchEvaluator(striker, run.settings.game)
+    alone = evolve(*EVOLVE, "--out", tmp_path / "alone")
+    assert alone.returncode == 0, alone.stderr
+    api = sl.evolve(population_size=12, generations=2, max_ticks=300, workers=1, seed=1, opponent=STRIKER,
+                    out=tmp_path / "api")
+    cli = sl.open_run(tmp_path / "cli")
+    assert _without_wall_time(api.statistics) == _without_wall_time(cli.statistics)
+    assert _without_wall_time(cli.statistics) != _without_wall_time(sl.open_run(tmp_path / "alone").statistics)
+    assert sl.format_rules(api.best.rules) == sl.format_rules(cli.best.rules)
+    assert 0.5 < cli.best.fitness < 1.0  # a match drawn or lost with the ball brought closer: match_fitness's range
+
+
+def _without_wall_time(statistics: list[dict]) -> list[dict]:
+    return [{k: v for k, v in row.items() if k != "wall_time"} for row in statistics]
+
+
+@pytest.mark.parametrize("args, fragment", [
+    (["--opponent", "missing.rules"], "--opponent: missing.rules: no such file"),
+    (["--opponent", STRIKER, "--env", "rcss", "--server", "localhost:6000"], "--opponent"),
+])
+def test_evolve_refuses_a_bad_opponent_in_one_line(args, fragment, tmp_path):
+    done = evolve(*EVOLVE, *args, "--out", tmp_path / "run")
+    assert done.returncode == 2 and fragment in done.stderr and len(done.stderr.strip().splitlines()) == 1
+    assert not (tmp_path / "run").exists()
+
+
+def test_the_api_refuses_an_opponent_with_no_rules(tmp_path):
+    empty = tmp_path / "empty.rules"
+    empty.write_text("\n")
+    with pytest.raises(ValueError):
+        sl.evolve(population_size=4, generations=1, opponent=empty, out=tmp_path / "run")
