@@ -343,11 +343,9 @@ def _summary(run: "Run", result: "RunResult") -> None:
     typer.echo(f"best fitness {best.fitness:.4f} (mean of {best.evaluations} evaluation"
                f"{'s' if best.evaluations != 1 else ''}; {best.goals} goal{'s' if best.goals != 1 else ''} "
                f"in its latest game)")
-    quality, opponent = run.best_quality, run.settings.opponent
-    why = ("its evaluations are matches against the opponent" if opponent
-           else "on rcssserver N trials would cost minutes")
+    quality = run.best_quality
     typer.echo(f"best player's true quality: {quality.text()}" if quality is not None else
-               f"best player's true quality: not re-played ({why})")
+               "best player's true quality: not re-played (on rcssserver N trials would cost minutes)")
     typer.echo(_replay_line(run))
     typer.echo(f"best rules ({len(result.best_rulebase)}):")
     for line in rulebase_text(result.best_rulebase, result.vocabulary).splitlines():

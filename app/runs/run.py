@@ -19,7 +19,8 @@ from pydantic import ValidationError
 
 from soccer_lab.app.runs.environments import (RCSS, SIMPLE, Announce, Environment, RcssTrials, Replay,
                                               SimpleSoccerGames, checked_behaviour_seeds, checked_env, checked_opponent,
-                                              checked_servers, checked_start_servers, checked_workers)
+                                              checked_servers, checked_start_servers, checked_workers,
+                                              opponent_rulebase)
 from soccer_lab.app.runs.recording import RunRecorder
 from soccer_lab.app.runs.outputs import (GenerationBestsFile, LineageFile, Replayer, RunFolder, RunFolderError,
                                          RunOutputs, generation_best, lineage_line)
@@ -239,11 +240,13 @@ class Run:
         return self.outputs.best_quality if self.outputs is not None else self.folder.best_quality()
 
     def _quality_replayer(self, vocabulary: Vocabulary) -> Replayer | None:
-        """Re-plays a best on app/runs/true_quality.py's common starts, one SimpleSoccer game each, in one batch
-        (none on rcssserver: there N trials would cost minutes)."""
-        if self.settings.env != SIMPLE or self.settings.opponent:  # a match's quality: not measured yet
+        """Re-plays a best on app/runs/true_quality.py's common starts, one SimpleSoccer game each (against an
+        opponent, one match each), in one batch (none on rcssserver: there N trials would cost minutes)."""
+        if self.settings.env != SIMPLE:
             return None
-        return simple_soccer_replayer(self.settings.game, vocabulary)
+        opponent = self.settings.opponent
+        return simple_soccer_replayer(self.settings.game, vocabulary,
+                                      opponent=opponent_rulebase(opponent) if opponent else None)
 
     def lineage_lines(self, state: RunState | None) -> dict[int, str]:
         """lineage.jsonl's line of each finished generation: those the file holds for the generations the

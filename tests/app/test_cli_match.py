@@ -96,13 +96,19 @@ def test_evolve_against_an_opponent_plays_matches_keeps_the_opponent_and_the_api
 
     done = evolve(*EVOLVE, "--opponent", STRIKER, "--out", tmp_path / "cli")
     assert done.returncode == 0, done.stderr
-    assert "matches against the opponent" in done.stdout
+    assert "each evaluation was a match against the opponent" in done.stdout
     run = Run.open(tmp_path / "cli")
     striker = sl.load_rules(STRIKER)
     assert run.settings.opponent == format_rulebase(striker, SOCCER_VOCABULARY)
     assert RunSettings.from_dict(run.settings.to_dict()) == run.settings  # resume plays the same opponent
     with run.evaluator() as evaluate:
         assert evaluate == MatchEvaluator(striker, run.settings.game)
+    # its best's true quality: one match against the opponent from each common start
+    from soccer_lab.app.runs.true_quality import common_seeds, replayed_quality
+
+    best = sl.open_run(tmp_path / "cli").best
+    assert run.best_quality == replayed_quality(best.rules, MatchEvaluator(striker, run.settings.game), common_seeds())
+    assert "best player's true quality: re-played on 20 fresh starts" in done.stdout
     alone = evolve(*EVOLVE, "--out", tmp_path / "alone")
     assert alone.returncode == 0, alone.stderr
     api = sl.evolve(population_size=12, generations=2, max_ticks=300, workers=1, seed=1, opponent=STRIKER,
