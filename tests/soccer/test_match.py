@@ -174,3 +174,9 @@ def test_the_match_evaluator_scores_each_player_by_its_matches_alone_or_in_a_pop
                                                result.min_ball_goal_distance, SHORT.world.pitch_length)
     twice = MatchEvaluator(DEMO, SHORT.model_copy(update={"games_per_evaluation": 2}), V)([STRIKER], [10])[0]
     assert twice.ticks > 0 and twice.fitness <= 1.0
+
+
+def test_rules_that_do_not_name_the_opponent_play_the_same_in_both_vocabularies():
+    seeds = [0, 1, 2]
+    assert play_matches(STRIKER, DEMO, seeds, SHORT, Vocabulary.with_opponent()) == play_matches(
+        STRIKER, DEMO, seeds, SHORT, V)
