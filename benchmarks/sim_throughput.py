@@ -1,6 +1,8 @@
 """Microseconds per game-tick of SimpleSoccer with the full controller (docs/performance.md): 200 random rulebases
 played (a) together by the batched engine in one pymunk Space and (b) one Space per game in a Python
-loop (each game its own batch of one, the same kernel), and the ratio, in one run.
+loop (each game its own batch of one, the same kernel), and the ratio, in one run. Then (c) the same
+rulebases paired in matches (soccer/match.py: 100 matches of two halves, both halves in one batch), in
+µs per player-tick (a half's tick moves two players), against (a)'s game-tick (target: at most 1.5×).
 
     python benchmarks/sim_throughput.py [--games 200] [--rules 10] [--seed 0] [--loop-games 40] [--full-length]
                                         [--skills strict|assisted|sighted]
@@ -25,6 +27,7 @@ from soccer_lab.fuzzy.random_rulebase import random_rulebase
 from soccer_lab.fuzzy.vocabulary import Vocabulary
 from soccer_lab.soccer.config import SKILL_SET_NAMES, GameConfig
 from soccer_lab.soccer.engine import GameBatch
+from soccer_lab.soccer.match import MatchBatch
 from results import Figure, add_record_option, load_average, record, this_command  # benchmarks/results.py
 
 VOCABULARY = Vocabulary.default()
@@ -42,6 +45,16 @@ def time_per_game(rulebases, seeds, config) -> tuple[float, int]:
     start = time.perf_counter()
     ticks = sum(b.run()[0].ticks for b in batches)
     return time.perf_counter() - start, ticks
+
+
+def time_matches(rulebases, seeds, config) -> tuple[float, int]:
+    """Rulebases paired (0 with 1, 2 with 3, ...), each pair one match of two halves: seconds and player-ticks."""
+    pairs = list(zip(rulebases[0::2], rulebases[1::2]))
+    halves = [half for a, b in pairs for half in ((a, b), (b, a))]
+    batch = MatchBatch(halves, [seed for seed in seeds[: len(pairs)] for _ in range(2)], config, VOCABULARY)
+    start = time.perf_counter()
+    results = batch.run()
+    return time.perf_counter() - start, 2 * sum(r.ticks for r in results)
 
 
 def main() -> None:
@@ -62,6 +75,7 @@ def main() -> None:
     if args.full_length:
         config = config.model_copy(update={"idle_ticks": config.max_ticks})
     time_batched(rulebases[:2], seeds[:2], config)  # compile / load the numba cache
+    time_matches(rulebases[:2], seeds[:1], config)
 
     batched_s, batched_ticks = time_batched(rulebases, seeds, config)
     loop_n = min(args.loop_games, args.games)
@@ -74,12 +88,18 @@ def main() -> None:
     print(f"batched engine (one Space):     {batched_us:7.3f} us per game-tick ({batched_s:.2f} s)")
     print(f"one Space per game, Python loop: {loop_us:7.3f} us per game-tick ({loop_n} games, {loop_ticks} game-ticks)")
     print(f"speed-up: {loop_us / batched_us:.1f}x")
+    match_s, player_ticks = time_matches(rulebases, seeds, config)
+    match_us = 1e6 * match_s / player_ticks
+    print(f"matches (two players a pitch):   {match_us:7.3f} us per player-tick ({player_ticks} player-ticks, "
+          f"{match_us / batched_us:.2f}x the game-tick)")
     if args.record:
         record("sim_throughput", [
             Figure(f"SimpleSoccer, {args.games} games at once, full controller, one core ({length})",
                    round(batched_us, 2), "µs per game-tick", target="≤ 2 µs" if args.full_length else ""),
             Figure("the same games, one Space per game in a Python loop, against the batch",
                    round(loop_us / batched_us, 1), "× slower", target="≥ 10×"),
+            Figure("the same players paired in matches (two a pitch), per player-tick, against the game-tick",
+                   round(match_us / batched_us, 2), "×", target="≤ 1.5×"),
         ], command=this_command(), load_before=load_before)
 
 

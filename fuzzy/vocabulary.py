@@ -20,6 +20,7 @@ from soccer_lab.fuzzy.term import Term
 from soccer_lab.fuzzy.variable import LinguisticVariable
 
 DEFAULT_VOCABULARY_FILE = Path(__file__).parent / "data" / "soccer_vocabulary.json"
+OPPONENT_VOCABULARY_FILE = Path(__file__).parent / "data" / "opponent_vocabulary.json"
 FORMAT = "soccer-lab-vocabulary"
 
 
@@ -77,6 +78,27 @@ class Vocabulary:
     @cache
     def default() -> "Vocabulary":
         return Vocabulary.load(DEFAULT_VOCABULARY_FILE)
+
+    @staticmethod
+    @cache
+    def with_opponent() -> "Vocabulary":
+        """The default vocabulary with a third object, the opponent (OPPONENT_VOCABULARY_FILE: matches only)."""
+        return Vocabulary.default().extended(OPPONENT_VOCABULARY_FILE)
+
+    def extended(self, path: str | Path) -> "Vocabulary":
+        """This vocabulary with the objects, inputs, display names and abbreviations an extension file adds
+        (its terms, actions and outputs stay this vocabulary's, so they are tuned in one place)."""
+        try:
+            extension = json.loads(Path(path).read_text())
+        except (OSError, json.JSONDecodeError) as exc:
+            raise VocabularyError(f"cannot read vocabulary extension {path}: {exc}") from exc
+        data = self.to_dict()
+        for key in ("objects", "inputs", "display_names", "abbreviations"):
+            added = extension.get(key, {})
+            if not isinstance(added, dict):
+                raise VocabularyError(f"malformed vocabulary extension {path}: {key} is not a mapping")
+            data[key] = {**data[key], **added}
+        return Vocabulary.from_dict(data)
 
     def to_dict(self) -> dict[str, Any]:
         return {

@@ -87,12 +87,19 @@ def separate(px, py, bx, by, facing, constants):
     (player_size + ball_size) / 2 + COLLISION_GAP from their midpoint along the line of centres.
     Returns (px, py, bx, by, collided); bodies at the same point part along the player's facing
     (rcssserver picks a random angle), the ball ahead."""
-    reach = constants.player_size + constants.ball_size
-    dx = bx - px
-    dy = by - py
+    return part(px, py, bx, by, constants.player_size + constants.ball_size, facing)
+
+
+@numba.njit(cache=True)
+def part(ax, ay, bx, by, reach, facing):
+    """Two round bodies whose centres are closer than `reach` (the sum of their radii) moved apart
+    from their midpoint as rcssserver does (`separate`); a player against the ball, or against the
+    other player of a match (soccer/match.py). Bodies at the same point part along `facing`, b ahead."""
+    dx = bx - ax
+    dy = by - ay
     distance = math.sqrt(dx * dx + dy * dy)
     if distance >= reach:
-        return px, py, bx, by, False
+        return ax, ay, bx, by, False
     if distance > 0.0:
         ux = dx / distance
         uy = dy / distance
@@ -100,7 +107,7 @@ def separate(px, py, bx, by, facing, constants):
         rad = math.radians(facing)
         ux = math.cos(rad)
         uy = math.sin(rad)
-    mx = 0.5 * (px + bx)
-    my = 0.5 * (py + by)
+    mx = 0.5 * (ax + bx)
+    my = 0.5 * (ay + by)
     half = 0.5 * reach + COLLISION_GAP
     return mx - half * ux, my - half * uy, mx + half * ux, my + half * uy, True

@@ -91,6 +91,22 @@ class PitchOutline(NamedTuple):
         )
         return cls(boxes, tuple((hl, side * gw) for side in (-1.0, 1.0)), world.post_radius)
 
+    @classmethod
+    def of_match(cls, world: WorldConfig) -> "PitchOutline":
+        """A match's pitch (soccer/match.py): a goal mouth and a net at both ends, the rest as `of`."""
+        hl, hw, gw, t = world.pitch_length / 2, world.pitch_width / 2, world.goal_width / 2, WALL_THICKNESS
+        back = hl + world.goal_depth
+        boxes = (
+            (-back - t, hw, back + t, hw + t),  # touch lines, running behind both nets
+            (-back - t, -hw - t, back + t, -hw),
+            *((x0, gw, x1, hw + t) for x0, x1 in ((hl, back + t), (-back - t, -hl))),  # end lines beside the goals
+            *((x0, -hw - t, x1, -gw) for x0, x1 in ((hl, back + t), (-back - t, -hl))),
+            (back, -hw - t, back + t, hw + t),  # backs of the nets
+            (-back - t, -hw - t, -back, hw + t),
+        )
+        posts = tuple((end * hl, side * gw) for end in (1.0, -1.0) for side in (-1.0, 1.0))
+        return cls(boxes, posts, world.post_radius)
+
 
 def _corners(x0: float, y0: float, x1: float, y1: float) -> list[tuple[float, float]]:
     return [(x0, y0), (x1, y0), (x1, y1), (x0, y1)]
@@ -248,7 +264,7 @@ class World:
     each game's bodies keep their positions and velocities (`Pitches`). The spaces are borrowed
     (`borrow_spaces`) and given back when the last game has left them; `spaces` is then empty."""
 
-    def __init__(self, config: WorldConfig, seeds: Sequence[int]):
+    def __init__(self, config: WorldConfig, seeds: Sequence[int], outline: PitchOutline | None = None):
         self.config = config
         self._player_kind = RoundBody(config.player_mass, config.player_size, config.elasticity)
         self._ball_kind = RoundBody(config.ball_mass, config.ball_size, config.elasticity)
@@ -266,7 +282,7 @@ class World:
         self.pitches = Pitches(layer=layers, player=np.zeros(games, dtype=np.uint64),
                                ball=np.zeros(games, dtype=np.uint64), offsets=offsets)
         self._slots = slots
-        self._outline = PitchOutline.of(config)
+        self._outline = PitchOutline.of(config) if outline is None else outline
         self._pitch_spaces = borrow_spaces(self._outline, max(len(taken), 1))
         self.spaces = [pitch_space.space for pitch_space in self._pitch_spaces]
         self._slots_in_space: list[set[int]] = [set() for _ in self.spaces]  # per layer: its games' slots

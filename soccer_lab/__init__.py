@@ -1,7 +1,7 @@
 """soccer-lab from Python: `import soccer_lab as sl` does what the `soccer-lab` command does.
 
 Rules: `parse_rules`, `format_rules`, `load_rules`, `example`, `infer`, `export`, `rule_usage`, `simplify`.
-Games: `play`. Runs: `evolve`, `random_search`, `resume`, `open_run`, `lineage`. Experiments: `open_experiment`.
+Games: `play`. Matches: `match`. Runs: `evolve`, `random_search`, `resume`, `open_run`, `lineage`. Experiments: `open_experiment`.
 The guide is docs/python-api.md; every function's docstring has an example.
 
 >>> import soccer_lab as sl
@@ -24,6 +24,7 @@ _MODULES = {
     "rule_usage": "soccer_lab.rules", "simplify": "soccer_lab.rules", "EXPORT_FORMATS": "soccer_lab.rules",
     "Inference": "soccer_lab.rules", "Simplified": "soccer_lab.rules",
     "play": "soccer_lab.games", "Game": "soccer_lab.games",
+    "match": "soccer_lab.matches", "Matches": "soccer_lab.matches", "Match": "soccer_lab.matches",
     "evolve": "soccer_lab.runs", "random_search": "soccer_lab.runs", "resume": "soccer_lab.runs",
     "open_run": "soccer_lab.runs",
     "lineage": "soccer_lab.runs", "RunRecord": "soccer_lab.runs", "Best": "soccer_lab.runs",

@@ -61,7 +61,9 @@ def evolve(population_size: int | None = None, generations: int | None = None, s
     give the same run, bit for bit (whatever `workers`). Unset options keep the chapter's Table 2 defaults.
     `options`: any other GA option (max_length, crossover, selection, mutation_rate, target_fitness,
     workers, ...; soccer_lab.ga.config.GAConfig) or game option (max_ticks, skills, fitness, games_per_evaluation, ...;
-    soccer_lab.soccer.config.GameConfig). `out`: the run folder (None: a new temporary folder, in `.folder`).
+    soccer_lab.soccer.config.GameConfig), or `opponent` (a Rulebase or a rulebase file: evolve against that fixed
+    player, each evaluation a match against it; docs/research/matches.md). `out`: the run folder (None: a new
+    temporary folder, in `.folder`).
     `on_generation(statistics)` hears each finished generation's statistics. Bad options raise a
     ValueError (TypeError for a name no option has); a folder already holding a run, RunFolderError.
 
@@ -154,6 +156,7 @@ def _settings(algorithm: str, options: dict[str, Any]) -> "RunSettings":
     from soccer_lab.ga.config import GAConfig
     from soccer_lab.soccer.config import GameConfig
 
+    opponent = options.pop("opponent", None)
     ga, game, unknown = {}, {}, []
     for name, value in options.items():
         field = RENAMED.get(name, name)
@@ -167,7 +170,18 @@ def _settings(algorithm: str, options: dict[str, Any]) -> "RunSettings":
         raise TypeError(f"unknown option{'s' if len(unknown) > 1 else ''} {', '.join(unknown)}: expected a GA "
                         f"option ({', '.join(_ga_names())}) or a game option ({', '.join(GameConfig.model_fields)})")
     ga.setdefault("workers", default_workers())
-    return RunSettings.build(ga=ga, game=game, algorithm=algorithm)
+    return RunSettings.build(ga=ga, game=game, algorithm=algorithm, opponent=_opponent_text(opponent))
+
+
+def _opponent_text(opponent: Any) -> str | None:
+    """The `opponent` option (a Rulebase, or the path of a rulebase file) as rule text, as run.json keeps it."""
+    if opponent is None:
+        return None
+    from soccer_lab.fuzzy.printer import format_rulebase
+    from soccer_lab.rules import rulebase_of
+    from soccer_lab.soccer.config import SOCCER_VOCABULARY
+
+    return format_rulebase(rulebase_of(opponent), SOCCER_VOCABULARY)
 
 
 def _ga_names() -> list[str]:

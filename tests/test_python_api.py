@@ -327,8 +327,8 @@ def test_open_experiment_refuses_a_folder_without_one(tmp_path):
 
 
 # ---- the docstrings' examples -----------------------------------------------------------------------------
-@pytest.mark.parametrize("module", ["soccer_lab", "soccer_lab.rules", "soccer_lab.games", "soccer_lab.runs",
-                                    "soccer_lab.experiments"])
+@pytest.mark.parametrize("module", ["soccer_lab", "soccer_lab.rules", "soccer_lab.games", "soccer_lab.matches",
+                                    "soccer_lab.runs", "soccer_lab.experiments"])
 def test_docstring_examples_run(module, experiment, monkeypatch, tmp_path):
     import importlib
 

@@ -25,6 +25,8 @@ class Entry(NamedTuple):
 COMMANDS = {
     "serve": Entry("soccer_lab.app.cli.serve", "serve_command", "Start the app: the UI, the JSON API and the rerun viewer."),
     "play": Entry("soccer_lab.app.cli.play", "play_command", "Play a rulebase's games and print how each went."),
+    "match": Entry("soccer_lab.app.cli.match", "match_command",
+                   "Play two rulebases against each other and print wins, draws, losses and goals."),
     "evolve": Entry("soccer_lab.app.cli.evolve", "evolve_command", "Evolve a goal-scoring rulebase with the messy-coded GA."),
     "random-search": Entry("soccer_lab.app.cli.evolve", "random_search_command",
                            "The baseline: the same evaluations spent on random rulebases."),

@@ -12,10 +12,11 @@ from typing import TYPE_CHECKING, Annotated, Any, Callable, Optional
 import typer
 
 from soccer_lab.app.cli.common import fail
-from soccer_lab.app.cli.play import (ENV_PANEL, CountTouchesOption, EnvOption, FitnessOption, GoalCapOption,
-                                     IdleTicksOption, MaxTicksOption, NoiseOption, RcssserverOption, ServerOption,
-                                     ServersOption, SkillsOption, chosen_env, config_from_options, game_config,
-                                     option_help, option_name, rcss_executable, rcss_servers, trial_config)
+from soccer_lab.app.cli.play import (ENV_PANEL, GAME_PANEL, CountTouchesOption, EnvOption, FitnessOption,
+                                     GoalCapOption, IdleTicksOption, MaxTicksOption, NoiseOption, RcssserverOption,
+                                     ServerOption, ServersOption, SkillsOption, chosen_env, config_from_options,
+                                     game_config, option_help, option_name, rcss_executable, rcss_servers,
+                                     trial_config)
 from soccer_lab.app.runs.environments import RCSS, RCSS_WORKERS, SIMPLE, checked_workers, default_workers
 from soccer_lab.app.experiment.executors import LOCAL, RAY
 from soccer_lab.app.lineage.family_tree import plural
@@ -82,6 +83,10 @@ Address = Annotated[Optional[str], typer.Option(
 Out = Annotated[Optional[Path], typer.Option(
     "--out", help="Run folder for the outputs. (default: runs/<timestamp>)", show_default=False,
     rich_help_panel=RUN_PANEL)]
+Opponent = Annotated[Optional[Path], typer.Option(
+    "--opponent", metavar="FILE", help="Evolve against this fixed player (a rulebase file): each evaluation is a "
+    "match against it, two halves with the sides swapped, scored by the chapter's composite carried over to goal "
+    "difference (docs/research/matches.md). SimpleSoccer only.", show_default=False, rich_help_panel=GAME_PANEL)]
 Resume = Annotated[Optional[Path], typer.Option(
     "--resume", help="Continue the killed run in this folder (with its own settings; an rcss run may be given "
     "other servers: --server's, or --rcssserver and --servers).", show_default=False,
@@ -101,7 +106,7 @@ def evolve_command(
     noise: NoiseOption = None, skills: SkillsOption = None, count_touches: CountTouchesOption = None,
     env: EnvOption = None, server: ServerOption = None,
     rcssserver: RcssserverOption = None, servers: ServersOption = None, executor: Executor = None,
-    address: Address = None, out: Out = None, resume_dir: Resume = None,
+    address: Address = None, opponent: Opponent = None, out: Out = None, resume_dir: Resume = None,
 ) -> None:
     """Evolve a goal-scoring rulebase with the messy-coded GA (defaults: the chapter's Table 2)."""
     options = dict(locals())  # first: the options are the function's locals
@@ -174,11 +179,12 @@ def _settings(algorithm: str, options: dict[str, Any]) -> "RunSettings":
     cluster = _cluster(executor, address, servers, rcssserver, count)
     for name in ("out", "resume_dir"):
         options.pop(name, None)
+    opponent = _opponent_text(options.pop("opponent", None), env)
     options["max_generations"] = options.pop("generations")
     if env == SIMPLE:
         if options["workers"] is None:
             options["workers"] = default_workers()
-        where = {"game": game_config(**game_options, **simple_options)}
+        where = {"game": game_config(**game_options, **simple_options), "opponent": opponent}
     else:
         if options["workers"] is not None:
             try:
@@ -195,6 +201,22 @@ def _settings(algorithm: str, options: dict[str, Any]) -> "RunSettings":
     from soccer_lab.app.runs.run import RunSettings
 
     return RunSettings(ga, algorithm=algorithm, **where)
+
+
+def _opponent_text(path: Path | None, env: str) -> str | None:
+    """The --opponent file's rules as text (run.json keeps them, so a resumed run plays the same opponent)."""
+    if path is None:
+        return None
+    if env != SIMPLE:
+        fail(f"--opponent: matches are played in SimpleSoccer, not with --env {RCSS}")
+    from soccer_lab.app.rulebase_files import RulebaseFileError, load_rulebase
+    from soccer_lab.fuzzy.printer import format_rulebase
+    from soccer_lab.soccer.config import SOCCER_VOCABULARY
+
+    try:
+        return format_rulebase(load_rulebase(path), SOCCER_VOCABULARY)
+    except RulebaseFileError as exc:
+        fail(f"--opponent: {exc}")
 
 
 # ---- running ---------------------------------------------------------------------------------
@@ -334,6 +356,9 @@ def _summary(run: "Run", result: "RunResult") -> None:
 def _replay_line(run: "Run") -> str:
     game, rcss = run.best_game, run.settings.env == RCSS
     played = "trial" if rcss else "game"
+    if run.settings.opponent:
+        return ("each evaluation was a match against the opponent (the recording shows no match yet): "
+                f"soccer-lab match {run.folder.best_rules} OPPONENT.rules plays the best against it")
     if game is None:
         why = ("it was not traced in this process: the run was resumed" if rcss
                else "its seed was not kept by the run it comes from")

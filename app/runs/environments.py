@@ -80,6 +80,30 @@ def checked_start_servers(env: str, servers: Sequence[str] | None, start_servers
     return count
 
 
+def opponent_rulebase(text: str) -> "Rulebase":
+    """The opponent of a run played against one, from its rule text (ValueError naming what is wrong)."""
+    from soccer_lab.fuzzy.parser import parse_rulebase
+    from soccer_lab.soccer.config import SOCCER_VOCABULARY
+
+    rulebase = parse_rulebase(text, SOCCER_VOCABULARY)
+    if not len(rulebase):
+        raise ValueError("the opponent has no rule")
+    return rulebase
+
+
+def checked_opponent(env: str, opponent: str | None) -> str | None:
+    """A fixed opponent's rule text as the printer writes it (None: no opponent); SimpleSoccer only. ValueError
+    with one line otherwise."""
+    if opponent is None:
+        return None
+    if checked_env(env) != SIMPLE:
+        raise ValueError(f"matches against an opponent are played in SimpleSoccer, not with env {RCSS}")
+    from soccer_lab.fuzzy.printer import format_rulebase
+    from soccer_lab.soccer.config import SOCCER_VOCABULARY
+
+    return format_rulebase(opponent_rulebase(opponent), SOCCER_VOCABULARY)
+
+
 def default_workers() -> int:
     """Worker processes of a SimpleSoccer run when not told (the CLI and the UI alike): every core, within
     GAConfig's limit."""
@@ -106,14 +130,16 @@ def checked_behaviour_seeds(env: str, seeds: int) -> int:
 
 @dataclass(frozen=True)
 class SimpleSoccerGames:
-    """Evaluations are SimpleSoccer games, played in this process or in the GA's worker processes."""
+    """Evaluations are SimpleSoccer games, played in this process or in the GA's worker processes; with an
+    `opponent` (its rule text), matches against that fixed player (soccer/match.py, MatchEvaluator)."""
 
     game: GameConfig = GameConfig()
+    opponent: str | None = None
     env: ClassVar[str] = SIMPLE
     failures: ClassVar[tuple[type[Exception], ...]] = ()  # nothing outside this process can fail
 
     def settings(self) -> dict[str, Any]:
-        return {"game": self.game.model_dump()}
+        return {"game": self.game.model_dump(), **({"opponent": self.opponent} if self.opponent else {})}
 
     @property
     def world(self) -> WorldConfig:
@@ -124,11 +150,19 @@ class SimpleSoccerGames:
     def evaluator(self, announce: Announce | None = None) -> Iterator["Evaluator"]:
         from soccer_lab.soccer.evaluate import SimpleSoccerEvaluator
 
-        yield SimpleSoccerEvaluator(self.game)
+        if self.opponent:
+            from soccer_lab.soccer.match import MatchEvaluator
+
+            yield MatchEvaluator(opponent_rulebase(self.opponent), self.game)
+        else:
+            yield SimpleSoccerEvaluator(self.game)
 
     def replay(self, rulebase: "Rulebase", seed: int, vocabulary: "Vocabulary") -> Replay | None:
         """The first game of the evaluation played from `seed` (its first of k games): a game depends only on
-        rulebase and seed, so this is the very game the GA scored."""
+        rulebase and seed, so this is the very game the GA scored. None against an opponent: the GA scored
+        a match, which the recording cannot show yet."""
+        if self.opponent:
+            return None
         from soccer_lab.soccer.engine import play_game
         from soccer_lab.soccer.evaluate import game_seeds
 

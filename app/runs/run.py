@@ -18,8 +18,9 @@ from typing import TYPE_CHECKING, Any, ContextManager, Iterable, Literal, Sequen
 from pydantic import ValidationError
 
 from soccer_lab.app.runs.environments import (RCSS, SIMPLE, Announce, Environment, RcssTrials, Replay,
-                                              SimpleSoccerGames, checked_behaviour_seeds, checked_env, checked_servers,
-                                              checked_start_servers, checked_workers)
+                                              SimpleSoccerGames, checked_behaviour_seeds, checked_env, checked_opponent,
+                                              checked_servers, checked_start_servers, checked_workers,
+                                              opponent_rulebase)
 from soccer_lab.app.runs.recording import RunRecorder
 from soccer_lab.app.runs.outputs import (GenerationBestsFile, LineageFile, Replayer, RunFolder, RunFolderError,
                                          RunOutputs, generation_best, lineage_line)
@@ -59,6 +60,7 @@ class RunSettings:
     start_servers: int = 0
     rcssserver: str | None = field(default=None, compare=False)
     cluster: "RayCluster | None" = field(default=None, compare=False)  # servers on a Ray cluster's nodes
+    opponent: str | None = None  # SimpleSoccer only: rule text of the fixed player each evaluation is a match against
 
     @classmethod
     def build(
@@ -70,6 +72,7 @@ class RunSettings:
         trial: TrialConfig | dict[str, Any] | None = None,
         algorithm: str = GA,
         start_servers: int | None = None,
+        opponent: str | None = None,
     ) -> "RunSettings":
         """Validated settings (an rcss run given no servers starts one); ValueError naming
         each bad parameter (pydantic's ValidationError, a ValueError, for bad GA parameters: the caller
@@ -88,20 +91,22 @@ class RunSettings:
         for where, check in (("env", lambda: checked_env(env)), ("servers", lambda: checked_servers(env, servers)),
                              ("start_servers", lambda: checked_start_servers(env, servers, start_servers)),
                              ("ga.workers", lambda: checked_workers(env, ga.workers)),
-                             ("ga.behaviour_seeds", lambda: checked_behaviour_seeds(env, ga.behaviour_seeds))):
+                             ("ga.behaviour_seeds", lambda: checked_behaviour_seeds(env, ga.behaviour_seeds)),
+                             ("opponent", lambda: checked_opponent(env, opponent))):
             try:
                 check()
             except ValueError as exc:
                 raise ValueError(f"{where}: {exc}") from None
         return cls(ga, game, env, tuple(checked_servers(env, servers)), trial, algorithm,
-                   checked_start_servers(env, servers, start_servers))
+                   checked_start_servers(env, servers, start_servers), opponent=checked_opponent(env, opponent))
 
     @classmethod
     def from_dict(cls, data: dict[str, Any]) -> "RunSettings":
         """Settings as stored (run.json, the app's store); runs from before env existed played SimpleSoccer,
         from before algorithm was stored the GA."""
         return cls.build(data.get("ga"), data.get("game"), data.get("env", SIMPLE), data.get("servers"),
-                         data.get("trial"), data.get("algorithm", GA), data.get("start_servers") or None)
+                         data.get("trial"), data.get("algorithm", GA), data.get("start_servers") or None,
+                         data.get("opponent"))
 
     def to_dict(self) -> dict[str, Any]:
         return {"algorithm": self.algorithm, "ga": self.ga.model_dump(), "env": self.env,
@@ -111,7 +116,7 @@ class RunSettings:
     def environment(self) -> Environment:
         if self.env == RCSS:
             return RcssTrials(self.servers, self.trial, self.start_servers, self.rcssserver, self.cluster)
-        return SimpleSoccerGames(self.game)
+        return SimpleSoccerGames(self.game, self.opponent)
 
     @property
     def pitch_game(self) -> GameConfig:
@@ -235,9 +240,13 @@ class Run:
         return self.outputs.best_quality if self.outputs is not None else self.folder.best_quality()
 
     def _quality_replayer(self, vocabulary: Vocabulary) -> Replayer | None:
-        """Re-plays a best on app/runs/true_quality.py's common starts, one SimpleSoccer game each, in one batch
-        (none on rcssserver: there N trials would cost minutes)."""
-        return simple_soccer_replayer(self.settings.game, vocabulary) if self.settings.env == SIMPLE else None
+        """Re-plays a best on app/runs/true_quality.py's common starts, one SimpleSoccer game each (against an
+        opponent, one match each), in one batch (none on rcssserver: there N trials would cost minutes)."""
+        if self.settings.env != SIMPLE:
+            return None
+        opponent = self.settings.opponent
+        return simple_soccer_replayer(self.settings.game, vocabulary,
+                                      opponent=opponent_rulebase(opponent) if opponent else None)
 
     def lineage_lines(self, state: RunState | None) -> dict[int, str]:
         """lineage.jsonl's line of each finished generation: those the file holds for the generations the

@@ -69,11 +69,14 @@ def replayed_quality(rulebase: Rulebase, replay: Evaluator, seeds: Sequence[int]
                        float(np.mean(goals > 0)))
 
 
-def simple_soccer_replayer(game: "GameConfig", vocabulary: "Vocabulary",
-                           starts: int = TRUE_QUALITY_STARTS) -> Callable[[Rulebase], TrueQuality]:
-    """A player's true quality in `game`'s SimpleSoccer: one game from each common start, in one batch."""
+def simple_soccer_replayer(game: "GameConfig", vocabulary: "Vocabulary", starts: int = TRUE_QUALITY_STARTS,
+                           opponent: Rulebase | None = None) -> Callable[[Rulebase], TrueQuality]:
+    """A player's true quality in `game`'s SimpleSoccer: one game from each common start, in one batch; against
+    an `opponent`, one match (soccer/match.py) from each."""
     from soccer_lab.soccer.evaluate import SimpleSoccerEvaluator
+    from soccer_lab.soccer.match import MatchEvaluator
 
-    replay = SimpleSoccerEvaluator(game.model_copy(update={"games_per_evaluation": 1}), vocabulary)
+    one = game.model_copy(update={"games_per_evaluation": 1})
+    replay = SimpleSoccerEvaluator(one, vocabulary) if opponent is None else MatchEvaluator(opponent, one, vocabulary)
     seeds = common_seeds(starts)
     return lambda rulebase: replayed_quality(rulebase, replay, seeds)

@@ -16,7 +16,7 @@ from pathlib import Path
 import pytest
 
 REPOSITORY = Path(__file__).resolve().parents[2]
-DOCUMENTS = ["README.md", "docs/research/index.md", "docs/inspecting/index.md"]
+DOCUMENTS = ["README.md", "docs/research/index.md", "docs/research/matches.md", "docs/inspecting/index.md"]
 BASH_BLOCK = re.compile(r"^```bash\n(.*?)^```", re.MULTILINE | re.DOTALL)
 SYNOPSIS = re.compile(r"\bFILE\b|\bPRESET\b|\[|\||\.\.\.|/path/to|~/")
 NOT_HERE = ("serve", "--env rcss", "robocup", "transfer", "--executor", "./scripts/test")
