@@ -74,7 +74,7 @@ def example(name: str = "demo") -> Rulebase:
     >>> print(format_rules(example("demo")))
     if Ball is At and Goal is not At then KickTowardGoal High
     if Ball is At then Dribble VeryLeft Low
-    if Ball is not At then GoToBall VeryHigh
+    if Ball is not At or Ball is not Near then GoToBall VeryHigh
     """
     from soccer_lab.soccer.examples import example as built_in
 

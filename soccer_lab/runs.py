@@ -229,12 +229,13 @@ class FamilyTree:
     `svg()` and `dot()` draw it as `--svg` and `--dot` do."""
 
     view: "FamilyTreeView"
+    quality: str  # the player re-played on the common fresh starts, in one line
 
     @property
     def text(self) -> str:
         from soccer_lab.app.lineage.drawing import tree_text
 
-        return tree_text(self.view)
+        return tree_text(self.view) + self.quality + "\n"
 
     def svg(self, with_rules: bool = True) -> str:
         from soccer_lab.app.lineage.drawing import tree_svg
@@ -263,10 +264,13 @@ def lineage(run: RunRecord | str | PathLike, index: int | None = None, *, genera
     >>> tree.text.splitlines()[0].startswith("Generation 1, individual #0")
     True
     """
-    from soccer_lab.app.lineage.family_tree import RunLineage
+    from soccer_lab.app.lineage.family_tree import RunLineage, player_quality_line
     from soccer_lab.ga.lineage import LineageError
 
     if index is not None and generation is None:
         raise LineageError("an individual's index needs its generation")
-    found = RunLineage.from_folder(run.folder if isinstance(run, RunRecord) else Path(run))
-    return FamilyTree(found.family_tree(found.place(generation, index), generations))
+    folder = run.folder if isinstance(run, RunRecord) else Path(run)
+    found = RunLineage.from_folder(folder)
+    view = found.family_tree(found.place(generation, index), generations)
+    rulebase = view.codec.decode(view.tree.individual.chromosome)
+    return FamilyTree(view, player_quality_line(folder, rulebase, view.vocabulary))

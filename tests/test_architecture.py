@@ -17,7 +17,7 @@ ALLOWED = {  # what each part may import of the project (SPEC 1: fuzzy nothing; 
     "soccer": {"fuzzy"},
     "app": {"fuzzy", "ga", "soccer"},
 }
-MAX_LOOSE_APP_MODULES = 6
+MAX_LOOSE_APP_MODULES = 6  # store, paths, words, rule inspection, rulebase files, pitch markings
 MAX_POSITIONAL_PARAMETERS = 12
 
 

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import glob
 import os
+import shutil
 import subprocess
 import sys
 from dataclasses import dataclass
@@ -33,6 +34,9 @@ def pip(*arguments: str) -> subprocess.CompletedProcess:
 def install(scratch: Path) -> InstalledWheel:
     """Build the wheel (in pip's own isolated build, as a release is built) and install it, without its
     dependencies (the test environment has them), with the index's `fuzzy` beside it."""
+    # setuptools builds in the checkout's build/ and never empties it: a module moved since the last build would
+    # ride along in the wheel (build/ is git-ignored output, made again here)
+    shutil.rmtree(REPOSITORY / "build", ignore_errors=True)
     built = pip("wheel", "--no-deps", "--wheel-dir", str(scratch / "dist"), str(REPOSITORY))
     if built.returncode:
         raise RuntimeError(f"building the wheel failed:\n{built.stdout}\n{built.stderr}")

@@ -19,7 +19,7 @@ from soccer_lab.app.cli.play import (ENV_PANEL, GAME_PANEL, CountTouchesOption, 
                                      trial_config)
 from soccer_lab.app.runs.environments import RCSS, RCSS_WORKERS, SIMPLE, checked_workers, default_workers
 from soccer_lab.app.experiment.executors import LOCAL, RAY
-from soccer_lab.app.lineage.family_tree import plural
+from soccer_lab.app.words import plural
 from soccer_lab.ga.config import GAConfig
 from soccer_lab.soccer.config import GameConfig
 

@@ -42,7 +42,7 @@ def lineage_command(run_dir: RunDir, generation: Generation = None, index: Index
                     rules: RulesOut = None) -> None:
     """A player's family tree: by default the run's best so far; --generation G for that generation's best,
     with --index I for any of its players."""
-    from soccer_lab.app.lineage.family_tree import RunLineage
+    from soccer_lab.app.lineage.family_tree import RunLineage, player_quality_line
     from soccer_lab.app.lineage.drawing import tree_dot, tree_svg, tree_text
     from soccer_lab.ga.lineage import LineageError
 
@@ -53,7 +53,7 @@ def lineage_command(run_dir: RunDir, generation: Generation = None, index: Index
         fail(str(exc))
     typer.echo(tree_text(view), nl=False)
     rulebase = view.codec.decode(view.tree.individual.chromosome)
-    typer.echo(_quality_line(run_dir, rulebase, view.vocabulary))
+    typer.echo(player_quality_line(run_dir, rulebase, view.vocabulary))
     for path, text in ((svg, lambda: tree_svg(view, with_rules=True)), (dot, lambda: tree_dot(view)),
                        (rules, lambda: _rulebase_file_text(rules, rulebase, view.vocabulary))):
         if path is not None:
@@ -62,22 +62,6 @@ def lineage_command(run_dir: RunDir, generation: Generation = None, index: Index
             except OSError as exc:
                 fail(f"cannot write {path}: {exc.strerror or exc}")
             typer.echo(f"wrote {path}")
-
-
-def _quality_line(run_dir: Path, rulebase: "Rulebase", vocabulary: "Vocabulary") -> str:
-    """The chosen player re-played on the common fresh starts, in the run's own SimpleSoccer games."""
-    from soccer_lab.app.runs.environments import SIMPLE
-    from soccer_lab.app.runs.run import RunSettings
-    from soccer_lab.app.runs.outputs import RunFolder, RunFolderError
-    from soccer_lab.app.runs.true_quality import simple_soccer_replayer
-
-    try:
-        settings = RunSettings.from_dict(RunFolder(run_dir).read_manifest())
-    except (RunFolderError, ValueError):
-        return "true quality: not re-played (the run's settings cannot be read)"
-    if settings.env != SIMPLE:
-        return "true quality: not re-played (the run played on rcssserver)"
-    return f"true quality of this player: {simple_soccer_replayer(settings.game, vocabulary)(rulebase).text()}"
 
 
 def _rulebase_file_text(path: Path, rulebase: "Rulebase", vocabulary: "Vocabulary") -> str:

@@ -14,7 +14,7 @@ import typer
 from soccer_lab.app.cli.common import TYPER_SETTINGS, CommandList, OneLineErrors, fail
 from soccer_lab.app.cli.play import (CountTouchesOption, FitnessOption, GoalCapOption, IdleTicksOption, MaxTicksOption,
                                      NoiseOption, SkillsOption, game_config)
-from soccer_lab.app.lineage.family_tree import plural
+from soccer_lab.app.words import plural
 from soccer_lab.app.rule_inspection import DEFAULT_USAGE_GAMES
 from soccer_lab.app.rulebase_files import JSON_SUFFIX, legacy_trial_rules
 from soccer_lab.fuzzy.engine import Engine, Inference

@@ -8,7 +8,8 @@ from __future__ import annotations
 import html
 from typing import Sequence
 
-from soccer_lab.app.lineage.family_tree import MUTATED_COLOUR, FamilyTreeView, plural
+from soccer_lab.app.lineage.family_tree import MUTATED_COLOUR, FamilyTreeView
+from soccer_lab.app.words import plural
 from soccer_lab.ga.lineage import Ancestor
 
 FONT = "font-family: Inter, 'Segoe UI', Helvetica, Arial, sans-serif"

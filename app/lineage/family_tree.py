@@ -12,7 +12,9 @@ from pathlib import Path
 from typing import Any, Callable, Sequence
 
 from soccer_lab.app.runs.outputs import LineageFile, RunFolder
+from soccer_lab.app.words import plural
 from soccer_lab.fuzzy.printer import format_rule
+from soccer_lab.fuzzy.rule import Rulebase
 from soccer_lab.fuzzy.vocabulary import Vocabulary
 from soccer_lab.ga.checkpoint import CheckpointError, load_checkpoint
 from soccer_lab.ga.codec import ChromosomeCodec
@@ -270,11 +272,6 @@ def describe_birth(birth: Birth | None, generation: int, vocabulary: Vocabulary,
     return ", then ".join(parts)
 
 
-def plural(count: int, word: str, many: str | None = None) -> str:
-    """'1 rule', '2 rules'; `many` for a word that is not made plural with an s ('entry', 'entries')."""
-    return f"{count} {word if count == 1 else many or word + 's'}"
-
-
 # ---- as data (the API) ------------------------------------------------------------------------
 def tree_data(view: FamilyTreeView) -> dict[str, Any]:
     """The family tree as plain data: the player, every ancestor (newest generation first) and every rule."""
@@ -299,3 +296,20 @@ def tree_data(view: FamilyTreeView) -> dict[str, Any]:
             for r in view.rules],
         "chromosome": [{"compact": g.compact, "origin": g.origin, "mutated": g.mutated} for g in view.genes()],
     }
+
+
+def player_quality_line(run_dir: Path, rulebase: Rulebase, vocabulary: Vocabulary) -> str:
+    """One line: a run's player re-played on the common fresh starts (app/runs/true_quality.py), in the run's own
+    SimpleSoccer games, as `soccer-lab lineage` prints it under the tree."""
+    from soccer_lab.app.runs.environments import SIMPLE
+    from soccer_lab.app.runs.run import RunSettings
+    from soccer_lab.app.runs.outputs import RunFolderError
+    from soccer_lab.app.runs.true_quality import simple_soccer_replayer
+
+    try:
+        settings = RunSettings.from_dict(RunFolder(run_dir).read_manifest())
+    except (RunFolderError, ValueError):
+        return "true quality: not re-played (the run's settings cannot be read)"
+    if settings.env != SIMPLE:
+        return "true quality: not re-played (the run played on rcssserver)"
+    return f"true quality of this player: {simple_soccer_replayer(settings.game, vocabulary)(rulebase).text()}"

@@ -36,7 +36,7 @@ import rerun as rr
 import rerun.blueprint as rrb
 import rerun_bindings
 
-from soccer_lab.app.lineage.family_tree import plural
+from soccer_lab.app.words import plural
 from soccer_lab.app.pitch_markings import CENTRE_CIRCLE_RADIUS
 from soccer_lab.ga.statistics import NOT_MEASURED
 from soccer_lab.soccer.config import WorldConfig

@@ -13,5 +13,6 @@ def test_the_ui_page_has_the_projector_key():
     app = FastAPI()
     app.include_router(ui_router("ws://127.0.0.1:8080"))
     page = TestClient(app, base_url="http://127.0.0.1:8000").get("/ui/").text
-    assert f"<script>{PROJECTOR_KEY_SCRIPT}</script></body>" in page
+    script = f"<script>{PROJECTOR_KEY_SCRIPT}</script>"
+    assert script in page and page.index(script) < page.index("</body>")
     assert TOGGLE_LABEL in PROJECTOR_KEY_SCRIPT and LEAVE_LABEL in PROJECTOR_KEY_SCRIPT

@@ -248,8 +248,8 @@ def test_a_batch_is_played_by_its_controllers_or_by_given_actions_not_both():
 def test_soccer_imports_without_gymnasium():
     """Gymnasium is an optional extra: only soccer_lab.soccer.gym needs it."""
     code = ("import sys, pkgutil, importlib; sys.modules['gymnasium'] = None\n"
-            "import soccer\n"
-            "names = [m.name for m in pkgutil.walk_packages(soccer.__path__, 'soccer.') "
+            "import soccer_lab.soccer as soccer\n"
+            "names = [m.name for m in pkgutil.walk_packages(soccer.__path__, 'soccer_lab.soccer.') "
             "if not m.name.startswith('soccer_lab.soccer.gym')]\n"
             "[importlib.import_module(n) for n in names]\n"
             "print(len(names))")

@@ -27,7 +27,7 @@ from typing import Any, Callable
 from soccer_lab.app.web.access import Forbidden, Visitor
 from soccer_lab.app.web.classroom.settings import (ENTRY_MAX_CHARACTERS, ENTRY_MAX_RULES, MAX_ENTRIES, MAX_STARTS,
                                                    ClassSettings)
-from soccer_lab.app.lineage.family_tree import plural
+from soccer_lab.app.words import plural
 from soccer_lab.app.runs.manager import RunStateError
 from soccer_lab.app.store import EntryRecord, NotFound, RoundRecord, Store, StoreError, name_key
 from soccer_lab.fuzzy.parser import parse_rulebase

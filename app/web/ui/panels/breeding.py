@@ -13,7 +13,8 @@ from typing import Callable
 import viser
 
 from soccer_lab.app.lineage.breeding import DEFAULT_MUTATION_RATE, BreedingDescription, BreedingError, Parent, breed
-from soccer_lab.app.lineage.family_tree import RunLineage, plural
+from soccer_lab.app.lineage.family_tree import RunLineage
+from soccer_lab.app.words import plural
 from soccer_lab.app.web.access import ScopedStore
 from soccer_lab.app.store import NotFound
 from soccer_lab.app.web.ui import style

@@ -11,7 +11,7 @@ import viser
 from soccer_lab.app.web.access import Forbidden, Visitor
 from soccer_lab.app.web.classroom.settings import MAX_STARTS
 from soccer_lab.app.web.classroom.tournament import Tournament, TournamentEvent, entry_game
-from soccer_lab.app.lineage.family_tree import plural
+from soccer_lab.app.words import plural
 from soccer_lab.app.runs.manager import RunStateError
 from soccer_lab.app.store import NotFound, RoundRecord, StoreError
 from soccer_lab.app.web.ui import style

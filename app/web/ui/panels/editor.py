@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING, Callable
 
 import viser
 
-from soccer_lab.app.lineage.family_tree import plural
+from soccer_lab.app.words import plural
 from soccer_lab.app.rule_inspection import MAX_GAMES, size
 from soccer_lab.app.web.access import ScopedStore
 from soccer_lab.app.store import StoreError

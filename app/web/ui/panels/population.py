@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING, Callable, Sequence
 import numpy as np
 import viser
 
-from soccer_lab.app.lineage.family_tree import plural
+from soccer_lab.app.words import plural
 from soccer_lab.app.web.ui import style
 from soccer_lab.app.web.ui.game import rules_summary
 from soccer_lab.app.web.ui.panels.svg import escape, svg_open

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Sequence
 
-from soccer_lab.app.lineage.family_tree import plural
+from soccer_lab.app.words import plural
 from soccer_lab.app.web.ui import style
 from soccer_lab.app.web.ui.panels.svg import escape, format_value
 from soccer_lab.fuzzy.engine import Inference
