@@ -95,11 +95,18 @@ def serve(options: ServeOptions, echo: Callable[[str], None] = print) -> None:
     from soccer_lab.soccer.config import GameConfig
 
     class Server(uvicorn.Server):
-        """uvicorn's server, telling `on_exit` as soon as a signal (Ctrl+C, SIGTERM) asks it to stop."""
+        """uvicorn's server, telling `on_exit` as soon as a signal (Ctrl+C, SIGTERM) asks it to stop, and
+        `on_listening` once it accepts connections: the addresses are printed only when they answer."""
 
-        def __init__(self, config: uvicorn.Config, on_exit: Callable[[], None]):
+        def __init__(self, config: uvicorn.Config, on_exit: Callable[[], None], on_listening: Callable[[], None]):
             super().__init__(config)
             self.on_exit = on_exit
+            self.on_listening = on_listening
+
+        async def startup(self, sockets: list | None = None) -> None:
+            await super().startup(sockets)
+            if not self.should_exit:  # it could not bind: uvicorn says why and exits
+                self.on_listening()
 
         def handle_exit(self, sig: int, frame: object) -> None:
             self.on_exit()
@@ -158,26 +165,29 @@ def serve(options: ServeOptions, echo: Callable[[str], None] = print) -> None:
                          ui_websocket=options.url(options.ui_port).replace("http://", "ws://", 1), classroom=classroom,
                          tournament=tournament)
         viewer_line = viewer_home(api_url) if viewer else "not available: " + viewer_problem
-        if classroom is not None:
-            echo("soccer-lab classroom is running (Ctrl+C to stop)")
-            echo(f"  students open   {api_url}/   (the home page shows its QR code)")
-            echo(f"  join code       {classroom.join_code}")
-            echo(f"  teacher token   {classroom.teacher_token}   (yours alone: it starts rounds, removes entries)")
-            echo(f"  teacher sign-in {api_url}/join.html#teacher={classroom.teacher_token}")
-            echo(f"  rerun viewer    {viewer_line}")
-            echo(f"  data            {options.data_dir.resolve()}")
-            echo(f"  runs            {runs.max_concurrent_runs} at once{' on Ray' if options.ray else ''}, "
-                 "the others queued in turn")
-        else:
-            echo("soccer-lab is running (Ctrl+C to stop)")
-            echo(f"  home          {api_url}/")
-            echo(f"  UI            {ui_url}")
-            echo(f"  API docs      {api_url}/docs   (the JSON API answers under /api/)")
-            echo(f"  rerun viewer  {viewer_line}")
-            echo(f"  data          {options.data_dir.resolve()}")
-        if runs.interrupted_at_start:
-            listed = ", ".join(map(str, runs.interrupted_at_start))
-            echo(f"  runs cut off last time, now interrupted and resumable: {listed}")
+
+        def announce() -> None:
+            if classroom is not None:
+                echo("soccer-lab classroom is running (Ctrl+C to stop)")
+                echo(f"  students open   {api_url}/   (the home page shows its QR code)")
+                echo(f"  join code       {classroom.join_code}")
+                echo(f"  teacher token   {classroom.teacher_token}   (yours alone: it starts rounds, removes entries)")
+                echo(f"  teacher sign-in {api_url}/join.html#teacher={classroom.teacher_token}")
+                echo(f"  rerun viewer    {viewer_line}")
+                echo(f"  data            {options.data_dir.resolve()}")
+                echo(f"  runs            {runs.max_concurrent_runs} at once{' on Ray' if options.ray else ''}, "
+                     "the others queued in turn")
+            else:
+                echo("soccer-lab is running (Ctrl+C to stop)")
+                echo(f"  home          {api_url}/")
+                echo(f"  UI            {ui_url}")
+                echo(f"  API docs      {api_url}/docs   (the JSON API answers under /api/)")
+                echo(f"  rerun viewer  {viewer_line}")
+                echo(f"  data          {options.data_dir.resolve()}")
+            if runs.interrupted_at_start:
+                listed = ", ".join(map(str, runs.interrupted_at_start))
+                echo(f"  runs cut off last time, now interrupted and resumable: {listed}")
+
         # uvicorn believes X-Forwarded-For from loopback by default: a script could then be any visitor it
         # names (a new rate limit per request); only a proxy the user names is believed
         config = uvicorn.Config(app, host=options.host, port=options.port, log_level="warning",
@@ -186,7 +196,7 @@ def serve(options: ServeOptions, echo: Callable[[str], None] = print) -> None:
                                 forwarded_allow_ips=options.trusted_proxy or "")
         if threading.current_thread() is threading.main_thread():
             signal.signal(signal.SIGTERM, _cleanup_after_sigterm)
-        Server(config, on_exit=runs.interrupt_all).run()
+        Server(config, on_exit=runs.interrupt_all, on_listening=announce).run()
     finally:
         runs.shutdown()
         if games is not None:
