@@ -230,21 +230,23 @@ def rendered_sizes(page) -> list[dict]:
         const caption = cell.querySelector('div');
         const zoom = caption.getBoundingClientRect().height / caption.offsetHeight;
         return {pitch: cell.querySelector('svg').getBoundingClientRect().width,
-                caption: parseFloat(getComputedStyle(caption).fontSize) * zoom};
+                caption: parseFloat(getComputedStyle(caption).fontSize) * zoom,
+                bottom: cell.getBoundingClientRect().bottom};
     })""")
 
 
 def test_projector_population_grid_stays_readable_with_a_run_playing(ui, browser):
-    # At 1280 x 800 the grid's players were dots. With a run playing (its latest generation's best players in
-    # the grid), every small pitch is at least 200 px wide and its caption at least 18 px, measured in the page.
+    # At 1280 x 800 the grid's players were dots, then its fourth row fell below the window. With a run playing
+    # (its latest generation's best players in the grid), every small pitch is at least 200 px wide, its caption
+    # at least 18 px, and all in the window, measured in the page.
     page, session = open_tab(ui, browser, PROJECTOR_SIZES[0])
     try:
         page.get_by_role("tab", name="Evolve").click()
         page.get_by_text("GA parameters (chapter's Table 2)").click()
-        field(page, "Population size", "input").fill("10")
+        field(page, "Population size", "input").fill("12")  # a full grid
         field(page, "Generations (max)", "input").fill("3")
         field(page, "Generations (max)", "input").press("Tab")
-        wait_until(lambda: session.evolve.config()["population_size"] == 10
+        wait_until(lambda: session.evolve.config()["population_size"] == 12
                    and session.evolve.config()["max_generations"] == 3)
         page.get_by_role("button", name="Start").click()
         wait_until(lambda: session.population.shown_players() is not None, timeout=120)  # a generation's best
@@ -258,6 +260,7 @@ def test_projector_population_grid_stays_readable_with_a_run_playing(ui, browser
         print(f"{len(sizes)} small pitches, drawn {sizes[0]}")
         assert all(size["pitch"] >= READABLE_PITCH for size in sizes), sizes
         assert all(size["caption"] >= READABLE_CAPTION for size in sizes), sizes
+        assert all(size["bottom"] <= PROJECTOR_SIZES[0]["height"] for size in sizes), "a small pitch below the window"
         page.get_by_role("tab", name="View").click()
         page.get_by_role("button", name="Leave projector view (P)").click()
         wait_until(lambda: not session.projector.on)
