@@ -11,7 +11,8 @@ server can record several runs at once.
 - The recording carries a blueprint laid out like the chapter's figures (`run_blueprint`): one tab per
   replayed generation (the latest open) beside best/mean/worst fitness (Figs. 11, 12), goal shares
   (Fig. 13), chromosome composition with its standard deviation (Fig. 28), the gene pool (Fig. 29) and
-  the population's diversity (distinct chromosomes, rules and behaviours; mean rule-set distance).
+  the population's diversity (distinct chromosomes, rules and behaviours; mean rule-set distance). Each plot's
+  legend is a view beside it (`legend/<plot>`: the series' names in their colours), never over its lines.
 - `log_replay(stream, trace, world)`: one game on the `tick` timeline: pitch lines and goal (static),
   player with its facing and view cone, ball, the action chosen and the score.
 
