@@ -206,7 +206,8 @@ def log_legend(stream: rr.RecordingStream, legend: str, series: Sequence[tuple[s
 
 def _legend_view(legend: str) -> rrb.Spatial2DView:
     bounds = rrb.VisualBounds2D(x_range=(-1.0, 1.0), y_range=(-0.25, float(len(LEGENDS[legend]))))  # names hang below
-    return rrb.Spatial2DView(name=f"Legend of {legend.replace('_', ' ')}", origin=f"/{legend_entity(legend)}", visual_bounds=bounds, titlebar=False)
+    return rrb.Spatial2DView(name=f"Legend of {legend.replace('_', ' ')}", origin=f"/{legend_entity(legend)}",
+                             visual_bounds=bounds, titlebar=False)
 
 
 def _series_view(name: str, series: Sequence[str], legend: str, *, unit_range: bool = False) -> rrb.Horizontal:

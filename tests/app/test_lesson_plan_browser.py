@@ -185,7 +185,8 @@ def test_the_lesson_plan_minutes_7_to_10_work_as_written(ui, browser):
         page.get_by_role("button", name="Play").click()
         cells = page.locator(".mini-pitch")
         wait_until(lambda: cells.count() == 12, timeout=60)
-        captions = page.evaluate("() => [...document.querySelectorAll('.mini-pitch')].map((c) => c.firstChild.innerText)")
+        captions = page.evaluate("() => [...document.querySelectorAll('.mini-pitch')]"
+                                 ".map((cell) => cell.firstChild.innerText)")
         for rank, caption in enumerate(captions, 1):
             assert re.fullmatch(rf"#{rank} · \d\.\d\d\s+\d+ goals?", caption.strip()), caption
         wait_until(lambda: page.locator('.mini-pitch[data-done="true"]').count() > 0, timeout=120)
@@ -196,7 +197,8 @@ def test_the_lesson_plan_minutes_7_to_10_work_as_written(ui, browser):
 
         # Minute 9-10: the best player loaded, Measure rule usage puts a bar beside each rule; Simplify keeps the
         # player playing the same, tick for tick.
-        assert "press **Measure rule usage** (Inference tab)" in guide and "the **Simplify** button (Rules tab)" in guide
+        assert "press **Measure rule usage** (Inference tab)" in guide
+        assert "the **Simplify** button (Rules tab)" in guide
         page.get_by_role("button", name="Pause").click()
         page.get_by_role("tab", name="Evolve").click()
         page.get_by_role("button", name="Load best so far onto the pitch").click()

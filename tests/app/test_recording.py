@@ -14,8 +14,8 @@ from rerun.chunk import RrdReader
 
 from soccer_lab.app.runs.recording import (COMPOSITION_SERIES, DISTANCE_SERIES, DIVERSITY_SERIES, FITNESS_SERIES,
                                            GENE_POOL_SERIES, GOAL_BINS, GOAL_HISTOGRAM_ENTITY, GOAL_SERIES,
-                                           LEGENDS, VIEW_CONE_LENGTH, legend_entity, RunRecorder, goal_outline, log_replay, open_stream,
-                                           spread_entity, statistic_entity, view_cone)
+                                           LEGENDS, VIEW_CONE_LENGTH, RunRecorder, goal_outline, legend_entity,
+                                           log_replay, open_stream, spread_entity, statistic_entity, view_cone)
 from soccer_lab.app.runs.outputs import RunFolder, RunFolderError, StatisticsFile, default_run_dir
 from soccer_lab.fuzzy.vocabulary import Vocabulary
 from soccer_lab.ga.statistics import GenerationStats
@@ -228,7 +228,8 @@ def test_no_legend_is_drawn_over_a_plot_each_plot_has_its_legend_beside_it(tmp_p
         contents = row.get("ContainerBlueprint:contents") or []
         for left, right in zip(contents, contents[1:]):
             beside[f"/{left}"] = blueprint.get(f"/{right}", {}).get("ViewBlueprint:space_origin", [None])[0]
-    legends = sorted(beside[path] for path, row in plots.items() if row["ViewBlueprint:class_identifier"] == ["TimeSeries"])
+    legends = sorted(beside[path] for path, row in plots.items()
+                     if row["ViewBlueprint:class_identifier"] == ["TimeSeries"])
     assert legends == sorted(f"/{legend_entity(legend)}" for legend in LEGENDS)  # one beside each time series
     for legend, series in LEGENDS.items():
         drawn = columns(path, f"/{legend_entity(legend)}")

@@ -1,8 +1,8 @@
 """A run's recording opened in rerun's own web viewer, as `serve` serves it (the app's /viewer/, the recording
 from the API), in headless Chromium with every request leaving the machine refused: the blueprint's views are
 drawn (the replay on its grass, the fitness curves, and beside them, not over them, the legend naming each
-series in its colour), not rerun's automatic grid, and the viewer asks the internet for nothing. The screenshot goes to artifacts/screenshots/recording-viewer.png
-(git-ignored).
+series in its colour), not rerun's automatic grid, and the viewer asks the internet for nothing. The screenshot
+goes to artifacts/screenshots/recording-viewer.png (git-ignored).
 
 The viewer draws on a canvas, so the test reads the screenshot's pixels: each view shows up as the
 colours only it uses."""
