@@ -11,7 +11,8 @@ server can record several runs at once.
 - The recording carries a blueprint laid out like the chapter's figures (`run_blueprint`): one tab per
   replayed generation (the latest open) beside best/mean/worst fitness (Figs. 11, 12), goal shares
   (Fig. 13), chromosome composition with its standard deviation (Fig. 28), the gene pool (Fig. 29) and
-  the population's diversity (distinct chromosomes, rules and behaviours; mean rule-set distance).
+  the population's diversity (distinct chromosomes, rules and behaviours; mean rule-set distance). Each plot's
+  legend is a view beside it (`legend/<plot>`: the series' names in their colours), never over its lines.
 - `log_replay(stream, trace, world)`: one game on the `tick` timeline: pitch lines and goal (static),
   player with its facing and view cone, ball, the action chosen and the score.
 
@@ -76,9 +77,19 @@ DIVERSITY_SERIES = {"distinct_chromosomes": ("distinct chromosomes", (30, 120, 2
                     "distinct_rules": ("distinct rules", (230, 140, 20)),
                     "distinct_behaviours": ("distinct behaviours", (150, 60, 200))}
 DISTANCE_SERIES = {"rule_set_distance": ("mean rule-set distance", (0, 150, 60))}
+# Each plot's legend (the legend view beside it): legend -> its series' (name, colour), in the plot's order. The
+# diversity row's two plots share a row, so their legends say only what their titles do not.
+LEGENDS = {"fitness": list(FITNESS_SERIES.values()), "goals": list(GOAL_SERIES.values()),
+           "chromosome": list(COMPOSITION_SERIES.values()), "gene_pool": list(GENE_POOL_SERIES.values()),
+           "diversity": [(name.removeprefix("distinct "), colour) for name, colour in DIVERSITY_SERIES.values()],
+           "distance": [("mean distance", colour) for _, colour in DISTANCE_SERIES.values()]}
 SERIES_WIDTH = 2.0
 SPREAD_WIDTH = 0.75
 BAR_CHART_SHARE = 0.5  # of the goal-shares plot's width
+# Legends: rerun 0.41 can only draw a plot's legend in a corner inside the plot, over its lines, so each plot's
+# own legend is hidden and a legend view beside it lists the series' names, each in its colour.
+LEGEND_ENTITY = "legend"
+LEGEND_SHARE = 0.35  # of a plot's width
 
 # Drawing (display only; the world's geometry comes from WorldConfig).
 VIEW_CONE_LENGTH = 20.0  # metres drawn along each edge of the view cone
@@ -154,7 +165,10 @@ def replay_entity(generation: int) -> str:
 
 
 def log_series_styles(stream: rr.RecordingStream) -> None:
-    """Legend names, colours and widths of the plotted series (static: they hold on every timeline)."""
+    """Legend names, colours and widths of the plotted series, and the legends beside the plots (static: they
+    hold on every timeline)."""
+    for legend, series in LEGENDS.items():
+        log_legend(stream, legend, series)
     for group in (FITNESS_SERIES, GOAL_SERIES, GENE_POOL_SERIES, DIVERSITY_SERIES, DISTANCE_SERIES):
         for statistic, (name, colour) in group.items():
             stream.log(statistic_entity(statistic), rr.SeriesLines(colors=colour, widths=SERIES_WIDTH, names=name),
@@ -178,10 +192,30 @@ def log_statistics(stream: rr.RecordingStream, row: Mapping[str, Any]) -> None:
     stream.log(GOAL_HISTOGRAM_ENTITY, rr.BarChart(np.array([float(row[b]) for b in GOAL_BINS])))
 
 
-def _series_view(name: str, series: Sequence[str], *, unit_range: bool = False) -> rrb.TimeSeriesView:
-    return rrb.TimeSeriesView(name=name, origin="/", contents=[f"+ /{entity}" for entity in series],
+def legend_entity(legend: str) -> str:
+    return f"{LEGEND_ENTITY}/{legend}"
+
+
+def log_legend(stream: rr.RecordingStream, legend: str, series: Sequence[tuple[str, tuple[int, ...]]]) -> None:
+    """One plot's legend: its series' names top down in the plot's order, each in its colour (the labels of
+    points too small to draw: the names alone fit the short plots)."""
+    stream.log(legend_entity(legend), rr.Points2D(
+        [[0.0, float(row)] for row in range(len(series))], colors=[colour for _, colour in series], radii=0.0,
+        labels=[name for name, _ in series], show_labels=True), static=True)
+
+
+def _legend_view(legend: str) -> rrb.Spatial2DView:
+    bounds = rrb.VisualBounds2D(x_range=(-1.0, 1.0), y_range=(-0.25, float(len(LEGENDS[legend]))))  # names hang below
+    return rrb.Spatial2DView(name=f"Legend of {legend.replace('_', ' ')}", origin=f"/{legend_entity(legend)}",
+                             visual_bounds=bounds, titlebar=False)
+
+
+def _series_view(name: str, series: Sequence[str], legend: str, *, unit_range: bool = False) -> rrb.Horizontal:
+    """A plot without rerun's in-plot legend, and its legend view beside it."""
+    plot = rrb.TimeSeriesView(name=name, origin="/", contents=[f"+ /{entity}" for entity in series],
                               axis_y=rrb.ScalarAxis(range=(0.0, 1.0)) if unit_range else None,
-                              plot_legend=rrb.PlotLegend(visible=True))
+                              plot_legend=rrb.PlotLegend(visible=False))
+    return rrb.Horizontal(plot, _legend_view(legend), column_shares=[1.0, LEGEND_SHARE])
 
 
 def run_blueprint(replays: Sequence[tuple[int, str]] = (), world: WorldConfig | None = None) -> rrb.Blueprint:
@@ -189,22 +223,23 @@ def run_blueprint(replays: Sequence[tuple[int, str]] = (), world: WorldConfig | 
     replayed generation ((generation, tab name), the last one open). No automatic views are added."""
     figures = rrb.Vertical(
         _series_view("Fitness: best of the generation, best so far, mean, worst (Figs. 11, 12; lower is better)",
-                     [statistic_entity(s) for s in FITNESS_SERIES], unit_range=True),
+                     [statistic_entity(s) for s in FITNESS_SERIES], "fitness", unit_range=True),
         rrb.Horizontal(
             _series_view("Share of the population scoring 0 .. more than 4 goals (Fig. 13)",
-                         [statistic_entity(s) for s in GOAL_SERIES], unit_range=True),
-            rrb.BarChartView(name="Goal shares at this generation", origin=GOAL_HISTOGRAM_ENTITY),
+                         [statistic_entity(s) for s in GOAL_SERIES], "goals", unit_range=True),
+            rrb.BarChartView(name="Goal shares at this generation", origin=GOAL_HISTOGRAM_ENTITY,
+                             plot_legend=rrb.PlotLegend(visible=False)),
             column_shares=[1.0, BAR_CHART_SHARE]),
         _series_view("Per chromosome: genes, premises, rules, valid rules, mean and ± std (Fig. 28)",
                      [statistic_entity(f"{count}_mean") for count in COMPOSITION_SERIES]
-                     + [spread_entity(count) for count in COMPOSITION_SERIES]),
+                     + [spread_entity(count) for count in COMPOSITION_SERIES], "chromosome"),
         _series_view("Gene pool: unique premise, consequent and all genes (Fig. 29)",
-                     [statistic_entity(s) for s in GENE_POOL_SERIES]),
+                     [statistic_entity(s) for s in GENE_POOL_SERIES], "gene_pool"),
         rrb.Horizontal(
             _series_view("Diversity: distinct chromosomes, rules, behaviours",
-                         [statistic_entity(s) for s in DIVERSITY_SERIES]),
+                         [statistic_entity(s) for s in DIVERSITY_SERIES], "diversity"),
             _series_view("Mean distance between two players' rule sets (1: no rule shared)",
-                         [statistic_entity(s) for s in DISTANCE_SERIES], unit_range=True)),
+                         [statistic_entity(s) for s in DISTANCE_SERIES], "distance", unit_range=True)),
     )
     layout: rrb.Container = figures
     if replays:
@@ -220,7 +255,7 @@ def run_blueprint(replays: Sequence[tuple[int, str]] = (), world: WorldConfig | 
                           for generation, name in replays), active_tab=len(replays) - 1)
         layout = rrb.Horizontal(tabs, figures, column_shares=[1.0, 1.0])
     return rrb.Blueprint(layout, rrb.BlueprintPanel(state="collapsed"), rrb.SelectionPanel(state="collapsed"),
-                         rrb.TimePanel(state="expanded", timeline=GENERATION_TIMELINE, play_state="following"),
+                         rrb.TimePanel(state="collapsed", timeline=GENERATION_TIMELINE, play_state="following"),
                          auto_layout=False, auto_views=False)
 
 

@@ -1,7 +1,8 @@
 """docs/teaching/index.md walked minute by minute in headless Chromium at a projector's 1280 x 800, each claim
-the page makes asserted as a teacher would check it. Minutes 7-10 (an evolution, the population grid, rule
-usage) are walked by tests/app/test_ui_browser.py (test_a_small_evolution_..., test_stepping_...) and
-test_ui_usage.py; the projector view by test_ui_projector_browser.py. Screenshots go to artifacts/screenshots/."""
+the page makes asserted as a teacher would check it: minutes 0-7 (the world, fuzzify, rules, defuzzify, the
+skills, a rule changed) and minutes 7-10 (an evolution started, watched, its best loaded and stopped; the population
+grid; rule usage and Simplify). The projector view is walked by test_ui_projector_browser.py. Screenshots go to
+artifacts/screenshots/."""
 
 from __future__ import annotations
 
@@ -125,5 +126,100 @@ def test_the_lesson_plan_works_as_written(ui, browser):
         genes = field(page, "Genes", "textarea")
         wait_until(lambda: genes.input_value().strip() != "")
         shot(page, "lesson-6-undo")
+    finally:
+        page.close()
+
+
+def test_the_lesson_plan_minutes_7_to_10_work_as_written(ui, browser):
+    # The walk stopped at minute 7: the evolution, the population grid and rule usage went unchecked against
+    # what the page tells a teacher to press and what the class will see.
+    import re
+
+    from soccer_lab.soccer.engine import play_game
+    from soccer_lab.soccer.outcome import END_REASON_LABELS
+
+    guide = GUIDE.read_text()
+    page, session = open_tab(ui, browser, PROJECTOR)
+    try:
+        # Minute 7-9: the Evolve tab's defaults are the chapter's; the class's smaller run is set under GA parameters.
+        assert "The defaults are the chapter's (population 200, 25 generations)" in guide
+        page.get_by_role("tab", name="Evolve").click()
+        assert {k: session.evolve.config()[k] for k in ("population_size", "max_generations")} == {
+            "population_size": 200, "max_generations": 25}
+        page.get_by_text("GA parameters (chapter's Table 2)").click()
+        field(page, "Population size", "input").fill("12")
+        field(page, "Generations (max)", "input").fill("40")  # more than it plays: Stop ends it
+        field(page, "Generations (max)", "input").press("Tab")
+        wait_until(lambda: session.evolve.config()["population_size"] == 12
+                   and session.evolve.config()["max_generations"] == 40)
+        page.get_by_role("button", name="Start").click()
+        # "While it runs the pitch keeps playing; the progress line and the chart show each generation's best
+        # and mean fitness"; the chart's three lines: the mean, each generation's best, the best so far.
+        assert "While\nit runs the pitch keeps playing" in guide and "The chart has three lines" in guide
+        status = page.locator(".evolve-status")
+        wait_until(lambda: re.search(r"generation [1-9]\d* of 0–39 done", status.inner_text()), timeout=120)
+        run_id = session.evolve.run_id
+        assert ui.context.runs.is_pending(run_id)
+        playing_at = tick(page)
+        wait_until(lambda: tick(page) != playing_at)
+        assert re.search(r"best so far \d\.\d{3}.*this generation: best \d\.\d{3}, mean \d\.\d{3}", status.inner_text())
+        legend = page.locator(".u-legend", has_text="best so far").inner_text()  # the fitness chart's
+        assert all(line in legend for line in ("best of the generation", "best so far", "mean")), legend
+        # "Load best so far onto the pitch puts the current champion on the pitch, even while evolution continues."
+        page.get_by_role("button", name="Load best so far onto the pitch").click()
+        wait_until(lambda: session.game.name.startswith(f"run #{run_id}"))
+        assert ui.context.runs.is_pending(run_id)
+        shot(page, "lesson-7-evolve")
+        # "Stop (beside Start) ends the run ... and keeps the generations it finished."
+        assert "**Stop** (beside Start) ends the run" in guide
+        page.get_by_role("button", name="Stop").click()
+        wait_until(lambda: "stopped" in status.inner_text(), timeout=60)
+        kept = [row["generation"] for row in ui.context.store.statistics(run_id)]
+        assert kept and kept == session.evolve.generations and kept[-1] < 39
+
+        # The Population tab: the generation's 12 best from one start; over each small pitch the rank and
+        # fitness and the goals scored; a game that is over turns grey and says why.
+        assert "the current generation's 12 best players play side by side" in guide
+        page.get_by_role("tab", name="Population").click()
+        page.get_by_role("tab", name="Play").click()
+        page.get_by_role("button", name="Play").click()
+        cells = page.locator(".mini-pitch")
+        wait_until(lambda: cells.count() == 12, timeout=60)
+        captions = page.evaluate("() => [...document.querySelectorAll('.mini-pitch')]"
+                                 ".map((cell) => cell.firstChild.innerText)")
+        for rank, caption in enumerate(captions, 1):
+            assert re.fullmatch(rf"#{rank} · \d\.\d\d\s+\d+ goals?", caption.strip()), caption
+        wait_until(lambda: page.locator('.mini-pitch[data-done="true"]').count() > 0, timeout=120)
+        reasons = page.evaluate("""() => [...document.querySelectorAll('.mini-pitch[data-done="true"]')]
+            .map((cell) => cell.querySelector('svg text').textContent)""")  # read at once: the grid redraws
+        assert reasons and set(reasons) <= set(END_REASON_LABELS.values()), reasons
+        shot(page, "lesson-8-population")
+
+        # Minute 9-10: the best player loaded, Measure rule usage puts a bar beside each rule; Simplify keeps the
+        # player playing the same, tick for tick.
+        assert "press **Measure rule usage** (Inference tab)" in guide
+        assert "the **Simplify** button (Rules tab)" in guide
+        page.get_by_role("button", name="Pause").click()
+        page.get_by_role("tab", name="Evolve").click()
+        page.get_by_role("button", name="Load best so far onto the pitch").click()
+        wait_until(lambda: session.game.name.startswith(f"run #{run_id}"))
+        best = session.game.rulebase
+        page.get_by_role("tab", name="Inference").click()
+        field(page, "Usage games", "input").fill("3")
+        field(page, "Usage games", "input").press("Tab")
+        page.get_by_role("button", name="Measure rule usage").click()
+        page.locator('.usage-caption[data-games="3"]').wait_for(timeout=120_000)
+        assert page.locator(".rule .usage").count() == len(best)
+        shot(page, "lesson-9-usage")
+        page.get_by_role("tab", name="Rules").click()
+        field(page, "Check on games", "input").fill("3")
+        field(page, "Check on games", "input").press("Tab")
+        page.get_by_role("button", name="Simplify").click()
+        page.locator(".editor-message", has_text="Simplified").wait_for(timeout=120_000)
+        wait_until(lambda: session.game.name == "simplified")
+        simplified, config = session.game.rulebase, session.game.config
+        assert len(simplified) <= len(best)
+        for seed in range(session.game.seed, session.game.seed + 3):
+            assert play_game(simplified, seed, config, trace=False)[0] == play_game(best, seed, config, trace=False)[0]
     finally:
         page.close()

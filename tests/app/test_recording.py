@@ -14,8 +14,8 @@ from rerun.chunk import RrdReader
 
 from soccer_lab.app.runs.recording import (COMPOSITION_SERIES, DISTANCE_SERIES, DIVERSITY_SERIES, FITNESS_SERIES,
                                            GENE_POOL_SERIES, GOAL_BINS, GOAL_HISTOGRAM_ENTITY, GOAL_SERIES,
-                                           VIEW_CONE_LENGTH, RunRecorder, goal_outline, log_replay, open_stream,
-                                           spread_entity, statistic_entity, view_cone)
+                                           LEGENDS, VIEW_CONE_LENGTH, RunRecorder, goal_outline, legend_entity,
+                                           log_replay, open_stream, spread_entity, statistic_entity, view_cone)
 from soccer_lab.app.runs.outputs import RunFolder, RunFolderError, StatisticsFile, default_run_dir
 from soccer_lab.fuzzy.vocabulary import Vocabulary
 from soccer_lab.ga.statistics import GenerationStats
@@ -197,7 +197,7 @@ def test_the_blueprint_lays_a_run_out_like_the_chapters_figures_with_a_tab_per_r
     for generation, game in enumerate(games):
         tab = shown[f"generation {generation} ({game.goals} goal{'' if game.goals == 1 else 's'})"]
         assert tab == ("2D", ["+ $origin/pitch/**", "+ $origin/goal/**", f"+ /replay/generation_{generation}/**"])
-    assert len(shown) == 7 + len(games)  # nothing else: no automatic views either
+    assert len(shown) == 7 + len(LEGENDS) + len(games)  # nothing else: no automatic views either
     viewport = latest["/viewport"]
     assert viewport["ViewportBlueprint:auto_views"] == [False] and viewport["ViewportBlueprint:auto_layout"] == [False]
     tabs = next(row for row in latest.values() if row.get("ContainerBlueprint:active_tab"))
@@ -209,6 +209,33 @@ def test_the_blueprint_lays_a_run_out_like_the_chapters_figures_with_a_tab_per_r
     ball = columns(path, "/replay/generation_1/ball")
     assert ball["tick"] == list(range(games[1].ticks)) and set(ball["generation"]) == {1}
     assert columns(path, "/replay/pitch")["LineStrips2D:strips"]  # one pitch, drawn once for every replay
+
+
+def test_no_legend_is_drawn_over_a_plot_each_plot_has_its_legend_beside_it(tmp_path):
+    # rerun 0.41 draws a plot's legend in a corner inside the plot, over its lines: each plot's own legend is
+    # hidden, and the view beside it (the next one in its row) lists its series' names in their colours.
+    path = tmp_path / "run.rrd"
+    recorder = RunRecorder(path)
+    recorder.on_generation(stats(0, 0.5))
+    recorder.close()
+    blueprint = blueprint_rows(path)[-1]
+    plots = {path: row for path, row in blueprint.items()
+             if row.get("ViewBlueprint:class_identifier", [None])[0] in ("TimeSeries", "BarChart")}
+    assert len(plots) == 7
+    assert all(blueprint[f"{path}/PlotLegend"]["PlotLegend:visible"] == [False] for path in plots)
+    beside = {}
+    for row in blueprint.values():
+        contents = row.get("ContainerBlueprint:contents") or []
+        for left, right in zip(contents, contents[1:]):
+            beside[f"/{left}"] = blueprint.get(f"/{right}", {}).get("ViewBlueprint:space_origin", [None])[0]
+    legends = sorted(beside[path] for path, row in plots.items()
+                     if row["ViewBlueprint:class_identifier"] == ["TimeSeries"])
+    assert legends == sorted(f"/{legend_entity(legend)}" for legend in LEGENDS)  # one beside each time series
+    for legend, series in LEGENDS.items():
+        drawn = columns(path, f"/{legend_entity(legend)}")
+        assert drawn["Points2D:labels"] == [[name for name, _ in series]] and drawn["Points2D:show_labels"] == [[True]]
+        packed = [(r << 24) | (g << 16) | (b << 8) | 255 for _, (r, g, b) in series]
+        assert drawn["Points2D:colors"] == [packed]  # each name in its series' colour
 
 
 def unreachable_containers(blueprint: dict[str, dict]) -> set[str]:

@@ -1,8 +1,8 @@
 """A run's recording opened in rerun's own web viewer, as `serve` serves it (the app's /viewer/, the recording
 from the API), in headless Chromium with every request leaving the machine refused: the blueprint's views are
-drawn (the replay on its grass, the fitness curves in their colours), not rerun's automatic grid, and the
-viewer asks the internet for nothing. The screenshot goes to artifacts/screenshots/recording-viewer.png
-(git-ignored).
+drawn (the replay on its grass, the fitness curves, and beside them, not over them, the legend naming each
+series in its colour), not rerun's automatic grid, and the viewer asks the internet for nothing. The screenshot
+goes to artifacts/screenshots/recording-viewer.png (git-ignored).
 
 The viewer draws on a canvas, so the test reads the screenshot's pixels: each view shows up as the
 colours only it uses."""
@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from soccer_lab.app.runs.recording import FITNESS_SERIES, GOAL_COLOUR, GRASS_COLOUR, PLAYER_COLOUR
+from soccer_lab.app.runs.recording import FITNESS_SERIES, GOAL_COLOUR, GRASS_COLOUR, LEGEND_SHARE, PLAYER_COLOUR
 from tests.app.test_ui_browser import CHROMIUM, CHROMIUM_ARGS, SCREENSHOTS, free_port, offline
 
 pytestmark = [
@@ -31,6 +31,8 @@ COLOUR_TOLERANCE = 12  # per channel: anti-aliased edges blend, the insides of l
 ENOUGH_PIXELS = 20
 PLAYER_SHADING = 24  # per channel: the viewer shades a point's disc like a sphere
 POLL_SECONDS = 5.0  # longer than a frame: two equal screenshots in a row mean the viewer rests
+LEGEND_TEXT_TOLERANCE = 24  # a name's letters are thin: few of their pixels are its colour exactly
+LEGEND_TEXT_PIXELS = 10
 
 
 @pytest.fixture(scope="module")
@@ -76,6 +78,22 @@ def app_url(recorded_run, tmp_path):
     store.close()
 
 
+def fitness_plot_end(image: np.ndarray) -> int:
+    """Where the fitness plot ends: the right half's first row, the plot taking 1 share of its width and its
+    legend LEGEND_SHARE."""
+    width = image.shape[1]
+    return width // 2 + int(width / 2 / (1 + LEGEND_SHARE))
+
+
+def fitness_plot(image: np.ndarray) -> np.ndarray:
+    return image[: image.shape[0] // 4, image.shape[1] // 2: fitness_plot_end(image) - 4]
+
+
+def fitness_legend(image: np.ndarray) -> np.ndarray:
+    """The fitness plot's legend view, right of the plot, where none of its lines can be drawn."""
+    return image[: image.shape[0] // 4, fitness_plot_end(image) + 4:]
+
+
 def pixels_near(image: np.ndarray, colour: tuple[int, ...], tolerance: int = COLOUR_TOLERANCE) -> int:
     return int((np.abs(image[..., :3].astype(int) - np.array(colour[:3])) <= tolerance).all(axis=-1).sum())
 
@@ -106,9 +124,13 @@ def test_the_recording_opens_in_the_viewer_as_its_blueprint_lays_it_out(app_url)
                 drawn = {
                     "grass": pixels_near(left, GRASS_COLOUR), "player": pixels_near(left, PLAYER_COLOUR),
                     "goal": pixels_near(left, GOAL_COLOUR),
-                    **{name: pixels_near(right, colour) for name, (_, colour) in FITNESS_SERIES.items()},
+                    # the curves (this run's may all lie on one line, fitness 1: a colour each is not asked)
+                    "fitness curves": fitness_pixels(fitness_plot(image)),
                 }
-                if settled and all(count >= ENOUGH_PIXELS for count in drawn.values()):
+                named = {name: pixels_near(fitness_legend(image), colour, LEGEND_TEXT_TOLERANCE)
+                         for name, (_, colour) in FITNESS_SERIES.items()}
+                if settled and all(count >= ENOUGH_PIXELS for count in drawn.values()) and all(
+                        count >= LEGEND_TEXT_PIXELS for count in named.values()):
                     break
                 if time.monotonic() > deadline:
                     break
@@ -117,6 +139,9 @@ def test_the_recording_opens_in_the_viewer_as_its_blueprint_lays_it_out(app_url)
             browser.close()
     # Left: the latest generation's replay (grass, the goal, the player); right: the fitness curves.
     assert settled and all(count >= ENOUGH_PIXELS for count in drawn.values()), drawn
+    # Beside the fitness plot, not over its lines: its legend's view names each series in its colour. Before,
+    # rerun drew the legend in a corner inside the plot.
+    assert all(count >= LEGEND_TEXT_PIXELS for count in named.values()), named
     assert asked == [], f"the viewer asked the internet for {asked}"
 
 

@@ -17,7 +17,7 @@ from soccer_lab.app.web.ui import style
 from soccer_lab.app.web.ui.pitch import PitchGeometry
 from soccer_lab.app.web.ui.projector import PROJECTOR_KEY_SCRIPT
 from soccer_lab.soccer.config import GameConfig
-from tests.app.test_ui_browser import (CHROMIUM, browser, choose, dismiss_notifications,  # noqa: F401 (fixtures)
+from tests.app.test_ui_browser import (CHROMIUM, browser, choose, dismiss_notifications, field,  # noqa: F401
                                        session_of, shot, ui, wait_until)
 
 pytestmark = [
@@ -217,3 +217,53 @@ def seed_start(session) -> tuple[np.ndarray, np.ndarray]:
 
     replay = Game(session.context, session.game.rulebase, session.game.name, session.game.seed, session.game.config)
     return np.array(replay.state.player), np.array(replay.state.ball)
+
+
+READABLE_CAPTION = 18  # px: a small pitch's name and goals, read from the back of a class
+READABLE_PITCH = 200  # px wide: each small pitch at 1280 x 800
+
+
+def rendered_sizes(page) -> list[dict]:
+    """Each small pitch of the projector's grid as drawn: its width, and its caption's font size times the zoom
+    the grid is drawn at (a box's drawn height over its laid-out one)."""
+    return page.evaluate("""() => [...document.querySelectorAll('.projector-population .mini-pitch')].map((cell) => {
+        const caption = cell.querySelector('div');
+        const zoom = caption.getBoundingClientRect().height / caption.offsetHeight;
+        return {pitch: cell.querySelector('svg').getBoundingClientRect().width,
+                caption: parseFloat(getComputedStyle(caption).fontSize) * zoom,
+                bottom: cell.getBoundingClientRect().bottom};
+    })""")
+
+
+def test_projector_population_grid_stays_readable_with_a_run_playing(ui, browser):
+    # At 1280 x 800 the grid's players were dots, then its fourth row fell below the window. With a run playing
+    # (its latest generation's best players in the grid), every small pitch is at least 200 px wide, its caption
+    # at least 18 px, and all in the window, measured in the page.
+    page, session = open_tab(ui, browser, PROJECTOR_SIZES[0])
+    try:
+        page.get_by_role("tab", name="Evolve").click()
+        page.get_by_text("GA parameters (chapter's Table 2)").click()
+        field(page, "Population size", "input").fill("12")  # a full grid
+        field(page, "Generations (max)", "input").fill("3")
+        field(page, "Generations (max)", "input").press("Tab")
+        wait_until(lambda: session.evolve.config()["population_size"] == 12
+                   and session.evolve.config()["max_generations"] == 3)
+        page.get_by_role("button", name="Start").click()
+        wait_until(lambda: session.population.shown_players() is not None, timeout=120)  # a generation's best
+        page.get_by_role("tab", name="Play").click()
+        page.get_by_role("button", name="Projector view (P)").click()
+        page.locator(".projector-status").wait_for()
+        band_tab(page, "Population").click()
+        wait_until(lambda: page.locator(".projector-population .mini-pitch").count() > 0, timeout=60)
+        sizes = rendered_sizes(page)
+        shot(page, "projector-population-run-1280x800")
+        print(f"{len(sizes)} small pitches, drawn {sizes[0]}")
+        assert all(size["pitch"] >= READABLE_PITCH for size in sizes), sizes
+        assert all(size["caption"] >= READABLE_CAPTION for size in sizes), sizes
+        assert all(size["bottom"] <= PROJECTOR_SIZES[0]["height"] for size in sizes), "a small pitch below the window"
+        page.get_by_role("tab", name="View").click()
+        page.get_by_role("button", name="Leave projector view (P)").click()
+        wait_until(lambda: not session.projector.on)
+    finally:
+        session.evolve.stop()  # the next test's tab starts without this run in the machine's queue
+        page.close()

@@ -122,12 +122,15 @@ class ProjectorView:
             self.status.content = html
 
     def show_population(self, grid_html: str) -> None:
-        """The population grid, larger than in its panel (style.PROJECTOR_ZOOM)."""
+        """The population grid, larger than in its panel (style.PROJECTOR_ZOOM) and in more columns (the panel's
+        three made four rows, the last below a 1280 x 800 window)."""
         if not self.on or grid_html == self._population_shown:
             return
         self._population_shown = grid_html
-        self.population.content = (f'<div class="projector-population" style="zoom:{style.PROJECTOR_ZOOM}">'
-                                   f"{grid_html}</div>")
+        self.population.content = (
+            f"<style>.projector-population .population {{grid-template-columns: "  # over the grid's own inline columns
+            f"repeat({style.PROJECTOR_POPULATION_COLUMNS}, 1fr) !important}}</style>"
+            f'<div class="projector-population" style="zoom:{style.PROJECTOR_ZOOM}">{grid_html}</div>')
 
 
 def projector_html(game: Game) -> str:

@@ -88,6 +88,7 @@ PROJECTOR_BAND = 130  # px of the canvas's height above the pitch, for the band'
 PROJECTOR_GAP = 8  # px between the band's panel and the canvas's edges
 PROJECTOR_WAY_BACK_WIDTH = 250  # px: the panel beside the band, with the way back
 PROJECTOR_ZOOM = 1.6  # the population grid in the projector view, this many times its size in the panel
+PROJECTOR_POPULATION_COLUMNS = 4  # the grid's columns there: its 12 small pitches in 3 rows, all in a 1280 x 800 window
 POLICY_REFRESH_SECONDS = 0.2  # the policy map's marker follows the player at 5 Hz (the map is ~12 kB)
 POPULATION_GRID = (3, 4)  # columns, rows of small pitches in the population view
 POPULATION_REFRESH_SECONDS = 0.1  # the small pitches redraw at 10 Hz
