@@ -34,6 +34,7 @@ from soccer_lab.app.web.ui.panels.lineage import LineagePanel
 from soccer_lab.app.web.ui.panels.play import PlayControls
 from soccer_lab.app.web.ui.panels.policy_view import PolicyPanel
 from soccer_lab.app.web.ui.panels.population import PopulationPanel
+from soccer_lab.app.runs.environments import SIMPLE
 from soccer_lab.app.store import NotFound
 from soccer_lab.app.web.ui.pitch import PitchGeometry, PitchView
 from soccer_lab.app.web.ui.projector import ProjectorView
@@ -203,7 +204,8 @@ class Session:
                                       on_change=self.refresh)
         with self.layout.right_tab("Population"):
             self.population = PopulationPanel(gui, context.game.world, context.vocabulary,
-                                              start_seed=lambda: self.game.seed, game_of_run=self.run_game)
+                                              start_seed=lambda: self.game.seed, game_of_run=self.run_game,
+                                              qualities=context.player_qualities, replayable=self.plays_simple_soccer)
         with self.layout.right_tab("Lineage"):
             self.lineage = LineagePanel(gui, self.store, context.vocabulary,
                                         population_shown=self.population.shown_players,
@@ -287,6 +289,13 @@ class Session:
         self.library.refresh()
         self.lineage.refresh()
         self.breeding.refresh()
+
+    def plays_simple_soccer(self, run_id: int) -> bool:
+        """Whether a run evaluates in SimpleSoccer (its players' true quality is SimpleSoccer's, not rcssserver's)."""
+        try:
+            return self.store.get_run(run_id).config.get("env", SIMPLE) == SIMPLE
+        except NotFound:
+            return False
 
     def run_game(self, run_id: int) -> GameConfig:
         """The game a run's players play in on this tab: the run's rules (skills, noise, kick counting,
