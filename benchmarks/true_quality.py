@@ -2,7 +2,11 @@
 re-plays its best on app/runs/true_quality.py's common starts each time the best changes (one batch of
 TRUE_QUALITY_STARTS single games); this plays the Table 2 trial of benchmarks/trial.py --full (population
 200 x 25 generations, every generation run, 2 workers) as a run with its folder's outputs and times the
-re-plays inside it, so the cost is measured without the noise of the games around it.
+re-plays inside it, so the cost is measured without the noise of the games around it. The same run also
+times what the UI's population view adds: each generation's shown players (its 12 best playable) re-played
+on the same starts in one batch, an elite shown before not again (app/web/ui/panels/population.py's
+PlayerQualities, here called at each generation's end instead of on its thread), as a share of the run
+without it.
 
     nice -n 19 python benchmarks/true_quality.py [--rounds 3] [--record]
 """
@@ -40,16 +44,32 @@ def timed(*args, **kwargs):
         spent["replays"] += time.perf_counter() - started
         spent["count"] += 1
 true_quality.replayed_quality = timed
+from soccer_lab.app.runs.manager import sample_players
+from soccer_lab.app.web.ui import style
+from soccer_lab.app.web.ui.panels.population import PlayerQualities
+from soccer_lab.ga.codec import ChromosomeCodec
+from soccer_lab.soccer.config import SOCCER_VOCABULARY
+shown = style.POPULATION_GRID[0] * style.POPULATION_GRID[1]
+class PopulationView:
+    def __init__(self, game):
+        self.qualities, self.game, self.codec = PlayerQualities(SOCCER_VOCABULARY), game, ChromosomeCodec(SOCCER_VOCABULARY)
+        self.generations = 0
+    def on_generation(self, stats, population):
+        players = sample_players(population, self.codec)[:shown]
+        self.qualities._qualities(0, self.game, [p.rulebase for p in players])
+        self.generations += 1
 config = GAConfig(workers=2, target_fitness=0.0)
 game = GameConfig()
 play_games([demo_rulebase()], [0], game)  # the compiled kernels loaded before the clock starts
 with tempfile.TemporaryDirectory() as folder:
     started = time.perf_counter()
     run = Run.create(RunSettings(config, game), Path(folder) / "run")
+    view = PopulationView(game)
     with run.evaluator() as evaluate:
-        result = run.play(evaluate)
+        result = run.play(evaluate, callbacks=[view])
     wall = time.perf_counter() - started
-print(json.dumps({"wall": wall, **spent, "starts": true_quality.TRUE_QUALITY_STARTS}))
+print(json.dumps({"wall": wall - view.qualities.spent, **spent, "starts": true_quality.TRUE_QUALITY_STARTS,
+                  "population": view.qualities.spent, "generations": view.generations, "shown": shown}))
 """
 
 
@@ -70,7 +90,8 @@ def main() -> None:
     for r in range(args.rounds):
         runs.append(trial())
         print(f"  round {r + 1}: trial {runs[-1]['wall']:.2f} s, {runs[-1]['count']} re-plays "
-              f"{runs[-1]['replays']:.3f} s (load {runs[-1]['load']})", file=sys.stderr)
+              f"{runs[-1]['replays']:.3f} s, population view {runs[-1]['population']:.3f} s "
+              f"(load {runs[-1]['load']})", file=sys.stderr)
     shares = [run["replays"] / run["wall"] for run in runs]
     starts = runs[0]["starts"]
     figures = [
@@ -79,6 +100,12 @@ def main() -> None:
         Figure("re-plays per Table 2 run (each time the best changed)", statistics.median(r["count"] for r in runs)),
         Figure("time re-playing per Table 2 run", round(statistics.median(r["replays"] for r in runs), 3), "s"),
         Figure("one Table 2 run with its folder's outputs", round(statistics.median(r["wall"] for r in runs), 2), "s"),
+        Figure(f"the population view re-playing its {runs[0]['shown']} shown players each generation on {starts} "
+               "fresh starts, share of that run", round(100 * statistics.median(r["population"] / r["wall"]
+                                                                                for r in runs), 2), "%",
+               note="on its own thread, beside the run"),
+        Figure("the population view's re-plays per generation",
+               round(statistics.median(r["population"] / r["generations"] for r in runs), 3), "s"),
     ]
     for figure in figures:
         print(f"{figure.name}: {figure.value} {figure.unit}  {figure.note}")
