@@ -43,12 +43,14 @@ EMPTY_TEXT = ("Start an evolution in the Evolve tab. Once its first generation h
 def population_html(
     geometry: PitchGeometry, observation: Observation, state: GameState, labels: Sequence[str],
     columns: int = style.POPULATION_GRID[0], qualities: Sequence[TrueQuality | None] | None = None,
+    replaying: bool = True,
 ) -> str:
     """Small pitches in a grid of `columns`, game g where observation[g] saw it (state: the games' score and
-    whether and why each ended); with `qualities`, under each its player's true quality (None: being re-played)."""
+    whether and why each ended); with `qualities`, under each its player's true quality (None: being re-played
+    while `replaying`, else not re-played)."""
     cells = "".join(
         _mini_pitch(geometry, observation, g, int(state.goals[g]), END_REASONS[state.end_reason[g]] if state.done[g]
-                    else None, labels[g], "" if qualities is None else _quality_line(qualities[g]))
+                    else None, labels[g], "" if qualities is None else _quality_line(qualities[g], replaying))
         for g in range(len(labels))
     )
     return (
@@ -57,9 +59,13 @@ def population_html(
     )
 
 
-def _quality_line(quality: TrueQuality | None) -> str:
-    """The player's re-played fitness (mean ± spread) under its pitch; 're-playing…' until known."""
-    text = "re-playing…" if quality is None else f"re-played {quality.fitness:.2f} ± {quality.fitness_std:.2f}"
+def _quality_line(quality: TrueQuality | None, replaying: bool = True) -> str:
+    """The player's re-played fitness (mean ± spread) under its pitch; 're-playing…' until known, 'not
+    re-played' when the re-play budget had no time for it."""
+    if quality is not None:
+        text = f"re-played {quality.fitness:.2f} ± {quality.fitness_std:.2f}"
+    else:
+        text = "re-playing…" if replaying else "not re-played"
     value = "" if quality is None else f"{quality.fitness:.6f}"
     return (f'<div class="replayed" data-replayed="{value}" style="margin-top:-4px; "font-size:{style.SMALL_FONT_SIZE}px; '
             f'color:{style.MUTED}">{text}</div>')
@@ -110,15 +116,25 @@ def _mini_pitch(geometry: PitchGeometry, observation: Observation, g: int, goals
 
 class PlayerQualities:
     """Re-plays the players the population view shows on the common fresh starts, for every tab of the app:
-    one thread, one batch per generation shown, each player once per run (an elite shown again, or the same
-    generation in another tab, is not re-played). `replayer_for(game)` makes the batch re-player of a game."""
+    one thread, one batch per generation shown, best-ranked first, each player once per run (an elite shown
+    again, or the same generation in another tab, is not re-played). A player's 20 games cost about a tenth
+    of a Table 2 generation, so the thread spends at most `share` of the wall time (style.POPULATION_REPLAY_SHARE;
+    measured by benchmarks/true_quality.py): players it has no time for stay "not re-played" (`share` None:
+    every shown player, whatever it costs). `replayer_for(game, vocabulary, starts)` makes the batch re-player
+    of a game."""
 
     def __init__(self, vocabulary: Vocabulary, starts: int = TRUE_QUALITY_STARTS,
-                 replayer_for: Callable[[GameConfig, Vocabulary, int], BatchReplayer] = simple_soccer_batch_replayer):
+                 replayer_for: Callable[[GameConfig, Vocabulary, int], BatchReplayer] = simple_soccer_batch_replayer,
+                 share: float | None = style.POPULATION_REPLAY_SHARE, clock: Callable[[], float] = time.perf_counter):
         self.vocabulary = vocabulary
         self.starts = starts
         self.replayer_for = replayer_for
-        self.spent = 0.0  # seconds spent re-playing (benchmarks/true_quality.py --population)
+        self.share = share
+        self.clock = clock
+        self.spent = 0.0  # seconds spent re-playing (benchmarks/true_quality.py)
+        self._allowance = 0.0  # seconds the thread may still spend (negative: over budget, it waits)
+        self._last: float | None = None  # when the previous request was served
+        self._per_player: float | None = None  # seconds one player's re-play took last
         self._known: OrderedDict[tuple[int, Rulebase], TrueQuality] = OrderedDict()
         self._replayers: dict[str, BatchReplayer] = {}
         self._requests: queue.SimpleQueue = queue.SimpleQueue()
@@ -126,8 +142,9 @@ class PlayerQualities:
         self._lock = threading.Lock()
 
     def request(self, run_id: int, game: GameConfig, rulebases: Sequence[Rulebase],
-                done: Callable[[list[TrueQuality]], None]) -> None:
-        """Re-play `rulebases` (a run's, in its `game`) off the caller's thread; `done(qualities)` follows there."""
+                done: Callable[[list[TrueQuality | None]], None]) -> None:
+        """Re-play `rulebases` (a run's, in its `game`, best first) off the caller's thread; `done(qualities)`
+        follows there (None: a player not re-played, the budget spent)."""
         with self._lock:
             if self._thread is None:
                 self._thread = threading.Thread(target=self._serve, name="population-replays", daemon=True)
@@ -142,17 +159,34 @@ class PlayerQualities:
             except Exception:  # a failed re-play leaves its players' figures unknown; the thread goes on
                 LOG.exception("re-playing the population view's players failed")
 
-    def _qualities(self, run_id: int, game: GameConfig, rulebases: Sequence[Rulebase]) -> list[TrueQuality]:
+    def _qualities(self, run_id: int, game: GameConfig, rulebases: Sequence[Rulebase]) -> list[TrueQuality | None]:
         missing = list(dict.fromkeys(r for r in rulebases if (run_id, r) not in self._known))
-        if missing:
-            started = time.perf_counter()
-            replay = self._replayer(game)
-            for rulebase, quality in zip(missing, replay(missing)):
+        chosen = missing[:self._affordable(len(missing))]
+        if chosen:
+            started = self.clock()
+            for rulebase, quality in zip(chosen, self._replayer(game)(chosen)):
                 self._known[(run_id, rulebase)] = quality
-            self.spent += time.perf_counter() - started
+            took = self.clock() - started
+            self.spent += took
+            self._allowance -= took
+            self._per_player = took / len(chosen)
             while len(self._known) > KNOWN_QUALITIES:
                 self._known.popitem(last=False)
-        return [self._known[(run_id, r)] for r in rulebases]
+        return [self._known.get((run_id, r)) for r in rulebases]
+
+    def _affordable(self, wanted: int) -> int:
+        """How many players the budget pays for now: `share` of the time since the last request, saved up to
+        POPULATION_REPLAY_SAVED_SECONDS of it (an idle app saves no burst); the first player ever measures the cost."""
+        if self.share is None:
+            return wanted
+        now = self.clock()
+        if self._last is not None:
+            self._allowance = min(self._allowance + self.share * (now - self._last),
+                                  self.share * style.POPULATION_REPLAY_SAVED_SECONDS)
+        self._last = now
+        if self._per_player is None:
+            return min(wanted, 1)
+        return max(0, min(wanted, int(self._allowance / max(self._per_player, 1e-9))))
 
     def _replayer(self, game: GameConfig) -> BatchReplayer:
         key = game.model_dump_json()
@@ -192,8 +226,8 @@ class PopulationPanel:
         self._shown: tuple[int, int, int, int] | None = None  # run id, generation, players, seed
         self._players: Sequence["SampledPlayer"] = ()
         self._replaying = False  # the shown players' true quality is being re-played
-        self._player_qualities: list[TrueQuality] | None = None  # the shown players', once re-played
-        self._arrived: tuple[tuple, list[TrueQuality]] | None = None  # set by the re-play thread
+        self._player_qualities: list[TrueQuality | None] | None = None  # the shown players', once answered
+        self._arrived: tuple[tuple, list[TrueQuality | None]] | None = None  # set by the re-play thread
         self._caption_key: tuple | None = None
         self._last_render = 0.0
 
@@ -232,15 +266,15 @@ class PopulationPanel:
             self._last_render = now
             qualities = (self._player_qualities or [None] * len(self.labels)) if self._replays else None
             self.grid.content = population_html(self.geometry, self.batch.observation, self.batch.state, self.labels,
-                                                qualities=qualities)
+                                                qualities=qualities, replaying=self._replaying)
 
     @property
     def _replays(self) -> bool:
         """Whether the shown players get a true quality (a SimpleSoccer run, with a re-player)."""
         return self.qualities is not None and self._shown is not None and self.replayable(self._shown[0])
 
-    def player_qualities(self) -> list[TrueQuality] | None:
-        """The shown players' true quality, by rank; None until re-played."""
+    def player_qualities(self) -> list[TrueQuality | None] | None:
+        """The shown players' true quality, by rank (None: not re-played, the budget spent); None until answered."""
         return self._player_qualities
 
     def _replay_shown(self) -> None:
@@ -250,7 +284,7 @@ class PopulationPanel:
             return
         shown = self._shown
 
-        def arrived(qualities: list[TrueQuality]) -> None:
+        def arrived(qualities: list[TrueQuality | None]) -> None:
             with self._pending_lock:
                 self._arrived = (shown, qualities)
 
@@ -276,8 +310,12 @@ class PopulationPanel:
         replayed = ""
         if self._replays:
             starts = self.qualities.starts
+            done = sum(q is not None for q in self._player_qualities or ())
             replayed = (f" Under each, its fitness re-played on the same {starts} fresh starts as every run's best "
-                        "(mean ± spread): " + ("being re-played." if self._replaying else "done."))
+                        "(mean ± spread), best-ranked first" + ("" if self.qualities.share is None else
+                                                                 f" within {self.qualities.share:.0%} of the time")
+                        + ": "
+                        + ("being re-played." if self._replaying else f"{done} of {count} re-played."))
         when = (f"; the run {escape(status)} after this generation" if status is not None
                 else f" while generation {generation + 1} is evaluated")
         self.caption.content = (
