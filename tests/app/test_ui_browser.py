@@ -365,6 +365,13 @@ def test_a_small_evolution_shows_progress_and_its_best_player_can_be_loaded(ui, 
     shown = len(session.population.labels)
     assert 0 < shown <= 12
     wait_until(lambda: page.locator(".mini-pitch").count() == shown)
+    # Under each small pitch its true quality: re-played on the common starts within the view's share of the
+    # time, best first (the run's one-game fitness alone once stood there)
+    wait_until(lambda: caption.get_attribute("data-replaying") == "false", timeout=60)
+    assert "re-played on the same 20 fresh starts as every run's best" in caption.inner_text()
+    wait_until(lambda: page.locator(".mini-pitch .replayed").count() == shown)
+    lines = page.locator(".mini-pitch .replayed").all_inner_texts()
+    assert all(line.startswith(("re-played ", "not re-played")) for line in lines)
     page.get_by_role("tab", name="Library").click()
     shot(page, "6-library-and-population")
     # Newest first: the run just made is selected, not the older one.
