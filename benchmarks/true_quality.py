@@ -5,7 +5,7 @@ TRUE_QUALITY_STARTS single games); this plays the Table 2 trial of benchmarks/tr
 re-plays inside it, so the cost is measured without the noise of the games around it. The same run also
 times what the UI's population view adds: each generation's shown players (its 12 best playable) re-played
 on the same starts in one batch, best-ranked first, an elite shown before not again, within the view's share
-of the wall time (app/web/ui/panels/population.py's PlayerQualities, here called at each generation's end
+of the wall time (app/web/ui/player_qualities.py's PlayerQualities, here called at each generation's end
 instead of on its thread), as a share of the run without it, and how many of the shown players got a
 figure; and, for scale, what re-playing all of them every generation would cost.
 
@@ -47,7 +47,7 @@ def timed(*args, **kwargs):
 true_quality.replayed_quality = timed
 from soccer_lab.app.runs.manager import sample_players
 from soccer_lab.app.web.ui import style
-from soccer_lab.app.web.ui.panels.population import PlayerQualities
+from soccer_lab.app.web.ui.player_qualities import PlayerQualities
 from soccer_lab.ga.codec import ChromosomeCodec
 from soccer_lab.soccer.config import SOCCER_VOCABULARY
 shown = style.POPULATION_GRID[0] * style.POPULATION_GRID[1]

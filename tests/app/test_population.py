@@ -15,7 +15,8 @@ from soccer_lab.app.runs.manager import SAMPLED_PLAYERS, RunEvent, RunManager, S
 from soccer_lab.app.store import Store
 from soccer_lab.app.web.ui import style
 from soccer_lab.app.runs.true_quality import TRUE_QUALITY_STARTS, TrueQuality, simple_soccer_batch_replayer
-from soccer_lab.app.web.ui.panels.population import PlayerQualities, PopulationPanel
+from soccer_lab.app.web.ui.panels.population import PopulationPanel
+from soccer_lab.app.web.ui.player_qualities import PlayerQualities
 from soccer_lab.fuzzy.printer import format_rulebase
 from soccer_lab.fuzzy.vocabulary import Vocabulary
 from soccer_lab.ga.codec import ChromosomeCodec

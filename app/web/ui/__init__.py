@@ -183,7 +183,7 @@ def start_ui(
     address, with headers forbidding framing (app/web/api/ui_page.py). `site`: the names served (default: `host`'s).
     `classroom` and `tournament` (classroom mode): only the class's browsers are admitted, each session is its
     visitor's (app/web/access.py), and a Class tab plays the tournament."""
-    from soccer_lab.app.web.ui.panels.population import PlayerQualities
+    from soccer_lab.app.web.ui.player_qualities import PlayerQualities
     from soccer_lab.app.web.ui.session import Session
 
     warnings.filterwarnings("ignore", message=CLOSED_TAB_WARNING, category=UserWarning)

@@ -15,7 +15,7 @@ from soccer_lab.soccer.demo import demo_rules_text
 if TYPE_CHECKING:
     from soccer_lab.app.runs.manager import RunManager
     from soccer_lab.app.store import Store
-    from soccer_lab.app.web.ui.panels.population import PlayerQualities
+    from soccer_lab.app.web.ui.player_qualities import PlayerQualities
 
 DEMO_NAME = "demo (built in)"
 
