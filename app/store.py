@@ -93,6 +93,9 @@ MIGRATIONS: tuple[tuple[str, ...], ...] = (
             game TEXT NOT NULL,
             results TEXT NOT NULL)""",
     ),
+    (  # a rulebase saved from a run's best keeps what it was measured at (app/runs/outputs.py's best_of_run)
+        "ALTER TABLE rulebases ADD COLUMN best_of TEXT",
+    ),
 )
 SCHEMA_VERSION = len(MIGRATIONS)
 
@@ -139,9 +142,21 @@ class RulebaseRecord:
     created: str
     updated: str
     owner: int | None = None  # the student who saved it (classroom mode); None: shared
+    # Saved from a run's best: its run, generation, the fitness the GA saw and its true quality (None: not)
+    best_of: dict[str, Any] | None = None
 
     def to_dict(self) -> dict[str, Any]:
         return asdict(self)
+
+    @classmethod
+    def of_row(cls, row: sqlite3.Row) -> "RulebaseRecord":
+        """The record of a row; a damaged best_of reads as unknown (the rules are kept)."""
+        data = dict(row)
+        try:
+            best_of = json.loads(data.pop("best_of") or "null")
+        except ValueError:
+            best_of = None
+        return cls(**data, best_of=best_of if isinstance(best_of, dict) else None)
 
 
 @dataclass(frozen=True)
@@ -286,39 +301,43 @@ class Store:
             self._connection.close()
 
     # ---- rulebases ----------------------------------------------------------------------
-    def create_rulebase(self, name: str, text: str, owner: int | None = None) -> RulebaseRecord:
+    def create_rulebase(self, name: str, text: str, owner: int | None = None,
+                        best_of: dict[str, Any] | None = None) -> RulebaseRecord:
+        """`best_of`: the run's best these rules are, with its figures (app/runs/outputs.py's best_of_run)."""
         name, text = valid_name(name), _valid_text(text)
         stamp = now()
         with self._transaction() as cursor:
             cursor.execute(
-                "INSERT INTO rulebases (name, text, created, updated, owner) VALUES (?, ?, ?, ?, ?)",
-                (name, text, stamp, stamp, owner),
+                "INSERT INTO rulebases (name, text, created, updated, owner, best_of) VALUES (?, ?, ?, ?, ?, ?)",
+                (name, text, stamp, stamp, owner, None if best_of is None else json.dumps(best_of)),
             )
             record_id = cursor.lastrowid
-        return RulebaseRecord(record_id, name, text, stamp, stamp, owner)
+        return RulebaseRecord(record_id, name, text, stamp, stamp, owner, best_of)
 
     def get_rulebase(self, rulebase_id: int) -> RulebaseRecord:
         rows = self._query("SELECT * FROM rulebases WHERE id = ?", (_valid_id(rulebase_id),))
         if not rows:
             raise NotFound("rulebase", rulebase_id)
-        return RulebaseRecord(**dict(rows[0]))
+        return RulebaseRecord.of_row(rows[0])
 
     def list_rulebases(self) -> list[RulebaseRecord]:
         """Newest first, as every list of the store."""
-        return [RulebaseRecord(**dict(row)) for row in self._query("SELECT * FROM rulebases ORDER BY id DESC")]
+        return [RulebaseRecord.of_row(row) for row in self._query("SELECT * FROM rulebases ORDER BY id DESC")]
 
     def update_rulebase(self, rulebase_id: int, *, name: str | None = None, text: str | None = None) -> RulebaseRecord:
         current = self.get_rulebase(rulebase_id)
         name = current.name if name is None else valid_name(name)
         text = current.text if text is None else _valid_text(text)
         stamp = now()
+        best_of = current.best_of if text == current.text else None  # other rules: no longer that best's figures
         with self._transaction() as cursor:
             cursor.execute(
-                "UPDATE rulebases SET name = ?, text = ?, updated = ? WHERE id = ?", (name, text, stamp, current.id)
+                "UPDATE rulebases SET name = ?, text = ?, updated = ?, best_of = ? WHERE id = ?",
+                (name, text, stamp, None if best_of is None else json.dumps(best_of), current.id)
             )
             if cursor.rowcount == 0:  # deleted by another thread meanwhile
                 raise NotFound("rulebase", rulebase_id)
-        return RulebaseRecord(current.id, name, text, current.created, stamp, current.owner)
+        return RulebaseRecord(current.id, name, text, current.created, stamp, current.owner, best_of)
 
     def delete_rulebase(self, rulebase_id: int) -> None:
         with self._transaction() as cursor:

@@ -147,7 +147,8 @@ def calibrate(options: ExperimentOptions, names: list[str], folder: Path, worker
         "figures": [dict(zip(("figure", "chapter", "ours"), row)) for row in rows],
         "outcomes": outcomes,
         "verdicts": [{"preset": f.preset, "where": f.where, "claim": f.claim, "verdict": a.shown,
-                      "measured": a.measured} for f, a in verdicts],
+                      "measured": a.measured, "test": a.test, "reason": a.reason,
+                      "no_difference_found": a.no_difference_found} for f, a in verdicts],
     }
 
 

@@ -324,6 +324,28 @@ def run_replayed_note(store: Any, run_id: int, fitness: float | None = None) -> 
     return replayed_note(best_quality_of(folder, fitness))
 
 
+def best_of_run(store: Any, run_id: int) -> dict[str, Any]:
+    """What a stored run's best so far was measured at, as the library and class entries keep it beside its
+    rules: the run, the generation, the fitness the GA saw and its true quality (None: not re-played).
+    NotFound when the run or its best is unknown."""
+    best = store.best_individual(run_id)
+    quality = best_quality_of(store.get_run(run_id).folder, best.fitness)
+    return {"run_id": run_id, "generation": best.generation, "fitness_seen": best.fitness,
+            "true_quality": quality.to_dict() if quality is not None else None}
+
+
+def best_of_text(best_of: dict[str, Any] | None) -> str:
+    """e.g. "run #3's best (gen 7): fitness 0.125 as the GA saw it (re-played on 20 fresh starts: 0.823 ± 0.101)";
+    '' for rules not saved from a run's best (or a damaged record)."""
+    try:
+        seen = (f"run #{int(best_of['run_id'])}'s best (gen {int(best_of['generation'])}): "
+                f"fitness {float(best_of['fitness_seen']):.3f} as the GA saw it")
+    except (KeyError, TypeError, ValueError):
+        return ""
+    quality = TrueQuality.from_dict(best_of.get("true_quality"))
+    return seen + (replayed_note(quality) if quality is not None else " (not re-played)")
+
+
 def _found_in(record: dict[str, Any] | None, best: Individual) -> int | None:
     """The generation a resumed run's best was found in, as run.json recorded it (None: not recorded)."""
     return record.get("generation") if record and record.get("fitness_seen") == best.fitness else None

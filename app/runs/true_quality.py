@@ -61,12 +61,17 @@ def common_seeds(count: int = TRUE_QUALITY_STARTS) -> list[int]:
 
 def replayed_quality(rulebase: Rulebase, replay: Evaluator, seeds: Sequence[int]) -> TrueQuality:
     """`rulebase` played once from each seed, in one batch (`replay` must play one game per evaluation)."""
+    return replayed_qualities([rulebase], replay, seeds)[0]
+
+
+def replayed_qualities(rulebases: Sequence[Rulebase], replay: Evaluator, seeds: Sequence[int]) -> list[TrueQuality]:
+    """Each of `rulebases` played once from each seed, all in one batch (the population view's players)."""
     with Evaluation(replay) as evaluation:
-        scores = evaluation([rulebase] * len(seeds), list(seeds))
-    fitness = np.array([score.fitness for score in scores])
-    goals = np.array([score.goals for score in scores])
-    return TrueQuality(len(seeds), float(fitness.mean()), float(fitness.std()), float(goals.mean()),
-                       float(np.mean(goals > 0)))
+        scores = evaluation([rulebase for rulebase in rulebases for _ in seeds], list(seeds) * len(rulebases))
+    fitness = np.array([score.fitness for score in scores]).reshape(len(rulebases), len(seeds))
+    goals = np.array([score.goals for score in scores]).reshape(len(rulebases), len(seeds))
+    return [TrueQuality(len(seeds), float(f.mean()), float(f.std()), float(g.mean()), float(np.mean(g > 0)))
+            for f, g in zip(fitness, goals)]
 
 
 def simple_soccer_replayer(game: "GameConfig", vocabulary: "Vocabulary", starts: int = TRUE_QUALITY_STARTS,
@@ -80,3 +85,13 @@ def simple_soccer_replayer(game: "GameConfig", vocabulary: "Vocabulary", starts:
     replay = SimpleSoccerEvaluator(one, vocabulary) if opponent is None else MatchEvaluator(opponent, one, vocabulary)
     seeds = common_seeds(starts)
     return lambda rulebase: replayed_quality(rulebase, replay, seeds)
+
+
+def simple_soccer_batch_replayer(game: "GameConfig", vocabulary: "Vocabulary", starts: int = TRUE_QUALITY_STARTS
+                                 ) -> Callable[[Sequence[Rulebase]], list[TrueQuality]]:
+    """Several players' true quality in `game`'s SimpleSoccer, on the common starts, in one batch."""
+    from soccer_lab.soccer.evaluate import SimpleSoccerEvaluator
+
+    replay = SimpleSoccerEvaluator(game.model_copy(update={"games_per_evaluation": 1}), vocabulary)
+    seeds = common_seeds(starts)
+    return lambda rulebases: replayed_qualities(rulebases, replay, seeds)

@@ -69,8 +69,8 @@ class ScopedStore:
             raise NotFound("rulebase", rulebase_id)
         return record
 
-    def create_rulebase(self, name: str, text: str) -> RulebaseRecord:
-        return self.store.create_rulebase(name, text, owner=self.visitor.student_id)
+    def create_rulebase(self, name: str, text: str, best_of: dict | None = None) -> RulebaseRecord:
+        return self.store.create_rulebase(name, text, owner=self.visitor.student_id, best_of=best_of)
 
     def update_rulebase(self, rulebase_id: int, *, name: str | None = None, text: str | None = None) -> RulebaseRecord:
         self._changeable(self.get_rulebase(rulebase_id).owner, "change the shared library's rulebases")

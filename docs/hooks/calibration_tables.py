@@ -114,16 +114,25 @@ def verdicts_section(documents: list[dict]) -> str:
         agreeing = sum(v["verdict"].lower().startswith("agrees") for v in verdicts)
         others = [v for v in verdicts if not v["verdict"].lower().startswith("agrees")] or [None]
         for index, other in enumerate(others):
-            shown = ["", "", ""] if other is None else [f"{other['where']}: {other['claim']}", other["verdict"],
-                                                         other["measured"]]
+            shown = ["", "", "", ""] if other is None else [f"{other['where']}: {other['claim']}", other["verdict"],
+                                                             other["measured"], other.get("reason", "")]
             rows.append([preset, f"{agreeing} of {len(verdicts)}"] if index == 0 else ["", ""])
             rows[-1] += shown
     size = default["size"]
+    no_difference = [v for v in default["verdicts"]
+                     if v.get("no_difference_found") and v["verdict"].lower().startswith("agrees")]
     summary = (f"The default at population {size['population']} × {size['generations']} generations, seed "
                f"{size['seed']} (measured {default['measured']}): **{counts['agrees']} of {len(default['verdicts'])} "
                f"findings agree, {counts['disagrees']} disagree, {counts['inconclusive']} inconclusive**"
-               + (f", {counts['too small']} too small to judge" if counts["too small"] else "") + ".")
-    return summary + "\n\n" + table(["preset", "agrees", "finding that does not agree", "verdict", "measured (the report's figures)"], rows)
+               + (f", {counts['too small']} too small to judge" if counts["too small"] else "") + "."
+               + (f" {len(no_difference)} of the agreements are \"no significant difference found\": the last "
+                  "table says what difference each test could have detected." if no_difference else ""))
+    sections = [summary, table(["preset", "agrees", "finding that does not agree", "verdict",
+                                "measured (the report's figures)", "why (this run's data)"], rows)]
+    if no_difference:
+        sections.append(table(["agreement: no significant difference found", "the test, and what it could have detected"],
+                              [[f"{v['where']}: {v['claim']}", v["test"]] for v in no_difference]))
+    return "\n\n".join(sections)
 
 
 def outcomes_section(documents: list[dict]) -> str:

@@ -94,3 +94,20 @@ def test_the_verdict_summary_counts_each_verdict_as_the_report_writes_it(recorde
     page = hook.render(hook.MARKERS["verdicts"], results=tmp_path)
     assert "**5 of 8 findings agree, 2 disagree, 1 inconclusive**" in page
     assert "| initial | 2 of 5 |" in page and "| selection | 3 of 3 |  |" in page
+
+
+def test_the_calibration_page_says_why_each_finding_disagrees_and_what_no_difference_could_detect(recorded, tmp_path):
+    """The page once gave a DISAGREES with its figures only, and a "no difference" agreement without what
+    its test could have detected."""
+    document = json.loads((recorded / "results" / "sighted-linear-quiet-kicks.json").read_text())
+    assert all(verdict["test"] for verdict in document["verdicts"])  # what each verdict tested is recorded
+    assert all("reason" in verdict and "no_difference_found" in verdict for verdict in document["verdicts"])
+    first, selection = document["verdicts"][0], document["verdicts"][5]
+    first.update(verdict="DISAGREES", reason="falls by generation 3, then regrows")
+    selection.update(verdict="agrees", no_difference_found=True,
+                     test="Kruskal-Wallis; with 2 trials per setting it could have detected a difference of about 0.4")
+    (tmp_path / "default.json").write_text(json.dumps(document))
+    page = hook.render(hook.MARKERS["verdicts"], results=tmp_path)
+    assert "why (this run's data)" in page and "| falls by generation 3, then regrows |" in page
+    assert 'of the agreements are "no significant difference found"' in page
+    assert f"| {selection['where']}: {selection['claim']} | {selection['test']} |" in page

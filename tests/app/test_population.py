@@ -3,15 +3,20 @@ individuals into its event, and the population panel plays exactly those in one 
 
 from __future__ import annotations
 
+import re
 import threading
+import time
 from types import SimpleNamespace
 
 import numpy as np
+import pytest
 
 from soccer_lab.app.runs.manager import SAMPLED_PLAYERS, RunEvent, RunManager, SampledPlayer, sample_players
 from soccer_lab.app.store import Store
 from soccer_lab.app.web.ui import style
+from soccer_lab.app.runs.true_quality import TRUE_QUALITY_STARTS, TrueQuality, simple_soccer_batch_replayer
 from soccer_lab.app.web.ui.panels.population import PopulationPanel
+from soccer_lab.app.web.ui.player_qualities import PlayerQualities
 from soccer_lab.fuzzy.printer import format_rulebase
 from soccer_lab.fuzzy.vocabulary import Vocabulary
 from soccer_lab.ga.codec import ChromosomeCodec
@@ -167,3 +172,99 @@ def test_each_run_plays_in_its_own_game():
             batch.step()
         moved.append(not np.array_equal(batch.observation.player_x, start))
     assert moved == [False, True]
+
+
+# ---- true quality under each small pitch (app/runs/true_quality.py) ---------------------------------
+def wait_until(condition, seconds: float = 60.0) -> None:
+    deadline = time.monotonic() + seconds
+    while not condition():
+        assert time.monotonic() < deadline, "timed out"
+        time.sleep(0.02)
+
+
+def test_population_view_shows_each_players_replayed_quality_beside_its_fitness(monkeypatch):
+    monkeypatch.setattr(style, "POPULATION_REFRESH_SECONDS", 0.0)
+    qualities = PlayerQualities(VOCABULARY, share=None)  # every shown player, whatever it costs
+    panel = PopulationPanel(FakeGui(), GAME.world, VOCABULARY, start_seed=lambda: SEED, game_of_run=lambda _: GAME,
+                            qualities=qualities)
+    rulebases = [CODEC.decode(parse_compact(text, VOCABULARY)) for text in (SCORER, CHASER)]
+    panel.generation_finished(2, 0, tuple(SampledPlayer(r, f) for r, f in zip(rulebases, (0.25, 0.5))))
+    panel.advance(1)
+    wait_until(lambda: (panel.advance(1), panel.player_qualities())[1] is not None)
+    expected = simple_soccer_batch_replayer(GAME, VOCABULARY)(rulebases)
+    assert panel.player_qualities() == expected  # the same common starts as every run's best
+    assert [q.starts for q in expected] == [TRUE_QUALITY_STARTS] * 2
+    panel.advance(1)
+    lines = re.findall(r'data-replayed="([0-9.]+)"', panel.grid.content)
+    assert [float(value) for value in lines] == pytest.approx([q.fitness for q in expected], abs=1e-6)
+    assert f"re-played {expected[0].fitness:.2f} ± {expected[0].fitness_std:.2f}" in panel.grid.content
+    assert f"re-played on the same {TRUE_QUALITY_STARTS} fresh starts" in panel.caption.content
+    assert 'data-replaying="false"' in panel.caption.content and "2 of 2 re-played" in panel.caption.content
+
+
+def test_population_replays_stay_off_the_frame_loop_and_replay_an_elite_once(monkeypatch):
+    """The re-play runs on its own thread: a frame never waits for it, and a player shown again (an elite
+    in the next generation, or in another tab) is not re-played."""
+    release, replayed = threading.Event(), []
+
+    def slow_replayer(game, vocabulary, starts):
+        replay = simple_soccer_batch_replayer(game, vocabulary, starts)
+
+        def batch(rulebases):
+            replayed.append(len(rulebases))
+            release.wait(30)
+            return replay(rulebases)
+        return batch
+
+    qualities = PlayerQualities(VOCABULARY, replayer_for=slow_replayer, share=None)
+    panel = PopulationPanel(FakeGui(), GAME.world, VOCABULARY, start_seed=lambda: SEED, game_of_run=lambda _: GAME,
+                            qualities=qualities)
+    scorer, chaser = (CODEC.decode(parse_compact(text, VOCABULARY)) for text in (SCORER, CHASER))
+    panel.generation_finished(2, 0, (SampledPlayer(scorer, 0.25),))
+    started = time.perf_counter()
+    for _ in range(5):
+        panel.advance(2)  # frames go on while the re-play waits
+    assert time.perf_counter() - started < 5 and panel.player_qualities() is None
+    assert "re-playing…" in panel.grid.content and 'data-replaying="true"' in panel.caption.content
+    release.set()
+    wait_until(lambda: (panel.advance(1), panel.player_qualities())[1] is not None)
+    panel.generation_finished(2, 1, (SampledPlayer(scorer, 0.25), SampledPlayer(chaser, 0.5)))
+    panel.advance(1)
+    wait_until(lambda: (panel.advance(1), panel.player_qualities())[1] is not None)
+    assert replayed == [1, 1]  # generation 1 re-played only the chaser: the scorer's figure was known
+    assert len(panel.player_qualities()) == 2
+
+
+def test_an_rcss_runs_players_get_no_simple_soccer_quality(monkeypatch):
+    monkeypatch.setattr(style, "POPULATION_REFRESH_SECONDS", 0.0)
+    panel = PopulationPanel(FakeGui(), GAME.world, VOCABULARY, start_seed=lambda: SEED, game_of_run=lambda _: GAME,
+                            qualities=PlayerQualities(VOCABULARY), replayable=lambda run_id: False)
+    panel.generation_finished(3, 0, (SampledPlayer(CODEC.decode(parse_compact(CHASER, VOCABULARY)), 0.5),))
+    panel.advance(1)
+    assert 'class="replayed"' not in panel.grid.content and "re-played on" not in panel.caption.content
+
+
+def test_population_replays_keep_to_their_share_of_the_time_best_ranked_first():
+    """Re-playing 12 players on 20 starts each generation cost 80% of a Table 2 run: the re-plays now spend
+    at most their share of the wall time, best-ranked first, and say which players they had no time for."""
+    now, replayed = [0.0], []
+
+    def costly_replayer(game, vocabulary, starts):
+        def batch(rulebases):
+            replayed.append(list(rulebases))
+            now[0] += 0.1 * len(rulebases)  # 0.1 s a player
+            return [TrueQuality(starts, 0.5, 0.1, 1.0, 0.5) for _ in rulebases]
+        return batch
+
+    qualities = PlayerQualities(VOCABULARY, replayer_for=costly_replayer, share=0.05, clock=lambda: now[0])
+    players = [CODEC.decode(parse_compact(f"(B,vN,A)(KG,n,H)(B,nF,A)(GB,n,{level})", VOCABULARY))
+               for level in ("vL", "L", "sL", "M", "sH", "H", "vH")]
+    first = qualities._qualities(1, GAME, players)
+    assert [q is not None for q in first] == [True] + [False] * 6  # the best first: it measures the cost
+    now[0] += 10.0  # a generation later: 5% of 10 s pays for 0.5 s less the 0.1 s spent
+    second = qualities._qualities(1, GAME, players)
+    assert replayed[1] == players[1:5] and [q is not None for q in second] == [True] * 5 + [False] * 2
+    assert qualities.spent <= 0.05 * now[0] + 0.1  # within the share, give or take the first measure
+    now[0] += 3600.0  # an idle hour saves no burst: at most a minute's share
+    qualities._qualities(1, GAME, players + [CODEC.decode(parse_compact(SCORER, VOCABULARY))])
+    assert len(replayed[2]) == 3 and replayed[2] == players[5:] + [CODEC.decode(parse_compact(SCORER, VOCABULARY))]

@@ -365,6 +365,13 @@ def test_a_small_evolution_shows_progress_and_its_best_player_can_be_loaded(ui, 
     shown = len(session.population.labels)
     assert 0 < shown <= 12
     wait_until(lambda: page.locator(".mini-pitch").count() == shown)
+    # Under each small pitch its true quality: re-played on the common starts within the view's share of the
+    # time, best first (the run's one-game fitness alone once stood there)
+    wait_until(lambda: caption.get_attribute("data-replaying") == "false", timeout=60)
+    assert "re-played on the same 20 fresh starts as every run's best" in caption.inner_text()
+    wait_until(lambda: page.locator(".mini-pitch .replayed").count() == shown)
+    lines = page.locator(".mini-pitch .replayed").all_inner_texts()
+    assert all(line.startswith(("re-played ", "not re-played")) for line in lines)
     page.get_by_role("tab", name="Library").click()
     shot(page, "6-library-and-population")
     # Newest first: the run just made is selected, not the older one.
@@ -390,6 +397,28 @@ def test_after_a_run_every_view_numbers_its_generations_alike_and_says_it_ended(
     assert caption.get_attribute("data-generation") == "1"
     assert "evaluated" not in caption.inner_text() and "finished after this generation" in caption.inner_text()
     assert "assisted skills · body pushes count as kicks" in caption.inner_text()  # the run's game
+
+
+def test_a_runs_best_saved_to_the_library_keeps_both_its_figures(ui, page):
+    """Saved from the pitch, a run's best once kept its rules only: the library now shows the fitness the GA
+    saw beside its true quality."""
+    from soccer_lab.app.runs.outputs import best_of_run
+
+    session, store = session_of(ui), ui.context.store
+    run_id = session.evolve.run_id  # the finished run of the tests above
+    page.get_by_role("tab", name="Evolve").click()
+    page.get_by_role("button", name="Load best so far onto the pitch").click()
+    wait_until(lambda: session.pitch_run == run_id and session.game.name.startswith(f"run #{run_id} best"))
+    page.get_by_role("tab", name="Rules").click()
+    field(page, "Name", "input").fill("GA best kept")
+    page.get_by_role("button", name="Save").click()
+    page.locator(".editor-message", has_text="GA best kept").wait_for()
+    saved = next(r for r in store.list_rulebases() if r.name == "GA best kept")
+    assert saved.best_of == best_of_run(store, run_id) and saved.best_of["true_quality"]["starts"] == 20
+    page.get_by_role("tab", name="Library").click()
+    figures = page.locator(".rulebase-figures", has_text=f"Saved from run #{run_id}'s best")
+    figures.wait_for()
+    assert "as the GA saw it (re-played on 20 fresh starts: " in figures.inner_text()
 
 
 def test_save_to_library_then_open_it_again(ui, page):

@@ -262,6 +262,8 @@ class SimplifyResponse(BaseModel):
 class RulebaseCreate(Strict):
     name: Name
     text: RuleText
+    run_id: int | None = Field(None, ge=1, le=2**63 - 1, description="the run whose best so far `text` is: its one-game fitness "
+                               "and true quality are kept beside the rules (422 when `text` is not that best)")
 
 
 class RulebaseUpdate(Strict):
@@ -275,16 +277,33 @@ class RulebaseUpdate(Strict):
         return self
 
 
+class BestOfOut(BaseModel):
+    """The run's best a saved rulebase is, with the figures it was measured at."""
+
+    run_id: int
+    generation: int
+    fitness_seen: float = Field(description="the fitness the GA saw: its running mean, often one game")
+    true_quality: "TrueQualityOut | None" = Field(
+        None, description="its true quality, beside `fitness_seen`; null when not re-played (an rcssserver run)")
+
+
 class RulebaseOut(BaseModel):
     id: int
     name: str
     text: str
     created: str
     updated: str
+    best_of: BestOfOut | None = Field(None, description="saved from a run's best: its figures; null otherwise")
 
     @classmethod
     def of(cls, record: RulebaseRecord) -> "RulebaseOut":
-        return cls(**record.to_dict())
+        data = record.to_dict()
+        del data["owner"], data["best_of"]
+        try:
+            best_of = BestOfOut.model_validate(record.best_of) if record.best_of else None
+        except ValueError:  # a damaged record: the rules are still listed
+            best_of = None
+        return cls(**data, best_of=best_of)
 
 
 # ---- runs --------------------------------------------------------------------------------
@@ -435,3 +454,7 @@ class ServerInfo(BaseModel):
     viewer_home: str | None  # the viewer without rerun's welcome screen; a recording: `<viewer_home>&url=<recording URL>`
     docs: str
     classroom: bool = False  # serve --class: the class's routes (/api/class...) exist and the pages show them
+
+
+BestOfOut.model_rebuild()  # its true quality is defined below it, with the runs
+RulebaseOut.model_rebuild()

@@ -183,10 +183,12 @@ def start_ui(
     address, with headers forbidding framing (app/web/api/ui_page.py). `site`: the names served (default: `host`'s).
     `classroom` and `tournament` (classroom mode): only the class's browsers are admitted, each session is its
     visitor's (app/web/access.py), and a Class tab plays the tournament."""
+    from soccer_lab.app.web.ui.player_qualities import PlayerQualities
     from soccer_lab.app.web.ui.session import Session
 
     warnings.filterwarnings("ignore", message=CLOSED_TAB_WARNING, category=UserWarning)
-    context = UiContext(store, runs, vocabulary, game or GameConfig(), api_url=api_url, viewer_problem=viewer_problem)
+    context = UiContext(store, runs, vocabulary, game or GameConfig(), api_url=api_url, viewer_problem=viewer_problem,
+                        player_qualities=PlayerQualities(vocabulary))
     server = _viser_server_without_banner(host, port)
     if server.get_port() != port:
         server.stop()

@@ -15,6 +15,7 @@ from soccer_lab.soccer.demo import demo_rules_text
 if TYPE_CHECKING:
     from soccer_lab.app.runs.manager import RunManager
     from soccer_lab.app.store import Store
+    from soccer_lab.app.web.ui.player_qualities import PlayerQualities
 
 DEMO_NAME = "demo (built in)"
 
@@ -30,6 +31,7 @@ class UiContext:
     api_url: str | None = None  # the JSON API, for links to files it serves (experiment reports)
     viewer_problem: str | None = None  # why the app serves no rerun viewer (None: it does, at /viewer/)
     frames: FrameShare = field(default_factory=FrameShare)  # each tab's share of the server's drawing
+    player_qualities: PlayerQualities | None = None  # re-plays the population view's players for every tab
 
     def demo_rulebase(self) -> Rulebase:
         return parse_rulebase(demo_rules_text(), self.vocabulary)

@@ -34,9 +34,12 @@ from soccer_lab.app.web.ui.panels.lineage import LineagePanel
 from soccer_lab.app.web.ui.panels.play import PlayControls
 from soccer_lab.app.web.ui.panels.policy_view import PolicyPanel
 from soccer_lab.app.web.ui.panels.population import PopulationPanel
+from soccer_lab.app.runs.environments import SIMPLE
+from soccer_lab.app.runs.outputs import best_of_run
 from soccer_lab.app.store import NotFound
 from soccer_lab.app.web.ui.pitch import PitchGeometry, PitchView
 from soccer_lab.app.web.ui.projector import ProjectorView
+from soccer_lab.fuzzy.parser import RuleSyntaxError, parse_rulebase
 from soccer_lab.fuzzy.printer import format_rulebase
 from soccer_lab.fuzzy.rule import Rulebase
 from soccer_lab.soccer.config import GameConfig
@@ -82,6 +85,7 @@ class Session:
         self._pitch_seen = threading.Event()
         self.ready = threading.Event()  # every panel is built (the game plays from the Play tab's)
         self.skills: str | None = None  # the skill set chosen on this tab (None: the app's)
+        self.pitch_run: int | None = None  # the run the pitch's player came from (None: a saved rulebase, ...)
         self._ticks_per_second = 1.0 / context.game.world.tick_seconds  # at 1x speed
         self.game = self.first_game(context)
         self.link_problem: str | None = None  # why the link the tab was opened with was not played
@@ -172,7 +176,7 @@ class Session:
             self.editor = EditorPanel(
                 gui, context.vocabulary, self.store, (self.game.rulebase, self.game.name),
                 on_apply=self.load_rulebase, on_example=self.play_player, on_saved=lambda: self.library.refresh(),
-                simplify=self.simplify,
+                simplify=self.simplify, best_of=self.best_of_pitch,
             )
         with tabs.add_tab("Evolve"):
             self.evolve = EvolvePanel(
@@ -203,7 +207,8 @@ class Session:
                                       on_change=self.refresh)
         with self.layout.right_tab("Population"):
             self.population = PopulationPanel(gui, context.game.world, context.vocabulary,
-                                              start_seed=lambda: self.game.seed, game_of_run=self.run_game)
+                                              start_seed=lambda: self.game.seed, game_of_run=self.run_game,
+                                              qualities=context.player_qualities, replayable=self.plays_simple_soccer)
         with self.layout.right_tab("Lineage"):
             self.lineage = LineagePanel(gui, self.store, context.vocabulary,
                                         population_shown=self.population.shown_players,
@@ -264,6 +269,7 @@ class Session:
             config = self.context.game.model_copy(update={"skills": self.skills or self.context.game.skills})
         else:
             config = self.run_game(run_id)
+        self.pitch_run = run_id
         with self.lock:
             if config == self.game.config:
                 self.game.set_rulebase(rulebase, name)
@@ -275,6 +281,7 @@ class Session:
 
     def watch_entry(self, rulebase: Rulebase, name: str, seed: int, config: GameConfig) -> None:
         """A tournament entry's game: its rules from a round's start, in the round's game."""
+        self.pitch_run = None
         with self.lock:
             self.game = Game(self.context, rulebase, name, seed, config)
             self.controls.seed.value = seed
@@ -287,6 +294,25 @@ class Session:
         self.library.refresh()
         self.lineage.refresh()
         self.breeding.refresh()
+
+    def best_of_pitch(self, rulebase: Rulebase) -> dict | None:
+        """The figures of the run's best `rulebase` is, when the pitch's player came from that run and is its
+        best so far (the library keeps them beside the saved rules); None otherwise."""
+        if self.pitch_run is None:
+            return None
+        try:
+            if parse_rulebase(self.store.best_individual(self.pitch_run).rules, self.context.vocabulary) != rulebase:
+                return None
+            return best_of_run(self.store, self.pitch_run)
+        except (NotFound, RuleSyntaxError):
+            return None
+
+    def plays_simple_soccer(self, run_id: int) -> bool:
+        """Whether a run evaluates in SimpleSoccer (its players' true quality is SimpleSoccer's, not rcssserver's)."""
+        try:
+            return self.store.get_run(run_id).config.get("env", SIMPLE) == SIMPLE
+        except NotFound:
+            return False
 
     def run_game(self, run_id: int) -> GameConfig:
         """The game a run's players play in on this tab: the run's rules (skills, noise, kick counting,

@@ -7,6 +7,7 @@ from __future__ import annotations
 from fastapi import APIRouter, Request, Response
 from fastapi.responses import JSONResponse
 
+from soccer_lab.app.runs.outputs import best_of_run, best_of_text
 from soccer_lab.app.web.access import Visitor
 from soccer_lab.app.web.api.class_models import (ClassOut, EntryOut, EntrySubmit, JoinRequest, RoundOut, RoundStart,
                                                  RoundStarted, SettingsChange, StudentOut, TeacherRequest, VisitorOut)
@@ -89,10 +90,11 @@ def submit(body: EntrySubmit, request: Request, visitor: VisitorDependency, stor
         text, source = body.text, "rules"
     elif body.rulebase_id is not None:
         record = store.get_rulebase(body.rulebase_id)
-        text, source = record.text, f"library: {record.name}"
+        figures = best_of_text(record.best_of)  # saved from a run's best: both its figures
+        text, source = record.text, f"library: {record.name}" + (f", {figures}" if figures else "")
     else:
         text = format_rulebase(runs.best_rulebase(body.run_id), _tournament(request).vocabulary)
-        source = f"run {body.run_id}'s best"
+        source = best_of_text(best_of_run(store, body.run_id))
     entry = _tournament(request).submit(visitor, text, name=body.name, source=source)
     return _entry_out(entry, visitor)
 

@@ -5,20 +5,34 @@ from __future__ import annotations
 from enum import Enum
 
 from fastapi import APIRouter, Query, Response
+from fastapi.exceptions import RequestValidationError
+
+from soccer_lab.app.runs.outputs import best_of_run
 
 from soccer_lab.app.web.api.models import ErrorBody, RulebaseCreate, RulebaseOut, RulebaseUpdate
 from soccer_lab.app.web.api.routes.dependencies import RecordId, StoreDependency
 from soccer_lab.app.web.api.rule_text import VOCABULARY, parse, playable
 from soccer_lab.fuzzy.export import EXPORT_FORMATS, FORMATS
+from soccer_lab.fuzzy.rule import Rulebase
 
 router = APIRouter(prefix="/rulebases", tags=["rulebases"], responses={404: {"model": ErrorBody}})
 ExportFormatName = Enum("ExportFormatName", {name: name for name in FORMATS}, type=str)
 
 
-@router.post("", status_code=201, summary="Save a rulebase", responses={422: {"model": ErrorBody}})
+@router.post("", status_code=201, summary="Save a rulebase (a run's best with its figures: give `run_id`)",
+             responses={422: {"model": ErrorBody}})
 def create(body: RulebaseCreate, store: StoreDependency) -> RulebaseOut:
-    playable(parse(body.text))
-    return RulebaseOut.of(store.create_rulebase(body.name, body.text))
+    rulebase = playable(parse(body.text))
+    best_of = None if body.run_id is None else _best_of(store, body.run_id, rulebase)
+    return RulebaseOut.of(store.create_rulebase(body.name, body.text, best_of=best_of))
+
+
+def _best_of(store: StoreDependency, run_id: int, rulebase: Rulebase) -> dict:
+    """The run's best's figures, if `rulebase` is that best (a 404 for an unknown run, a 422 for other rules)."""
+    if parse(store.best_individual(run_id).rules) != rulebase:
+        raise RequestValidationError([{"type": "value_error", "loc": ("body", "text"), "input": "",
+                                       "msg": f"these rules are not run {run_id}'s best so far"}])
+    return best_of_run(store, run_id)
 
 
 @router.get("", summary="List saved rulebases")

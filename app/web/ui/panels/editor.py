@@ -11,6 +11,7 @@ import viser
 from soccer_lab.app.words import plural
 from soccer_lab.app.rule_inspection import MAX_GAMES, size
 from soccer_lab.app.web.access import ScopedStore
+from soccer_lab.app.runs.outputs import best_of_text
 from soccer_lab.app.store import StoreError
 from soccer_lab.app.web.ui import style
 from soccer_lab.app.web.ui.number_field import NumberField
@@ -49,7 +50,8 @@ class EditorPanel:
     """Shows `on_pitch` (rulebase, name) first. `on_apply(rulebase, name)` puts rules on the pitch;
     `on_example(rulebase, name)` puts a built-in example on the pitch from a new start; `on_saved()`
     follows a save to the library; `simplify(rulebase, games)` simplifies rules (exact steps, then
-    checked on that many games; 0: exact only). The session calls `show_rulebase` whenever a rulebase
+    checked on that many games; 0: exact only); `best_of(rulebase)`: the figures of the run's best these
+    rules are (None: they are no run's best), saved beside them. The session calls `show_rulebase` whenever a rulebase
     goes on the pitch, from here or elsewhere."""
 
     def __init__(
@@ -63,9 +65,11 @@ class EditorPanel:
         on_example: Callable[[Rulebase, str], None],
         on_saved: Callable[[], None],
         simplify: Callable[[Rulebase, int], "CheckedSimplification"],
+        best_of: Callable[[Rulebase], dict | None] = lambda rulebase: None,
     ):
         self.vocabulary = vocabulary
         self.store = store
+        self.best_of = best_of
         self.on_apply = on_apply
         self.on_saved = on_saved
         self.simplify_with = simplify
@@ -200,11 +204,13 @@ class EditorPanel:
             return
         text = format_rulebase(self.on_pitch[0], self.vocabulary)
         try:
-            record = self.store.create_rulebase(name, text)
+            record = self.store.create_rulebase(name, text, best_of=self.best_of(self.on_pitch[0]))
         except StoreError as exc:
             self._say(f"Not saved: {exc}", error=True)
             return
-        self._say(f"Saved the rules on the pitch as “{record.name}” (#{record.id}).")
+        figures = best_of_text(record.best_of)
+        self._say(f"Saved the rules on the pitch as “{record.name}” (#{record.id})" +
+                  (f", with {figures}." if figures else "."))
         self.on_saved()
 
     def rules_to_genes(self) -> None:

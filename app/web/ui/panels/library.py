@@ -10,6 +10,7 @@ import viser
 from soccer_lab.app.experiment.library import ExperimentFolder, FigureFile
 from soccer_lab.app.web.access import ScopedRuns, ScopedStore
 from soccer_lab.app.runs.manager import RunStateError
+from soccer_lab.app.runs.outputs import best_of_text, run_replayed_note
 from soccer_lab.app.store import NotFound, RulebaseRecord, RunStatus, StoreError
 from soccer_lab.app.web.ui import style
 from soccer_lab.app.web.ui.panels.viewer_link import run_viewer_link
@@ -56,6 +57,7 @@ class LibraryPanel:
         self.on_load = on_load
         gui.add_markdown("**Saved rulebases**")
         self.rulebases = gui.add_dropdown("Rulebase", (NONE,))
+        self.rulebase_figures = gui.add_html("")  # a run's best: the fitness the GA saw and its true quality
         rulebase_actions = gui.add_button_group("Rulebase actions", ("Open", "Rename", "Delete"))
         self.export_format = gui.add_dropdown("Export as", FORMATS, initial_value="fcl")
         download = gui.add_button("Download", color="gray")
@@ -72,6 +74,10 @@ class LibraryPanel:
         self.figures = gui.add_dropdown("Figure", (NONE,))
         self.figure_view = gui.add_html("")
         self._figure_files: dict[str, FigureFile] = {}
+
+        @self.rulebases.on_update
+        def _(_: viser.GuiEvent) -> None:
+            self.show_rulebase_figures()
 
         @self.experiments.on_update
         def _(_: viser.GuiEvent) -> None:
@@ -108,6 +114,7 @@ class LibraryPanel:
         rulebases = [_label(r.id, r.name) for r in self.store.list_rulebases()]
         runs = [_label(r.id, f"{r.name} ({r.status})") for r in self.store.list_runs()]
         self._set_options(self.rulebases, rulebases)
+        self.show_rulebase_figures()
         self._set_options(self.runs, runs)
         experiments = [experiment_label(e) for e in self.store.list_experiments()]
         self._set_options(self.experiments, experiments)
@@ -159,12 +166,24 @@ class LibraryPanel:
             self._say(f"Cannot {doing}: {exc}", error=True)
             return None
 
+    def show_rulebase_figures(self) -> None:
+        """Under the selected rulebase, when it was saved from a run's best: both its figures."""
+        record_id = _id_of(self.rulebases.value)
+        try:
+            figures = best_of_text(self.store.get_rulebase(record_id).best_of) if record_id is not None else ""
+        except NotFound:
+            figures = ""
+        self.rulebase_figures.content = "" if not figures else (
+            f'<div class="rulebase-figures" style="{style.FONT}; font-size:{style.SMALL_FONT_SIZE}px; '
+            f'color:{style.INK}">Saved from {escape(figures)}</div>')
+
     def open_rulebase(self) -> None:
         selected = self._selected_rulebase("open")
         if selected is None:
             return
         record, rulebase = selected
-        self.on_load(rulebase, record.name, None)
+        figures = best_of_text(record.best_of)  # the name says both figures, e.g. in a class entry's source
+        self.on_load(rulebase, f"{record.name} ({figures})" if figures else record.name, None)
         self._say(f"“{record.name}” is on the pitch.")
 
     def rename_rulebase(self) -> None:
@@ -213,7 +232,8 @@ class LibraryPanel:
         except (NotFound, RuleSyntaxError) as exc:
             self._say(f"No best player yet: {exc}", error=True)
             return
-        name = f"run #{record_id} best (gen {best.generation}, fitness {best.fitness:.3f})"
+        quality = run_replayed_note(self.store, record_id, best.fitness)
+        name = f"run #{record_id} best (gen {best.generation}, fitness {best.fitness:.3f}{quality})"
         self.on_load(rulebase, name, record_id)
         self._say(f"Watching {name}.")
         self.message.content += run_viewer_link(self.api_url, record_id, self.viewer_problem)

@@ -1,7 +1,9 @@
 """Population view: a grid of small pitches, all played at once by the batched engine (one GameBatch,
 one pymunk Space). While this tab's evolution runs, it shows the latest generation's best players
 (the RunManager samples them as each generation finishes), all from the same start so the class
-compares them fairly, live while the next generation is being evaluated; after the run, its last."""
+compares them fairly, live while the next generation is being evaluated; after the run, its last. Under
+each, its true quality: the player re-played on the common fresh starts (app/runs/true_quality.py), by
+`PlayerQualities` (player_qualities.py) on a thread of its own, never on a tab's frame loop."""
 
 from __future__ import annotations
 
@@ -12,11 +14,13 @@ from typing import TYPE_CHECKING, Callable, Sequence
 import numpy as np
 import viser
 
+from soccer_lab.app.runs.true_quality import TrueQuality
 from soccer_lab.app.words import plural
 from soccer_lab.app.web.ui import style
 from soccer_lab.app.web.ui.game import rules_summary
 from soccer_lab.app.web.ui.panels.svg import escape, svg_open
 from soccer_lab.app.web.ui.pitch import PitchGeometry
+from soccer_lab.app.web.ui.player_qualities import PlayerQualities
 from soccer_lab.fuzzy.vocabulary import Vocabulary
 from soccer_lab.soccer.config import GameConfig, WorldConfig
 from soccer_lab.soccer.engine import END_REASONS, GameBatch, GameState, Observation
@@ -31,13 +35,16 @@ EMPTY_TEXT = ("Start an evolution in the Evolve tab. Once its first generation h
 
 def population_html(
     geometry: PitchGeometry, observation: Observation, state: GameState, labels: Sequence[str],
-    columns: int = style.POPULATION_GRID[0],
+    columns: int = style.POPULATION_GRID[0], qualities: Sequence[TrueQuality | None] | None = None,
+    replaying: bool = True,
 ) -> str:
     """Small pitches in a grid of `columns`, game g where observation[g] saw it (state: the games' score and
-    whether and why each ended)."""
+    whether and why each ended); with `qualities`, under each its player's true quality (None: being re-played
+    while `replaying`, else not re-played)."""
     cells = "".join(
         _mini_pitch(geometry, observation, g, int(state.goals[g]), END_REASONS[state.end_reason[g]] if state.done[g]
-                    else None, labels[g]) for g in range(len(labels))
+                    else None, labels[g], "" if qualities is None else _quality_line(qualities[g], replaying))
+        for g in range(len(labels))
     )
     return (
         f'<div class="population" data-games="{len(labels)}" style="{style.FONT}; display:grid; '
@@ -45,8 +52,20 @@ def population_html(
     )
 
 
+def _quality_line(quality: TrueQuality | None, replaying: bool = True) -> str:
+    """The player's re-played fitness (mean ± spread) under its pitch; 're-playing…' until known, 'not
+    re-played' when the re-play budget had no time for it."""
+    if quality is not None:
+        text = f"re-played {quality.fitness:.2f} ± {quality.fitness_std:.2f}"
+    else:
+        text = "re-playing…" if replaying else "not re-played"
+    value = "" if quality is None else f"{quality.fitness:.6f}"
+    return (f'<div class="replayed" data-replayed="{value}" style="margin-top:-4px; "font-size:{style.SMALL_FONT_SIZE}px; '
+            f'color:{style.MUTED}">{text}</div>')
+
+
 def _mini_pitch(geometry: PitchGeometry, observation: Observation, g: int, goals: int, ended: str | None,
-                label: str) -> str:
+                label: str, below: str = "") -> str:
     margin = style.MINI_PITCH_MARGIN
     width = 2 * (geometry.half_length + margin) + geometry.goal_depth
     height = 2 * (geometry.half_width + margin)
@@ -84,20 +103,25 @@ def _mini_pitch(geometry: PitchGeometry, observation: Observation, g: int, goals
         f'<circle cx="{x(px):.1f}" cy="{y(py):.1f}" r="3.5" fill="{style.MINI_PITCH_PLAYER}" stroke="white" stroke-width="1"/>'
         f'<line x1="{x(px):.1f}" y1="{y(py):.1f}" x2="{x(px) + 7 * np.cos(facing):.1f}" '
         f'y2="{y(py) + 7 * np.sin(facing):.1f}" stroke="white" stroke-width="1.5"/>'
-        f'<circle cx="{x(bx):.1f}" cy="{y(by):.1f}" r="2.5" fill="{style.BALL_HEX}"/>{why}</svg></div>'
+        f'<circle cx="{x(bx):.1f}" cy="{y(by):.1f}" r="2.5" fill="{style.BALL_HEX}"/>{why}</svg>{below}</div>'
     )
 
 
 class PopulationPanel:
     """`start_seed()`: the seed every small pitch starts from (the main pitch's, so the class sees a
     start it knows); `game_of_run(run_id)`: the game a run's players play in (its own skills and rules, so
-    the grid shows them as they were evaluated). The small pitches are drawn to `world`."""
+    the grid shows them as they were evaluated). The small pitches are drawn to `world`. `qualities`
+    re-plays the shown players of a run for which `replayable(run_id)` (a SimpleSoccer run: an rcssserver
+    run's fitness is not SimpleSoccer's); None: no true quality shown."""
 
     def __init__(self, gui: viser.GuiApi, world: WorldConfig, vocabulary: Vocabulary, *,
-                 start_seed: Callable[[], int], game_of_run: Callable[[int], GameConfig]):
+                 start_seed: Callable[[], int], game_of_run: Callable[[int], GameConfig],
+                 qualities: PlayerQualities | None = None, replayable: Callable[[int], bool] = lambda run_id: True):
         self.vocabulary = vocabulary
         self.start_seed = start_seed
         self.game_of_run = game_of_run
+        self.qualities = qualities
+        self.replayable = replayable
         self.game: GameConfig | None = None  # the shown run's
         self.geometry = PitchGeometry.from_world(world)
         self.caption = gui.add_html("")
@@ -113,6 +137,9 @@ class PopulationPanel:
         self._pending_lock = threading.Lock()
         self._shown: tuple[int, int, int, int] | None = None  # run id, generation, players, seed
         self._players: Sequence["SampledPlayer"] = ()
+        self._replaying = False  # the shown players' true quality is being re-played
+        self._player_qualities: list[TrueQuality | None] | None = None  # the shown players', once answered
+        self._arrived: tuple[tuple, list[TrueQuality | None]] | None = None  # set by the re-play thread
         self._caption_key: tuple | None = None
         self._last_render = 0.0
 
@@ -135,9 +162,12 @@ class PopulationPanel:
         """Called by the session loop (under its lock) with the ticks the main pitch advanced."""
         with self._pending_lock:
             pending, self._pending = self._pending, None
+            arrived, self._arrived = self._arrived, None
             ended = self._ended
         if pending is not None:
             self._rebuild(*pending)
+        if arrived is not None and arrived[0] == self._shown:  # not a generation shown before
+            self._player_qualities, self._replaying, self._caption_key = arrived[1], False, None
         if self.batch is None:
             return
         self._show_caption(ended)
@@ -146,7 +176,31 @@ class PopulationPanel:
         now = time.perf_counter()
         if now - self._last_render >= style.POPULATION_REFRESH_SECONDS:
             self._last_render = now
-            self.grid.content = population_html(self.geometry, self.batch.observation, self.batch.state, self.labels)
+            qualities = (self._player_qualities or [None] * len(self.labels)) if self._replays else None
+            self.grid.content = population_html(self.geometry, self.batch.observation, self.batch.state, self.labels,
+                                                qualities=qualities, replaying=self._replaying)
+
+    @property
+    def _replays(self) -> bool:
+        """Whether the shown players get a true quality (a SimpleSoccer run, with a re-player)."""
+        return self.qualities is not None and self._shown is not None and self.replayable(self._shown[0])
+
+    def player_qualities(self) -> list[TrueQuality | None] | None:
+        """The shown players' true quality, by rank (None: not re-played, the budget spent); None until answered."""
+        return self._player_qualities
+
+    def _replay_shown(self) -> None:
+        """Ask for the shown players' true quality: it arrives on the re-play thread, is shown next frame."""
+        self._player_qualities, self._replaying = None, self._replays
+        if not self._replaying:
+            return
+        shown = self._shown
+
+        def arrived(qualities: list[TrueQuality | None]) -> None:
+            with self._pending_lock:
+                self._arrived = (shown, qualities)
+
+        self.qualities.request(shown[0], self.game, [p.rulebase for p in self._players], arrived)
 
     def _rebuild(self, run_id: int, generation: int, players: Sequence["SampledPlayer"]) -> None:
         shown = list(players)[: style.POPULATION_GRID[0] * style.POPULATION_GRID[1]]
@@ -157,6 +211,7 @@ class PopulationPanel:
         self.labels = [f"#{rank} · {player.fitness:.2f}" for rank, player in enumerate(shown, start=1)]
         self._shown = (run_id, generation, len(shown), seed)
         self._players = shown
+        self._replay_shown()
 
     def _show_caption(self, ended: tuple[int, str] | None) -> None:
         run_id, generation, count, seed = self._shown
@@ -164,12 +219,22 @@ class PopulationPanel:
         if (self._shown, status) == self._caption_key:
             return
         self._caption_key = (self._shown, status)
+        replayed = ""
+        if self._replays:
+            starts = self.qualities.starts
+            done = sum(q is not None for q in self._player_qualities or ())
+            replayed = (f" Under each, its fitness re-played on the same {starts} fresh starts as every run's best "
+                        "(mean ± spread), best-ranked first" + ("" if self.qualities.share is None else
+                                                                 f" within {self.qualities.share:.0%} of the time")
+                        + ": "
+                        + ("being re-played." if self._replaying else f"{done} of {count} re-played."))
         when = (f"; the run {escape(status)} after this generation" if status is not None
                 else f" while generation {generation + 1} is evaluated")
         self.caption.content = (
             f'<div class="population-caption" data-run="{run_id}" data-generation="{generation}" '
-            f'data-ended="{str(status is not None).lower()}" style="{style.FONT}; font-size:{style.FONT_SIZE}px">'
+            f'data-ended="{str(status is not None).lower()}" data-replaying="{str(self._replaying).lower()}" '
+            f'style="{style.FONT}; font-size:{style.FONT_SIZE}px">'
             f"Run #{run_id}, generation {generation}: its {count} best players (rank · fitness), all from the "
             f"start of seed {seed} in the run's game ({escape(rules_summary(self.game))}), played together by "
-            f"the batched engine{when}.</div>"
+            f"the batched engine{when}.{replayed}</div>"
         )
