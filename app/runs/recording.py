@@ -112,9 +112,10 @@ CONE_RADIUS = 0.05
 HUNT = "HUNT"  # the label of ticks where no rule fired and the player hunted
 
 
-# One blueprint sent at a time in the process: two runs' threads sending at once deadlocked in rerun's bindings (a
-# new blueprint stream made while the other thread swept orphaned recordings; two API runs hung for good).
-_BLUEPRINT_LOCK = threading.Lock()
+# rerun's bindings make, close and sweep streams one at a time in the process: two runs' threads doing so at once
+# deadlocked (a new blueprint stream made while the other thread swept orphaned recordings, as it sent a blueprint
+# or closed its recording: two API runs hung for good)
+_RERUN_LOCK = threading.RLock()
 
 
 def send_blueprint(stream: rr.RecordingStream, blueprint: rrb.Blueprint, *, make_active: bool = True) -> None:
@@ -122,7 +123,7 @@ def send_blueprint(stream: rr.RecordingStream, blueprint: rrb.Blueprint, *, make
     of its own, as rerun's own helper makes it: blueprints sent into one store (a recording sends one as it
     opens and more as its replays come) pile up there, and the viewer warns, in a toast over the views, that
     the earlier ones' containers are "broken references" no longer reachable from the root."""
-    with _BLUEPRINT_LOCK:
+    with _RERUN_LOCK:
         blueprint_stream = rr.RecordingStream._from_native(rerun_bindings.new_blueprint(
             application_id=APPLICATION_ID, make_default=False, make_thread_default=False, default_enabled=True))
         storage = blueprint_stream.memory_recording()  # only this blueprint's messages
@@ -138,13 +139,23 @@ def send_blueprint(stream: rr.RecordingStream, blueprint: rrb.Blueprint, *, make
 def open_stream(path: str | Path, recording_id: str | None = None,
                 blueprint: rrb.Blueprint | None = None) -> rr.RecordingStream:
     """A recording stream writing to `path` (overwritten), without wall-clock or log-tick timelines."""
-    stream = rr.RecordingStream(APPLICATION_ID, recording_id=recording_id, send_properties=False)
-    stream.set_log_time_enabled(False)
-    stream.set_log_tick_enabled(False)
-    stream.save(str(path))
+    with _RERUN_LOCK:
+        stream = rr.RecordingStream(APPLICATION_ID, recording_id=recording_id, send_properties=False)
+        stream.set_log_time_enabled(False)
+        stream.set_log_tick_enabled(False)
+        stream.save(str(path))
     if blueprint is not None:  # the file's default blueprint, as rerun's save(default_blueprint=...) makes it
         send_blueprint(stream, blueprint, make_active=False)
     return stream
+
+
+def close_stream(stream: rr.RecordingStream) -> None:
+    """Write out and close a recording stream; the sweep ends the threads of streams no longer referenced
+    (tests/app/test_recording_threads.py counts them)."""
+    with _RERUN_LOCK:
+        stream.flush()
+        stream.disconnect()
+        rerun_bindings.flush_and_cleanup_orphaned_recordings()
 
 
 def statistic_entity(name: str) -> str:
@@ -320,10 +331,7 @@ class RunRecorder:
             self._send_blueprint()
         self.stream = None
         if stream is not None:
-            stream.flush()
-            stream.disconnect()
-            del stream  # the last reference: the sweep below ends its threads
-            rerun_bindings.flush_and_cleanup_orphaned_recordings()
+            close_stream(stream)
 
 
 # ---- replays ---------------------------------------------------------------------------------

@@ -38,25 +38,28 @@ def test_threads_stay_flat_across_100_generations_of_runs(tmp_path):
     assert max(counts) - min(counts) <= 2, counts
 
 
-def test_two_runs_sending_blueprints_at_once_do_not_deadlock(tmp_path):
-    """Two runs' threads each sending their recording's blueprints (as every generation's replay does) both
-    finish: unserialised, rerun's bindings deadlocked and two API runs hung for good."""
+def test_runs_opening_sending_and_closing_recordings_at_once_do_not_deadlock(tmp_path):
+    """Runs' threads each opening a recording, sending its blueprints (as every generation's replay does) and
+    closing it all finish: unserialised, rerun's bindings deadlocked and two API runs hung for good (a blueprint
+    sent while another run closed its recording, too)."""
     import threading
 
     import rerun as rr
     import rerun.blueprint as rrb
 
-    from soccer_lab.app.runs.recording import open_stream, send_blueprint
+    from soccer_lab.app.runs.recording import close_stream, open_stream, send_blueprint
 
     finished = []
 
     def send_many(name: str) -> None:
-        stream = open_stream(tmp_path / f"{name}.rrd")
-        for generation in range(150):
-            stream.set_time("generation", sequence=generation)
-            stream.log("/fitness/best", rr.Scalars(1.0 / (generation + 1)))
-            send_blueprint(stream, rrb.Blueprint(rrb.TimeSeriesView(origin="/fitness")))
-        stream.flush()
+        for recording in range(15):
+            stream = open_stream(tmp_path / f"{name}-{recording}.rrd")
+            for generation in range(10):
+                stream.set_time("generation", sequence=generation)
+                stream.log("/fitness/best", rr.Scalars(1.0 / (generation + 1)))
+                send_blueprint(stream, rrb.Blueprint(rrb.TimeSeriesView(origin="/fitness")))
+            close_stream(stream)
+            del stream
         finished.append(name)
 
     senders = [threading.Thread(target=send_many, args=(name,), daemon=True) for name in ("a", "b", "c")]
