@@ -80,11 +80,11 @@ def test_serve_without_the_viewer_still_starts_and_says_why(tmp_path, monkeypatc
     class Stopped(Exception):
         pass
 
-    def stop_before_serving(self):
+    async def stop_once_listening(self):  # after startup, where serve prints its addresses
         raise Stopped
 
     monkeypatch.setattr("soccer_lab.app.web.rerun_viewer.viewer_files", missing)
-    monkeypatch.setattr("uvicorn.Server.run", stop_before_serving)
+    monkeypatch.setattr("uvicorn.Server.main_loop", stop_once_listening)
     printed = []
     options = server.ServeOptions(port=_free_port(), ui_port=_free_port(), data_dir=tmp_path / "data")
     with pytest.raises(Stopped):
