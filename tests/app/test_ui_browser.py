@@ -127,7 +127,7 @@ def xpath_literal(text: str) -> str:
     return "concat(" + ", \"'\", ".join(f"'{part}'" for part in text.split("'")) + ")"
 
 
-def choose(page, label: str, option: str, *, exact: bool = False, attempts: int = 3) -> None:
+def choose(page, label: str, option: str, *, exact: bool = False, attempts: int = 5) -> None:
     """Pick `option` in the viser dropdown labelled `label`, as a user does: open it, click the option.
 
     On a slow CI machine the option list once stayed mounted but never visible for 60 s (the input had just
@@ -140,7 +140,10 @@ def choose(page, label: str, option: str, *, exact: bool = False, attempts: int 
     target = page.get_by_role("option", name=option, exact=exact)
     for _ in range(attempts):
         select.scroll_into_view_if_needed()
-        expect(select).to_be_in_viewport(ratio=1.0)
+        try:  # a folder still expanding above it can move it out of view again: scroll once more
+            expect(select).to_be_in_viewport(ratio=1.0)
+        except AssertionError:
+            continue
         select.click()
         try:
             target.click(timeout=10_000)

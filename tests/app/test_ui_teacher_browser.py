@@ -109,10 +109,11 @@ def test_number_fields_show_what_the_server_uses(ui, page):
     page.get_by_role("tab", name="Evolve").click()
     page.get_by_text("GA parameters (chapter's Table 2)").click()
     fields = {handle.label: handle for handle in session.evolve.inputs.values() if hasattr(handle, "needs")}
-    assert {"Population size", "Generations (max)", "Mutation rate (per gene)", "Run seed"} <= set(fields)
+    run_seed = "Run seed (empty: a new one each run)"
+    assert {"Population size", "Generations (max)", "Mutation rate (per gene)", run_seed} <= set(fields)
     typed = ["abc", "", "1000000000", "-3", "2.5", "12", "1e3", " 7 "]
     rng = random.Random(5)
-    for label in ("Population size", "Generations (max)", "Mutation rate (per gene)", "Run seed"):
+    for label in ("Population size", "Generations (max)", "Mutation rate (per gene)", run_seed):
         for text in rng.sample(typed, 5):
             box = field(page, label, "input")
             box.fill(text)
@@ -121,7 +122,9 @@ def test_number_fields_show_what_the_server_uses(ui, page):
             wait_until(lambda: server.text.value == text)
             shown = box.input_value()
             assert shown == text  # the field keeps what was typed: nothing silently replaced or blanked
-            if server.problem is None:
+            if label == run_seed and not shown.strip():
+                assert server.problem is None and server.value is None  # empty: the run draws a fresh seed
+            elif server.problem is None:
                 assert float(shown) == server.value  # the server uses exactly the number shown
             else:
                 assert label in server.problem and "expected" in server.problem
@@ -134,7 +137,7 @@ def test_number_fields_show_what_the_server_uses(ui, page):
     assert "expected a whole number ≥ 2" in refusal.inner_text()
     shot(page, "teacher-5-a-number-the-server-cannot-use")
     for label, default in (("Population size", "200"), ("Generations (max)", "25"),
-                           ("Mutation rate (per gene)", "0.1"), ("Run seed", "0")):  # the next tests' defaults
+                           ("Mutation rate (per gene)", "0.1"), (run_seed, "")):  # the next tests' defaults
         field(page, label, "input").fill(default)
         wait_until(lambda: fields[label].problem is None)
 

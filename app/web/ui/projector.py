@@ -151,12 +151,17 @@ def projector_html(game: Game) -> str:
     return (
         f'<div class="projector-status" data-tick="{s.tick}" style="{style.FONT}; color:{style.INK}; '
         f'font-size:{big}px; line-height:1.25">'
-        f'<div><b class="projector-score">Goals {s.goals}</b> <span class="projector-tick">· tick {s.tick} / '
-        f'{game.config.max_ticks} ·</span> <span class="projector-action" style="font-weight:700; '
+        f'<div style="{ONE_LINE}"><b class="projector-score">Goals {s.goals}</b> <span class="projector-tick">· tick '
+        f'{s.tick} / {game.config.max_ticks} ·</span> <span class="projector-action" style="font-weight:700; '
         f'color:{style.SELECTED}">{action}</span>{over}</div>'
-        f'<div class="projector-world" style="font-weight:600; color:{style.ERROR if refused else style.FIRED}">'
-        f"{escape(world)}</div></div>"
+        f'<div class="projector-world" title="{escape(world)}" style="{ONE_LINE}; font-weight:600; '
+        f'color:{style.ERROR if refused else style.FIRED}">{escape(world)}</div></div>'
     )
+
+
+# Each of the band's two lines stays one line: a longer sentence wrapped, the band grew over the pitch's lines
+# (the camera leaves PROJECTOR_BAND px for it); what does not fit ends in "..." and shows whole on hover.
+ONE_LINE = "white-space:nowrap; overflow:hidden; text-overflow:ellipsis"
 
 
 # The page's key for the view (viser has no keys of its own): "P" clicks the button that enters or leaves it,
