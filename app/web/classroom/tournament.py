@@ -25,11 +25,12 @@ from statistics import fmean
 from typing import Any, Callable
 
 from soccer_lab.app.web.access import Forbidden, Visitor
+from soccer_lab.app.web.classroom.knockout import Knockout
 from soccer_lab.app.web.classroom.settings import (ENTRY_MAX_CHARACTERS, ENTRY_MAX_RULES, MAX_ENTRIES, MAX_STARTS,
                                                    ClassSettings)
 from soccer_lab.app.words import plural
 from soccer_lab.app.runs.manager import RunStateError
-from soccer_lab.app.store import EntryRecord, NotFound, RoundRecord, Store, StoreError, name_key
+from soccer_lab.app.store import EntryRecord, KnockoutRecord, NotFound, RoundRecord, Store, StoreError, name_key
 from soccer_lab.fuzzy.parser import parse_rulebase
 from soccer_lab.fuzzy.rule import Rulebase
 from soccer_lab.fuzzy.vocabulary import Vocabulary
@@ -47,11 +48,13 @@ FORMULA_STARTS = ("=", "+", "-", "@", "\t", "\r")
 
 @dataclass(frozen=True)
 class TournamentEvent:
-    """What sessions hear: the entries changed, a round started, or a round's table is ready (`round`)."""
+    """What sessions hear: the entries changed, a round started, a round's table is ready (`round`), or the
+    knockout changed (`knockout`, as stored then: started, a tie played, ended)."""
 
-    kind: str  # "entries", "started", "finished", "failed"
+    kind: str  # "entries", "started", "finished", "failed", "knockout"
     round: RoundRecord | None = None
     message: str = ""
+    knockout: KnockoutRecord | None = None
 
 
 class Tournament:
@@ -64,6 +67,8 @@ class Tournament:
         self._listeners: list[Callable[[TournamentEvent], None]] = []
         self._lock = threading.Lock()
         self._playing: threading.Thread | None = None
+        self.knockout = Knockout(store, vocabulary, self.round_game, lambda: self.settings.max_run_ticks,
+                                 lambda record: self._notify(TournamentEvent("knockout", knockout=record)))
 
     # ---- listeners ----
     def add_listener(self, listener: Callable[[TournamentEvent], None]) -> Callable[[], None]:
