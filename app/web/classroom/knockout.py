@@ -175,20 +175,33 @@ def round_name(round_number: int, rounds: int) -> str:
 
 def next_pairing(record: KnockoutRecord) -> tuple[int, int, int, int | None] | None:
     """The next tie to play after `record.ties`, as (round, tie, draw number of A, of B or None: a bye): the
-    first round's in bracket order, then each round's from the winners of the round before; None when the
-    final is played."""
+    first round's in bracket order, then each round's (the winners of the two ties before it meet); None when
+    the final is played."""
+    for ties in bracket(record):
+        for tie in ties:
+            if tie["played"] is None:
+                return tie["round"], tie["tie"], tie["a"], tie["b"]
+    return None
+
+
+def bracket(record: KnockoutRecord) -> list[list[dict[str, Any]]]:
+    """Every round's ties, played or not: {round, tie, a, b (draw numbers; None: not known yet, or b a bye in
+    round 1), played (the stored tie, or None)}: what a bracket drawing shows."""
     size = bracket_size(len(record.draw))
     places = [place if place <= len(record.draw) else None for place in bracket_order(size)]
-    winners = {(t["round"], t["tie"]): t["winner"] for t in record.ties}
+    played = {(t["round"], t["tie"]): t for t in record.ties}
+    rounds: list[list[dict[str, Any]]] = []
     for round_number in range(1, rounds_of(len(record.draw)) + 1):
+        ties = []
         for tie in range(1, (size >> round_number) + 1):
-            if (round_number, tie) in winners:
-                continue
             if round_number == 1:
-                return 1, tie, places[2 * tie - 2], places[2 * tie - 1]
-            return (round_number, tie, winners[(round_number - 1, 2 * tie - 1)],
-                    winners[(round_number - 1, 2 * tie)])
-    return None
+                a, b = places[2 * tie - 2], places[2 * tie - 1]
+            else:
+                feeding = (played.get((round_number - 1, 2 * tie - k)) for k in (1, 0))
+                a, b = (None if before is None else before["winner"] for before in feeding)
+            ties.append({"round": round_number, "tie": tie, "a": a, "b": b, "played": played.get((round_number, tie))})
+        rounds.append(ties)
+    return rounds
 
 
 def match_seeds(seed: int, round_number: int, tie: int, best_of: int) -> list[int]:

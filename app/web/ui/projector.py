@@ -1,7 +1,7 @@
 """The projector view of one tab: the pitch fills the window, the score, the tick, the action and what the
 player did in the world stand in large type in a band above it, and the side panels fold into their rails.
-The band's other tabs hold the population grid drawn larger and the class round's table (classroom mode),
-so a teacher can show them without leaving the view.
+The band's other tabs hold the population grid drawn larger, the class round's table and the class knockout's
+bracket (classroom mode), so a teacher can show them without leaving the view.
 
 The side panels are the server's (app/web/ui/layout.py); folding them for one tab only sends that tab the
 placement command viser's own `main_panel` handle sends (a client-scoped command for a panel every client
@@ -67,6 +67,10 @@ class ProjectorView:
     def class_tab(self) -> viser.GuiTabHandle:
         """The band's tab the class round's table goes in (classroom mode)."""
         return self.band.add_tab("Class")
+
+    def knockout_tab(self) -> viser.GuiTabHandle:
+        """The band's tab the class knockout's bracket goes in (classroom mode)."""
+        return self.band.add_tab("Knockout")
 
     def toggle(self) -> None:
         self.on = not self.on
