@@ -1,7 +1,8 @@
 """The class knockout in the real `soccer-lab serve --class`, in headless Chromium at 1280 x 800 (issue 39): the
 teacher starts a knockout of three entries (short games) from the Class tab; the bracket fills in on the
 teacher's and a pupil's screen and in the projector view's Knockout tab; a name typed as HTML stays text and a
-long one is cut with "..." inside its box. Screenshots go to artifacts/screenshots/knockout-*.png (the teaching
+long one is cut with "..." inside its box; "Watch this match" plays a match on the pupil's pitch to its stored
+score. Screenshots go to artifacts/screenshots/knockout-*.png (the teaching
 guide's docs/images/teaching/knockout-*.png are copies of them)."""
 
 from __future__ import annotations
@@ -75,6 +76,22 @@ def test_a_knockout_started_by_the_teacher_shows_on_every_screen_and_the_project
     assert not pupil.locator(".knockout-message[data-error=true]").count()
     pupil.locator(".knockout").first.scroll_into_view_if_needed()
     shot(pupil, "knockout-pupil")
+
+    # Any played match watched on the pupil's pitch (the latest chosen: the final's last): the same match, to its
+    # score, the names as text
+    knockout = desk_api.get("/api/class/knockouts/1").json()
+    final = knockout["ties"][-1]
+    names = {place["draw"]: place["name"] for place in knockout["draw"]}
+    pupil.get_by_role("button", name="Watch this match").click()
+    expect(pupil.locator(".knockout-message").first).to_contain_text(
+        f"Watching {names[final['a']]} against {names[final['b']]} (Final, tie 1, match 3)")
+    status = pupil.locator(".match-status")
+    expect(status).to_have_attribute("data-done", "true", timeout=TIMEOUT_MS)
+    goals = final["matches"][-1]["goals"]
+    expect(status).to_have_attribute("data-goals", f"{goals[0]}-{goals[1]}")
+    expect(pupil.locator(".match-name").first).to_contain_text(names[final["a"]])
+    assert pupil.locator(".match-status img").count() == 0 and pupil.evaluate("window.pwned") is None
+    shot(pupil, "knockout-watch")
     desk.locator(".knockout").first.scroll_into_view_if_needed()
     shot(desk, "knockout-teacher")
 

@@ -209,14 +209,14 @@ class Session:
                                             current=lambda: (self.game.rulebase, self.game.name),
                                             on_watch=self.watch_entry)
                 self.knockout = KnockoutPanel(gui, self.tournament, self.visitor, context.vocabulary,
-                                              on_watch=self.watch_knockout_match)
+                                              on_watch=self.watch_match)
             with self.projector.class_tab():  # the round's table and "Watch this game" in the projector view too
                 self.projector_class = ClassPanel(gui, self.tournament, self.visitor, context.vocabulary,
                                                   current=lambda: (self.game.rulebase, self.game.name),
                                                   on_watch=self.watch_entry)
             with self.projector.knockout_tab():  # the bracket in large type, any match watched from there too
                 self.projector_knockout = KnockoutPanel(gui, self.tournament, self.visitor, context.vocabulary,
-                                                        on_watch=self.watch_knockout_match, controls=False,
+                                                        on_watch=self.watch_match, controls=False,
                                                         large=True)
         # The panels themselves (docked, sized, the right one's tabs) are the server's: see layout.py.
         with self.layout.right_tab("Inference"):
@@ -364,12 +364,6 @@ class Session:
             self.game = Game(self.context, rulebase, name, seed, config)
             self.controls.seed.value = seed
             self._show_rulebase(rulebase, name)
-
-    def watch_knockout_match(self, a: Rulebase, a_name: str, b: Rulebase, b_name: str, seed: int,
-                             config: GameConfig) -> None:
-        """A class knockout's match on this tab's pitch: A against B from the match's seed, in the knockout's game
-        (both halves, the sides swapped, as it was played)."""
-        raise NotImplementedError("watching a match needs the match pitch (matchui's watch_match)")
 
     def _runs_changed(self) -> None:
         """A run started or ended: the panels that list runs list it (a panel built later lists them then)."""

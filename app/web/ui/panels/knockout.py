@@ -28,13 +28,13 @@ ONE_LINE = "white-space:nowrap; overflow:hidden; text-overflow:ellipsis; min-wid
 PROJECTOR_BRACKET_FONT_SIZE = 20  # px: the bracket read from the back of the class (four rounds fit 1280 px)
 # A tie not decided by matches won says so under it.
 DECIDED = {"goal difference": "level: on goal difference", "higher in the draw": "level: higher in the draw"}
-WatchMatch = Callable[[Rulebase, str, Rulebase, str, int, GameConfig], None]
+WatchMatch = Callable[[Rulebase, Rulebase, tuple[str, str], int, GameConfig, Vocabulary], None]
 
 
 class KnockoutPanel:
-    """`on_watch(a, a_name, b, b_name, seed, game)` puts a knockout's match on the tab's pitch. `controls`: the
-    teacher's Start (the Class tab's; the projector's copy shows the bracket and Watch only). `large`: the
-    projector's type."""
+    """`on_watch(a, b, names, seed, game, vocabulary)` puts a knockout's match on the tab's pitch (the session's
+    watch_match). `controls`: the teacher's Start (the Class tab's; the projector's copy shows the bracket and
+    Watch only). `large`: the projector's type."""
 
     def __init__(self, gui: viser.GuiApi, tournament: Tournament, visitor: Visitor, vocabulary: Vocabulary, *,
                  on_watch: WatchMatch, controls: bool = True, large: bool = False):
@@ -99,7 +99,7 @@ class KnockoutPanel:
             self._say(str(exc), error=True)
             return
         round_number, tie, match = chosen
-        self.on_watch(a, a_name, b, b_name, seed, game)
+        self.on_watch(a, b, (a_name, b_name), seed, game, self.vocabulary)
         where = f"{round_name(round_number, rounds_of(len(self.record.draw)))}, tie {tie}, match {match}"
         self._say(f"Watching {a_name} against {b_name} ({where}) on your pitch.")
 
@@ -121,7 +121,7 @@ class KnockoutPanel:
         self._list_matches(record)
 
     def _list_matches(self, record: KnockoutRecord | None) -> None:
-        """The played matches in the dropdown (the newest chosen unless the one chosen is still there)."""
+        """The played matches in the dropdown, the newest chosen unless the user chose another."""
         self._matches = {}
         if record is not None:
             names = {place["draw"]: place["name"] for place in record.draw}
@@ -132,9 +132,11 @@ class KnockoutPanel:
                     self._matches[label] = (tie["round"], tie["tie"], match["match"])
         labels = tuple(self._matches) or (NO_MATCH,)
         chosen = self.match.value
+        # The newest match stays chosen as ties finish; a match the user picked stays picked
+        following = chosen == self.match.options[-1] or chosen not in self._matches
         if tuple(self.match.options) != labels:
             self.match.options = labels
-        self.match.value = chosen if chosen in self._matches else labels[-1]
+        self.match.value = labels[-1] if following else chosen
 
     def _say(self, text: str, *, error: bool = False) -> None:
         self.message.content = (
