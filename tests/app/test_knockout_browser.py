@@ -47,6 +47,7 @@ def test_a_knockout_started_by_the_teacher_shows_on_every_screen_and_the_project
     pupil.get_by_role("button", name="Enter the rules on my pitch").click()
     expect(pupil.locator(".class-entries")).to_contain_text("3 entries")
     expect(pupil.locator(".knockout")).to_contain_text("No knockout yet")
+    expect(pupil.get_by_role("button", name="Watch this match")).to_have_count(0)  # nothing to watch: not shown
 
     desk = new_page(browser, 1280, 800)
     desk.add_init_script(PROJECTOR_KEY_SCRIPT)
@@ -55,7 +56,7 @@ def test_a_knockout_started_by_the_teacher_shows_on_every_screen_and_the_project
     desk.goto(f"{served.url}/ui/")
     open_class_tab(desk)
     fill(desk, "Ticks a half", 100)
-    fill(desk, "Knockout seed (empty: a fresh one)", 7)
+    fill(desk, "Knockout seed", 7)
     desk.get_by_role("button", name="Start a knockout").scroll_into_view_if_needed()
     shot(desk, "knockout-start")
     desk.get_by_role("button", name="Start a knockout").click()

@@ -49,9 +49,9 @@ class KnockoutPanel:
         gui.add_markdown("**Knockout**")
         if controls and visitor.teacher:
             settings = tournament.settings
-            self.best_of = gui.add_number("Best of (matches a tie)", initial_value=DEFAULT_BEST_OF, min=1,
+            self.best_of = gui.add_number("Best of", initial_value=DEFAULT_BEST_OF, min=1,
                                           max=MAX_BEST_OF, step=2)
-            self.seed = gui.add_text("Knockout seed (empty: a fresh one)", "")
+            self.seed = gui.add_text("Knockout seed", "", hint="empty: a fresh seed, shown with the bracket")
             self.max_ticks = gui.add_number("Ticks a half", initial_value=min(tournament.game.max_ticks,
                                                                               settings.max_run_ticks),
                                             min=1, max=settings.max_run_ticks, step=1)
@@ -64,9 +64,9 @@ class KnockoutPanel:
         self.message = gui.add_html("")
         self.bracket = gui.add_html("")
         self.match = gui.add_dropdown("Match", (NO_MATCH,))
-        watch = gui.add_button("Watch this match", color="gray")
+        self.watch_button = gui.add_button("Watch this match", color="gray")
 
-        @watch.on_click
+        @self.watch_button.on_click
         def _(_: viser.GuiEvent) -> None:
             self.watch()
 
@@ -130,6 +130,7 @@ class KnockoutPanel:
                     label = (f"R{tie['round']} T{tie['tie']} M{match['match']}: {names[tie['a']]} "
                              f"{match['goals'][0]}–{match['goals'][1]} {names[tie['b']]}")
                     self._matches[label] = (tie["round"], tie["tie"], match["match"])
+        self.match.visible = self.watch_button.visible = bool(self._matches)  # nothing to watch: not shown
         labels = tuple(self._matches) or (NO_MATCH,)
         chosen = self.match.value
         # The newest match stays chosen as ties finish; a match the user picked stays picked
