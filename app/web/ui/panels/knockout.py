@@ -125,9 +125,13 @@ class KnockoutPanel:
         self._matches = {}
         if record is not None:
             names = {place["draw"]: place["name"] for place in record.draw}
+            rounds = bracket(record)
             for tie in record.ties:
+                where = round_name(tie["round"], len(rounds))
+                if len(rounds[tie["round"] - 1]) > 1:
+                    where += f" {tie['tie']}"
                 for match in tie["matches"]:
-                    label = (f"R{tie['round']} T{tie['tie']} M{match['match']}: {names[tie['a']]} "
+                    label = (f"{where}, match {match['match']}: {names[tie['a']]} "
                              f"{match['goals'][0]}–{match['goals'][1]} {names[tie['b']]}")
                     self._matches[label] = (tie["round"], tie["tie"], match["match"])
         self.match.visible = self.watch_button.visible = bool(self._matches)  # nothing to watch: not shown
@@ -150,8 +154,7 @@ def status_line(record: KnockoutRecord) -> str:
     if record.status == KnockoutStatus.PLAYING:
         return f"Knockout {record.id} is being played: {len(record.ties)} of {plural(ties, 'tie')} done …"
     if record.status == KnockoutStatus.FINISHED:
-        winner = champion(record)
-        return f"Knockout {record.id} finished: {winner['name'] if winner else 'no one'} won."
+        return f"Knockout {record.id} finished: every tie played."
     return f"Knockout {record.id} {record.status}: {record.error or 'no reason given'}"
 
 
@@ -160,6 +163,9 @@ def bracket_html(record: KnockoutRecord, font_size: int) -> str:
     each won; the one who went through in bold."""
     names = {place["draw"]: place["name"] for place in record.draw}
     rounds = bracket(record)
+    won = champion(record)
+    winner = (f'<div class="knockout-champion" style="font-weight:700; color:{style.FIRED}; {ONE_LINE}" '
+              f'title="{escape(won["name"])}">Winner: {escape(won["name"])}</div>' if won else "")
     columns = "".join(
         f'<div class="knockout-round" style="flex:1 1 9em; min-width:0">'
         f'<div style="font-weight:700; {ONE_LINE}">{round_name(ties[0]["round"], len(rounds))}</div>'
@@ -170,7 +176,7 @@ def bracket_html(record: KnockoutRecord, font_size: int) -> str:
         f'font-size:{font_size}px; color:{style.INK}; margin-bottom:8px; padding-right:10px">'
         f'<div style="color:{style.MUTED}">Knockout {record.id}: {plural(len(record.draw), "entry", "entries")}, '
         f"best of {record.best_of}, seed {record.seed}, {record.game.get('max_ticks')} ticks a half. "
-        f'<a href="/api/class/knockouts/{record.id}/matches.csv">CSV</a></div>'
+        f'<a href="/api/class/knockouts/{record.id}/matches.csv">CSV</a></div>{winner}'
         f'<div style="display:flex; flex-wrap:wrap; gap:6px 10px; margin-top:4px">{columns}</div></div>')
 
 
