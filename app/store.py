@@ -695,6 +695,10 @@ class Store:
                            (knockout_id,))
         return _knockout_record(rows[0], [json.loads(row["result"]) for row in ties])
 
+    def latest_knockout(self) -> KnockoutRecord | None:
+        rows = self._query("SELECT id FROM class_knockouts ORDER BY id DESC LIMIT 1")
+        return self.get_knockout(rows[0][0]) if rows else None
+
     def list_knockouts(self) -> list[KnockoutRecord]:
         """Newest first."""
         ids = [row[0] for row in self._query("SELECT id FROM class_knockouts ORDER BY id DESC")]

@@ -203,3 +203,23 @@ def test_the_next_tie_waits_for_the_winners_of_the_two_before(room):
     assert next_pairing(room.store.get_knockout(record.id)) == (2, 1, 4, 2)
     room.store.record_tie(record.id, {"round": 2, "tie": 1, "a": 4, "b": 2, "matches": [], "winner": 2})
     assert next_pairing(room.store.get_knockout(record.id)) is None
+
+
+def test_a_knockout_that_fails_says_why_and_lets_the_next_start(room, monkeypatch):
+    """A knockout whose process cannot start ends failed, with the reason, for everyone listening; the next may
+    start (it does not stay "being played")."""
+    import soccer_lab.app.web.classroom.knockout as knockout_module
+
+    def no_process(*_, **__):
+        raise OSError("no process for you")
+
+    monkeypatch.setattr(knockout_module, "ProcessPoolExecutor", no_process)
+    teacher = enter(room, 2)
+    heard = []
+    room.tournament.add_listener(lambda event: heard.append(event.knockout.status))
+    started = teacher.post("/api/class/knockouts", json={"best_of": 1, "seed": 2, "max_ticks": SHORT})
+    failed = wait_for_knockout(teacher, started.json()["id"])
+    assert failed["status"] == "failed" and "no process for you" in failed["error"] and failed["ties"] == []
+    room.tournament.knockout.wait(10)
+    assert heard == [KnockoutStatus.PLAYING, KnockoutStatus.FAILED]
+    assert teacher.post("/api/class/knockouts", json={"best_of": 1, "max_ticks": SHORT}).status_code == 202

@@ -102,8 +102,7 @@ class Knockout:
         return self.store.get_knockout(knockout_id)
 
     def latest(self) -> KnockoutRecord | None:
-        knockouts = self.store.list_knockouts()
-        return knockouts[0] if knockouts else None
+        return self.store.latest_knockout()
 
     def _play(self, record: KnockoutRecord, game: GameConfig) -> None:
         try:
