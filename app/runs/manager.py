@@ -26,6 +26,7 @@ from pathlib import Path
 from typing import Any, Callable, Sequence
 
 from soccer_lab.app.runs.environments import SIMPLE
+from soccer_lab.app.runs.listeners import Listeners
 from soccer_lab.app.paths import RUNS_FOLDER
 from soccer_lab.app.runs.run import Run, RunSettings
 from soccer_lab.app.runs.queue import QueuedRun, QueuePlace, RunPace, RunQueue, budget_ticks
@@ -211,7 +212,7 @@ class RunManager:
         # function giving the evaluator that plays them elsewhere (app/runs/games.py: the class's game
         # processes, or Ray), one worker each
         self.remote_games: Callable[[Any], Any] | None = None
-        self._listeners: list[Listener] = []
+        self._listeners: Listeners[RunEvent] = Listeners("run")
         self._lock = threading.RLock()
         # Classroom mode: a student's run's settings as it may play them (app/web/classroom/settings.py), or
         # RunStateError saying which bound they pass
@@ -223,24 +224,10 @@ class RunManager:
     def add_listener(self, listener: Listener) -> Callable[[], None]:
         """Call `listener(event)` on every generation and status change (from the run's thread;
         keep it quick). Returns the function that removes it."""
-        with self._lock:
-            self._listeners.append(listener)
-
-        def remove() -> None:
-            with self._lock:
-                if listener in self._listeners:
-                    self._listeners.remove(listener)
-
-        return remove
+        return self._listeners.add(listener)
 
     def _notify(self, event: RunEvent) -> None:
-        with self._lock:
-            listeners = list(self._listeners)
-        for listener in listeners:
-            try:
-                listener(event)
-            except Exception:  # a broken listener (a closed browser tab) must not end the run
-                log.exception("run listener failed")
+        self._listeners.notify(event)
 
     # ---- starting, stopping, resuming -----------------------------------------------------
     def start(
