@@ -306,11 +306,13 @@ def run_trial(session: Session, rulebase: Rulebase, seed: int, config: TrialConf
     return Trial(session, rulebase, seed, config, trace).run()
 
 
-def check_noise(session: Session, config: TrialConfig) -> None:
+def check_noise(session: Session, config: TrialConfig, wanting: str = "the trials want") -> None:
+    """RcssConfigError unless the session's server adds noise exactly when `config.noise` says (any session and
+    config with `params`, `server` and `noise`: soccer/rcss/match.py's too)."""
     if session.params.noise == config.noise:
         return
     if config.noise:
-        raise RcssConfigError(f"rcssserver at {session.server} runs without noise, but the trials want the server's "
+        raise RcssConfigError(f"rcssserver at {session.server} runs without noise, but {wanting} the server's "
                               "noise: start it with its default player_rand, ball_rand and kick_rand")
-    raise RcssConfigError(f"rcssserver at {session.server} adds noise, but the trials want none: start it with "
+    raise RcssConfigError(f"rcssserver at {session.server} adds noise, but {wanting} none: start it with "
                           + " ".join(f"{name}={value}" for name, value in NOISELESS_OPTIONS.items()))
