@@ -41,6 +41,8 @@ from soccer_lab.soccer.rcss.player import RcssPlayer
 from soccer_lab.soccer.rcss.trial import BEFORE_KICK_OFF, CONTINUING_MODES, PLAY_ON, check_noise
 
 NO_NEWS = ([], [])  # neither side sends a command this cycle
+NARROW_VIEW = (["(change_view narrow)"], ["(change_view narrow)"])
+NORMAL_VIEW = (["(change_view normal)"], ["(change_view normal)"])
 FACING = (0.0, 180.0)  # each side's body at the start, global degrees: facing the goal it attacks
 GOAL_CENTRES = ((PITCH_HALF_LENGTH, 0.0), (-PITCH_HALF_LENGTH, 0.0))  # the goal each side attacks
 
@@ -94,14 +96,15 @@ class RcssHalf:
 
     def fresh_start(self) -> None:
         """As Trial.fresh_start, for both players: full stamina, the referees' counters reset with the ball on
-        the centre spot, and the placing cycle one without a see."""
+        the centre spot, and the placing cycle one without a see for both. Each player's see comes every second
+        cycle counted from when it connected, so the two may be out of step: a cycle of narrow view (a see every
+        cycle, which restarts the count) puts both in the same step, the same in every match."""
         trainer = self.session.trainer
         trainer.command("(recover)")
         trainer.change_mode(BEFORE_KICK_OFF)
         trainer.move_ball(0.0, 0.0)
-        cycles, _ = self.session.step(NO_NEWS)
-        if cycles[0].see is not None:  # the players see every second cycle: the next one has none
-            cycles, _ = self.session.step(NO_NEWS)
+        self.session.step(NARROW_VIEW)
+        cycles, _ = self.session.step(NORMAL_VIEW)  # a see the cycle before (narrow), so none in this one
         self.kick_counts = [cycle.sense_body.kick_count for cycle in cycles]
 
     def observe(self, cycles: tuple[PlayerCycle, PlayerCycle], trainer_cycle: TrainerCycle) -> None:
