@@ -5,20 +5,30 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
-from typing import TYPE_CHECKING, Annotated
+from typing import TYPE_CHECKING, Annotated, Optional
 
 import typer
 
 from soccer_lab.app.cli.common import fail
-from soccer_lab.app.cli.play import (CountTouchesOption, EnvOption, GoalCapOption, IdleTicksOption, MaxTicksOption,
-                                     NoiseOption, RcssserverOption, ServerOption, SkillsOption, chosen_env,
-                                     config_from_options, game_config, rcss_addresses)
-from soccer_lab.app.runs.environments import RCSS
+from soccer_lab.app.cli.play import (ENV_PANEL, CountTouchesOption, GoalCapOption, IdleTicksOption, MaxTicksOption,
+                                     NoiseOption, RcssserverOption, SkillsOption, chosen_env, config_from_options,
+                                     game_config, rcss_addresses)
+from soccer_lab.app.runs.environments import ENVIRONMENTS, RCSS, SIMPLE
 
 if TYPE_CHECKING:
     from soccer_lab.fuzzy.rule import Rulebase
     from soccer_lab.soccer.match import MatchResult
     from soccer_lab.soccer.match_table import Matches
+
+MatchEnvOption = Annotated[Optional[str], typer.Option(
+    "--env", help=f"Where the matches are played: {' or '.join(ENVIRONMENTS)} (SimpleSoccer, or a real rcssserver with "
+    "two of our clients, one per side, set up by its trainer; see docs/research/matches.md). (default: "
+    f"{SIMPLE})", show_default=False, rich_help_panel=ENV_PANEL)]
+MatchServerOption = Annotated[Optional[list[str]], typer.Option(
+    "--server", help=f"With --env {RCSS}: an rcssserver you run, as HOST:PORT (its player port; run it with "
+    "server::synch_mode=true server::coach_w_referee=true, and no other players on it). One: a match plays on one "
+    "server. (default: soccer-lab starts one itself)", show_default=False, rich_help_panel=ENV_PANEL)]
+
 
 def match_command(
     a: Annotated[Path, typer.Argument(metavar="A", help="Player A's rulebase file: rule text (.rules) or JSON (.json).",
@@ -36,8 +46,8 @@ def match_command(
     noise: NoiseOption = None,
     skills: SkillsOption = None,
     count_touches: CountTouchesOption = None,
-    env: EnvOption = None,
-    server: ServerOption = None,
+    env: MatchEnvOption = None,
+    server: MatchServerOption = None,
     rcssserver: RcssserverOption = None,
 ) -> None:
     """Play A against B in SimpleSoccer (or on rcssserver): each match two halves from one random start, A on the
