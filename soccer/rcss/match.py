@@ -66,7 +66,9 @@ class RcssHalf:
         self.players = tuple(RcssPlayer(rulebase, session.params, skills=config.skills, side=side)
                              for rulebase, side in zip(rulebases, SIDES))
         self.stream = seed_states([seed])
-        first, second, ball_y = match_starts(self.stream, WorldConfig().constants())
+        constants = WorldConfig().constants()  # SimpleSoccer's pitch, rcssserver's too
+        first, second, ball_y = match_starts(self.stream, constants)
+        self.half_width = constants.half_width
         self.starts = ((float(first[0, 0]), float(first[0, 1])), (-float(second[0, 0]), -float(second[0, 1])))
         self.ball_y = float(ball_y[0])
         self.goals, self.kicks, self.idle = [0, 0], [0, 0], [0, 0]
@@ -151,8 +153,7 @@ class RcssHalf:
             return self.players[0].decide(cycles[0]), self.players[1].decide(cycles[1])
         self.cycles_since_goal += 1
         if self.cycles_since_goal >= self.config.restart_wait_cycles:
-            half_width = WorldConfig().constants().half_width
-            self.session.trainer.move_ball(0.0, float(uniform(self.stream, 0, -half_width, half_width)))
+            self.session.trainer.move_ball(0.0, float(uniform(self.stream, 0, -self.half_width, self.half_width)))
             self.session.trainer.change_mode(PLAY_ON)
             self.cycles_since_goal = None
         return NO_NEWS
@@ -172,7 +173,7 @@ def play_rcss_matches(session: MatchSession, a: Rulebase, b: Rulebase, seeds: Se
     """One match per seed, one after another on the session's server; results in seed order. A server whose
     noise is not the config's is refused (RcssConfigError). Cycles answered too late (the server stepped on
     without the players' commands) are reported on stderr, as trials' are."""
-    check_noise(session, config, "the match wants")  # type: ignore[arg-type]: it reads params, server and noise
+    check_noise(session.server, session.params, config.noise, "the match wants")
     played = [play_rcss_match(session, a, b, seed, config) for seed in seeds]
     late = sum(late for _, late in played)
     if late:
