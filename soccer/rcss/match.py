@@ -36,7 +36,7 @@ from soccer_lab.soccer.match import HalfResult, MatchResult, match_starts
 from soccer_lab.soccer.random_stream import seed_states, uniform
 from soccer_lab.soccer.rcss.client import PlayerCycle, TrainerCycle
 from soccer_lab.soccer.rcss.localisation import PITCH_HALF_LENGTH
-from soccer_lab.soccer.rcss.match_session import SIDES, TEAMS, MatchSession
+from soccer_lab.soccer.rcss.match_session import SIDES, MatchSession
 from soccer_lab.soccer.rcss.player import RcssPlayer
 from soccer_lab.soccer.rcss.trial import BEFORE_KICK_OFF, CONTINUING_MODES, PLAY_ON, check_noise
 
@@ -84,8 +84,8 @@ class RcssHalf:
         self.fresh_start()
         trainer = self.session.trainer
         trainer.move_ball(0.0, self.ball_y)
-        for team, (x, y), facing in zip(TEAMS, self.starts, FACING):
-            trainer.move_player(team, 1, x, y, facing)
+        for player, (x, y), facing in zip(self.session.players, self.starts, FACING):
+            trainer.move_player(player.team, player.unum, x, y, facing)
         trainer.change_mode(PLAY_ON)
         commands, late_before = NO_NEWS, self.session.late_cycles
         while self.end is None:
@@ -138,8 +138,8 @@ class RcssHalf:
         if seen.ball is not None:
             for side, goal in enumerate(GOAL_CENTRES):
                 self.closest[side] = min(self.closest[side], math.dist((seen.ball.x, seen.ball.y), goal))
-        for side, team in enumerate(TEAMS):
-            me = seen.player(team, 1)
+        for side, player in enumerate(self.session.players):
+            me = seen.player(player.team, player.unum)
             if me is None:
                 continue
             here, before = (me.x, me.y), self.positions[side]

@@ -88,27 +88,23 @@ class MatchSession:
         return cycles, trainer_cycle
 
     def close(self) -> None:
-        """Leave politely: ear and eye off first so the server does not free-run, then bye."""
-        if self.trainer is not None:
-            try:
-                self.trainer.endpoint.send("(ear off)")
-                self.trainer.endpoint.send("(eye off)")
-            except RcssNoServerError:
-                pass
+        """Leave politely: the players' bye, then the trainer's ear and eye off (so the server does not free-run)
+        and its socket closed at once. The server lets a new trainer in only once it has found this one gone (a
+        reply refused by its closed port), so the trainer's last messages go right before its socket closes."""
         for player in self.players:
             try:
                 if player.side:
                     player.bye()
             except RcssNoServerError:
                 pass
-        try:
-            if self.trainer is not None:
-                self.trainer.done()
-        except RcssNoServerError:
-            pass
-        for player in self.players:
             player.close()
         if self.trainer is not None:
+            try:
+                self.trainer.endpoint.send("(ear off)")
+                self.trainer.endpoint.send("(eye off)")
+                self.trainer.done()
+            except RcssNoServerError:
+                pass
             self.trainer.close()
 
     def __enter__(self) -> "MatchSession":

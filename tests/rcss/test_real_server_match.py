@@ -74,6 +74,21 @@ def test_sides_swap_at_half_time_and_each_goal_goes_to_the_player_who_scored(sta
     assert (first.ticks, first.end_reason) == (second.ticks, second.end_reason) == (300, "max-ticks")
 
 
+def test_a_server_plays_one_match_command_after_another(start_servers, chaser):
+    """A server you run keeps each team's earlier players (gone, but numbered): the next command's players are
+    numbers 2, then 3, and the trainer must place those (not number 1); and it lets the next trainer in only once
+    it has found the last one gone. The same noiseless match three times over, the chaser's goals each time."""
+    pool = start_servers(1, NOISELESS_OPTIONS)
+    numbers, results = [], []
+    for _ in range(3):
+        with MatchSession(pool.addresses[0]) as session:
+            session.open()
+            numbers.append([player.unum for player in session.players])
+            results += play_rcss_matches(session, chaser, sl.example("hunter"), [3], QUIET)
+    assert numbers == [[1, 1], [2, 2], [3, 3]]
+    assert results[0] == results[1] == results[2] and results[0].goals[0] >= 2
+
+
 def test_the_right_side_player_knows_where_it_is_in_its_own_frame(start_servers, chaser):
     """Flag names are global, so the right side localises in side l's frame and turns it half a turn: its pose
     against the trainer's see_global (turned too), cycle by cycle, while it chases the ball."""
