@@ -81,3 +81,53 @@ def test_the_two_names_on_the_pitch_never_overlap_however_close_the_players():
         assert abs(ax - bx) > widths or abs(ay - by) >= style.COMMAND_LABEL_HEIGHT, (a, b)
         for x, label in ((ax, labels[0]), (bx, labels[1])):  # whole on the grass
             assert x0 <= x - label_half_width(label) and x + label_half_width(label) <= x1
+
+
+@pytest.fixture(scope="module")
+def gui():
+    import viser
+
+    from tests.app.test_ui_browser import free_port
+
+    server = viser.ViserServer(host="127.0.0.1", port=free_port(), verbose=False)
+    yield server.gui
+    server.stop()
+
+
+@pytest.fixture
+def store(tmp_path):
+    from soccer_lab.app.store import Store
+
+    store = Store(tmp_path / "db.sqlite3")
+    yield store
+    store.close()
+
+
+def test_the_match_folder_plays_a_saved_rulebase_against_an_example(gui, store):
+    from soccer_lab.app.web.ui.panels.match import MatchPanel
+    from soccer_lab.fuzzy.parser import parse_rulebase
+
+    store.create_rulebase("<i>turner</i>", "if Ball is Near then Turn Left")
+    watched = []
+    panel = MatchPanel(gui, store, VOCABULARY, current=lambda: (DRIBBLER, "on the pitch"),
+                       on_watch=lambda a, b, names: watched.append((a, b, names)))
+    saved = next(label for label in panel.players[0].options if label.startswith("Library #"))
+    panel.players[0].value = saved
+    panel.watch(lambda a, b, names: watched.append((a, b, names)))
+    (a, b, names), = watched
+    assert a == parse_rulebase("if Ball is Near then Turn Left", VOCABULARY)
+    assert b == example("demo").rulebase(VOCABULARY)  # B's first choice: the demo
+    assert names == ("<i>turner</i>", "The demo") and "&lt;i&gt;" in panel.message.content
+
+
+def test_a_player_that_cannot_play_is_one_line_and_no_match(gui, store):
+    from soccer_lab.app.web.ui.panels.match import RUN, MatchPanel
+
+    watched = []
+    panel = MatchPanel(gui, store, VOCABULARY, current=lambda: (DRIBBLER, "on the pitch"),
+                       on_watch=lambda a, b, names: watched.append(names))
+    for label in (f"{RUN}7 gone", "Library #x", "nothing at all"):
+        panel.players[1].options = (*panel.players[1].options, label)
+        panel.players[1].value = label
+        panel.watch(lambda a, b, names: watched.append(names))
+        assert watched == [] and 'data-error="true"' in panel.message.content and "Player B" in panel.message.content

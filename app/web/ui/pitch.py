@@ -42,6 +42,7 @@ OPPONENT_NODE = "/pitch/opponent"  # a match's second player
 OPPONENT_CONE_NODES = {seen: name.replace(PLAYER_NODE, OPPONENT_NODE, 1) for seen, name in CONE_NODES.items()}
 NAME_LABEL_NODES = ("/pitch/player_name", "/pitch/opponent_name")
 Z_MATCH_FIELD = -0.04  # just over the field
+Z_WATCHED = 0.01  # a match's second player lies this much over A when watched, under it otherwise
 NAMES_GAP = 2.0  # metres between two players' names side by side: "A →" and "← B", never "A →← B"
 Z_GRASS, Z_CONE, Z_TRAIL, Z_COMMAND, Z_FRAME, Z_BODY = -0.05, 0.02, 0.03, 0.04, 0.1, 0.2
 Z_BALL = 0.25  # over the player: a ball at its feet stays in sight
@@ -207,7 +208,8 @@ class PitchView:
                 label.visible = self._match_shown
         if match is None:
             return
-        self.opponent.position = to_scene(*match.player, Z_BODY)
+        # the watched player over the other when they overlap (both are drawn larger than life)
+        self.opponent.position = to_scene(*match.player, Z_BODY + (Z_WATCHED if match.watched == 1 else -Z_WATCHED))
         self.opponent.wxyz = yaw_quaternion(match.facing)
         for seen, cone in self.opponent_cones.items():
             cone.visible = seen == match.ball_visible and match.watched == 1
