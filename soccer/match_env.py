@@ -12,15 +12,17 @@ from __future__ import annotations
 from collections import deque
 from dataclasses import dataclass
 
+import numba
 import numpy as np
 
 from soccer_lab.fuzzy.batched import NO_ACTION
 from soccer_lab.fuzzy.rule import Rulebase
 from soccer_lab.fuzzy.vocabulary import Vocabulary
-from soccer_lab.soccer.config import SOCCER_VOCABULARY, GameConfig
-from soccer_lab.soccer.engine import NO_OUTCOME
+from soccer_lab.soccer.config import SOCCER_VOCABULARY, GameConfig, WorldConstants
+from soccer_lab.soccer.engine import NO_OUTCOME, Observation, VocabularyLayout, body_vectors, plain
 from soccer_lab.soccer.env import TRAIL_LENGTH
-from soccer_lab.soccer.match import HALVES, HalfResult, MatchBatch, MatchResult
+from soccer_lab.soccer.match import (HALVES, HalfResult, HalfState, MatchBatch, MatchPitches, MatchResult,
+                                     OpponentLayout, PlayerState, perceive_side)
 from soccer_lab.soccer.outcome import Outcome
 
 A, B = 0, 1  # the players, as MatchResult counts them
@@ -28,7 +30,7 @@ A, B = 0, 1  # the players, as MatchResult counts them
 
 @dataclass(frozen=True)
 class PlayerMind:
-    """What one player perceived for its latest decision (after a reset: the one about to be made) and what
+    """What one player perceived for its latest decision (at a kick-off: the one about to be made) and what
     it decided, in its own frame."""
 
     visible: dict[str, bool]  # object -> in view
@@ -59,6 +61,25 @@ class MatchState:
     result: MatchResult | None  # once done: what play_matches gives for this seed
 
 
+@numba.njit(cache=True)
+def observe_kernel(pitches, halves, players, observation, layout, opponent, constants):
+    """Perception alone, for both players of every live half: a half's first observation, the very one its first
+    tick perceives again (soccer/engine.py's observe_kernel, for a match). The named tuples arrive as plain ones."""
+    pitches, halves, players = MatchPitches(*pitches), HalfState(*halves), PlayerState(*players)
+    observation, layout = Observation(*observation), VocabularyLayout(*layout)
+    opponent, constants = OpponentLayout(*opponent), WorldConstants(*constants)
+    for h in range(halves.done.shape[0]):
+        if halves.done[h]:
+            continue
+        ox, oy = pitches.offsets[h, 0], pitches.offsets[h, 1]
+        left, right = body_vectors(pitches.players[h, 0]), body_vectors(pitches.players[h, 1])
+        ball = body_vectors(pitches.ball[h])
+        lx, ly, rx, ry, bx, by = left[0] - ox, left[1] - oy, right[0] - ox, right[1] - oy, ball[0] - ox, ball[1] - oy
+        perceive_side(2 * h, 1.0, (lx, ly), (rx, ry), (bx, by), players, observation, layout, opponent, constants)
+        perceive_side(2 * h + 1, -1.0, (rx, ry), (lx, ly), (bx, by), players, observation, layout, opponent,
+                      constants)
+
+
 class MatchEnv:
     """reset(seed) -> state at the first half's kick-off; step() -> state plays one tick (the step after
     the first half's end kicks off the second half, sides swapped)."""
@@ -86,7 +107,11 @@ class MatchEnv:
         """Half `half` from the match's start: A on the left in the first, on the right in the second."""
         a, b = self.rulebases
         self._half = half
-        self._batch = MatchBatch([(a, b) if half == 1 else (b, a)], [self.seed], self.config, self.vocabulary)
+        batch = MatchBatch([(a, b) if half == 1 else (b, a)], [self.seed], self.config, self.vocabulary)
+        observe_kernel(*(plain(part) for part in (batch.world.match_pitches, batch.state, batch.players,
+                                                  batch.observation, batch.layout, batch.opponent)),
+                       batch.constants)
+        self._batch = batch
         self._trail.clear()
         self._trail_tick = None
         self._bodies = ()

@@ -104,11 +104,28 @@ def test_two_examples_play_a_match_with_score_clock_and_either_players_thinking(
 
 def test_the_match_watched_is_the_match_play_matches_counts(ui, tab):
     page, session = tab
+    session.set_playing(False)
     with session.lock:
         match = session.game
         a, b = match.players
         expected = play_matches(a, b, [match.seed], match.config, match.vocabulary)[0]
         match.restart(match.seed)
+        while not match.state.half_over:
+            match.step()
+        session._render()
+    page.get_by_role("tab", name="Play").click()
+    page.locator(".match-break").wait_for()
+    assert "Half time" in status(page)["text"]
+    page.mouse.move(640, 400)
+    shot(page, "match-half-time")
+    with session.lock:
+        match.skip_half_time()
+        match.step()  # the second half's kick-off: the sides swapped
+        session._render()
+    wait_until(lambda: status(page)["half"] == 2)
+    assert "B attacks → (the right goal), A attacks ←" in status(page)["text"]
+    shot(page, "match-second-half")
+    with session.lock:
         while not match.done:
             match.skip_half_time()
             match.step()
@@ -124,6 +141,7 @@ def test_the_projector_view_shows_the_match_and_switches_the_thinking(ui, tab):
     page.get_by_role("tab", name="Play").click()
     page.get_by_role("button", name="Restart this seed").click()
     page.get_by_role("button", name="Play", exact=True).click()
+    wait_until(lambda: session.playing and not session.game.done)
     page.keyboard.press("p")
     band = page.locator(".projector-match")
     band.wait_for()

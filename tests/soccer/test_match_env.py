@@ -105,3 +105,17 @@ def test_stepping_a_finished_match_changes_nothing_and_step_before_reset_is_refu
         env.step()
     states = play_out(env, 1)
     assert env.step() == states[-1]
+
+
+def test_each_kick_off_shows_the_observation_the_first_tick_decides_on():
+    env = MatchEnv(STRIKER, DEMO, SHORT, V)
+    kick_off = env.reset(8)
+    first_tick = env.step()
+    for before, decided in zip(kick_off.minds, first_tick.minds):
+        assert before.inputs == decided.inputs and before.visible == decided.visible
+        assert before.action is None and before.outcome is None  # nothing decided yet
+    while not env.state.half_over:
+        env.step()
+    second_kick_off = env.step()
+    assert second_kick_off.half == 2
+    assert [m.inputs for m in second_kick_off.minds] == [m.inputs for m in env.step().minds]

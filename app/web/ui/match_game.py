@@ -27,7 +27,6 @@ from soccer_lab.soccer.perception import BALL
 LETTERS = ("A", "B")
 COLOURS = (style.PLAYER, style.OPPONENT)  # A's, B's: on the pitch and beside their names
 HALF_TIME_TICKS = 30  # ticks' time the half-time score stays on screen before the second half kicks off
-NAME_ON_PITCH = 18  # characters of a name in its label on the pitch (the whole name is in the Play tab)
 
 
 class _Seen(NamedTuple):
@@ -144,11 +143,10 @@ class MatchGame:
         )
 
     def pitch_label(self, player: int) -> str:
-        """The name over a player on the pitch, with the way it attacks: "A Striker →" or "← B Demo"."""
-        name = self.names[player]
-        name = name if len(name) <= NAME_ON_PITCH else name[: NAME_ON_PITCH - 1] + "…"
-        text = f"{LETTERS[player]} {name}"
-        return f"{text} →" if self.attacks_right(player) else f"← {text}"
+        """The letter under a player on the pitch, with the way it attacks: "A →" or "← B" (the names, which may
+        be long, are beside the letters in the Play tab and the projector's band)."""
+        letter = LETTERS[player]
+        return f"{letter} →" if self.attacks_right(player) else f"← {letter}"
 
     # ---- the words ----------------------------------------------------------------------------
     def clock(self) -> str:
@@ -156,12 +154,25 @@ class MatchGame:
         return f"half {s.half} of 2 · tick {s.tick} / {self.config.max_ticks}"
 
     def score_html(self, size: int) -> str:
-        """A's name and goals, B's goals and name, each name in its player's colour."""
+        """A's name and goals, B's goals and name, in a line, each name in its player's colour (the projector's)."""
         s = self.state
-        a, b = (f'<span class="match-name" data-player="{LETTERS[p]}" style="color:{hex_colour(COLOURS[p])}">'
-                f"● {LETTERS[p]} {escape(self.names[p])}</span>" for p in (0, 1))
+        a, b = (self._name_html(p) for p in (0, 1))
         return (f'<span class="match-score" data-goals="{s.goals[0]}-{s.goals[1]}" style="font-size:{size}px; '
                 f'font-weight:700">{a} <span style="color:{style.INK}">{s.goals[0]} – {s.goals[1]}</span> {b}</span>')
+
+    def score_rows_html(self, size: int) -> str:
+        """A row per player, its name in its colour and its goals at the right (the Play tab's, narrow)."""
+        s = self.state
+        rows = "".join(
+            f'<div style="display:flex; gap:8px; align-items:baseline"><span style="flex:1; min-width:0; '
+            f'overflow-wrap:anywhere">{self._name_html(p)}</span><span class="match-goals" '
+            f'style="color:{style.INK}">{s.goals[p]}</span></div>' for p in (0, 1))
+        return (f'<div class="match-score" data-goals="{s.goals[0]}-{s.goals[1]}" style="font-size:{size}px; '
+                f'font-weight:700; line-height:1.2; {style.SCROLLBAR_ROOM}">{rows}</div>')
+
+    def _name_html(self, player: int) -> str:
+        return (f'<span class="match-name" data-player="{LETTERS[player]}" style="color:{hex_colour(COLOURS[player])}">'
+                f"● {LETTERS[player]} {escape(self.names[player])}</span>")
 
     def sides_sentence(self) -> str:
         left = 0 if self.state.a_on_left else 1
@@ -179,7 +190,7 @@ class MatchGame:
         if s.half_over:
             why = end_reason_sentence(s.end_reason, self.config.max_ticks, self.config.goal_cap,
                                       self.config.idle_ticks).replace("the player", "both players")
-            return f"Half time ({why}): the players swap sides"
+            return f"Half time, {why}: the players swap sides"
         return ""
 
     def end_sentence(self) -> str:
@@ -197,7 +208,7 @@ class MatchGame:
             f'data-goals="{s.goals[0]}-{s.goals[1]}" data-done="{str(self.done).lower()}" '
             f'data-watched="{LETTERS[self.watched]}" style="{style.FONT}; font-size:{style.FONT_SIZE + 2}px; '
             f'color:{style.INK}">'
-            f"<div>{self.score_html(style.FONT_SIZE + 8)}</div>"
+            f"{self.score_rows_html(style.FONT_SIZE + 6)}"
             f'<div class="match-clock">{self.clock()}</div>'
             f'<div class="match-sides" style="color:{style.MUTED}; font-size:{style.FONT_SIZE}px">'
             f"{self.sides_sentence()}</div>"

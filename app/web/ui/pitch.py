@@ -42,6 +42,8 @@ OPPONENT_NODE = "/pitch/opponent"  # a match's second player
 OPPONENT_CONE_NODES = {seen: name.replace(PLAYER_NODE, OPPONENT_NODE, 1) for seen, name in CONE_NODES.items()}
 NAME_LABEL_NODES = ("/pitch/player_name", "/pitch/opponent_name")
 Z_MATCH_FIELD = -0.04  # just over the field
+Z_WATCHED = 0.01  # a match's second player lies this much over A when watched, under it otherwise
+NAMES_GAP = 2.0  # metres between two players' names side by side: "A →" and "← B", never "A →← B"
 Z_GRASS, Z_CONE, Z_TRAIL, Z_COMMAND, Z_FRAME, Z_BODY = -0.05, 0.02, 0.03, 0.04, 0.1, 0.2
 Z_BALL = 0.25  # over the player: a ball at its feet stays in sight
 FRAME_WIDTH = 1000.0  # metres: far past any canvas's edge
@@ -206,24 +208,16 @@ class PitchView:
                 label.visible = self._match_shown
         if match is None:
             return
-        self.opponent.position = to_scene(*match.player, Z_BODY)
+        # the watched player over the other when they overlap (both are drawn larger than life)
+        self.opponent.position = to_scene(*match.player, Z_BODY + (Z_WATCHED if match.watched == 1 else -Z_WATCHED))
         self.opponent.wxyz = yaw_quaternion(match.facing)
         for seen, cone in self.opponent_cones.items():
             cone.visible = seen == match.ball_visible and match.watched == 1
-        for label, text, at in zip(self.names, match.labels, (frame.player, match.player)):
+        places = name_places(self.geometry.grass, (frame.player, match.player), match.labels)
+        for label, text, at in zip(self.names, match.labels, places):
             if label.text != text:
                 label.text = text
-            label.position = to_scene(*self.name_place(at, text), Z_BODY)
-
-    def name_place(self, player: tuple[float, float], text: str) -> tuple[float, float]:
-        """Under the player (the mark's label goes above it), kept whole on the grass: the label's bottom centre."""
-        x0, x1, _, y1 = self.geometry.grass
-        room = label_half_width(text)
-        px, py = player
-        y = py + style.PLAYER_DRAW_RADIUS + 1.0 + style.COMMAND_LABEL_HEIGHT
-        if y > y1 - 0.5:  # no room below: above the player
-            y = py - style.PLAYER_DRAW_RADIUS - 1.0
-        return min(max(px, x0 + room), x1 - room), y
+            label.position = to_scene(*at, Z_BODY)
 
     def _show_command(self, mark: CommandMark | None) -> None:
         shown = self._command_shown
@@ -277,3 +271,26 @@ class PitchView:
         camera.up_direction = (0.0, 1.0, 0.0)
         camera.position = (g.goal_depth / 2, 0.0, distance)
         camera.look_at = (g.goal_depth / 2, 0.0, 0.0)
+
+
+def name_places(grass: tuple[float, float, float, float], players: tuple[tuple[float, float], ...],
+                labels: tuple[str, ...]) -> list[tuple[float, float]]:
+    """Where the names of a match's two players go (each label's bottom centre): under each player (the mark's
+    label goes above it), whole on the grass; when the two would overlap (the players close), side by side, B's
+    on the side away from A's."""
+    x0, x1, _, y1 = grass
+    rooms = [label_half_width(f"{label}  ") for label in labels]  # an arrow is wider than a letter
+    places = []
+    for (px, py), room in zip(players, rooms):
+        y = py + style.PLAYER_DRAW_RADIUS + 1.0 + style.COMMAND_LABEL_HEIGHT
+        if y > y1 - 0.5:  # no room below: above the player
+            y = py - style.PLAYER_DRAW_RADIUS - 1.0
+        places.append((min(max(px, x0 + room), x1 - room), y))
+    (ax, ay), (bx, by) = places
+    apart = rooms[0] + rooms[1] + NAMES_GAP
+    if abs(ax - bx) < apart and abs(ay - by) < style.COMMAND_LABEL_HEIGHT:
+        side = 1.0 if bx >= ax else -1.0
+        if not x0 + rooms[1] <= ax + side * apart <= x1 - rooms[1]:  # no room on that side: the other
+            side = -side
+        places[1] = (ax + side * apart, ay)
+    return places

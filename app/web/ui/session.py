@@ -183,7 +183,7 @@ class Session:
         """Every other panel, once the game plays."""
         gui, context, tabs = self.client.gui, self.context, self._tabs
         with self._play_tab, gui.add_folder("Match: two players"):
-            self.match_panel = MatchPanel(gui, self.store, self.runs, context.vocabulary,
+            self.match_panel = MatchPanel(gui, self.store, context.vocabulary,
                                           current=lambda: (self.game.rulebase, self.game.name),
                                           on_watch=self.watch_picked, tournament=self.tournament)
         with tabs.add_tab("Rules"):

@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING, Callable
 import viser
 
 from soccer_lab.app.store import NotFound, StoreError
-from soccer_lab.app.web.access import ScopedRuns, ScopedStore
+from soccer_lab.app.web.access import ScopedStore
 from soccer_lab.app.web.ui import style
 from soccer_lab.app.web.ui.panels.svg import escape
 from soccer_lab.fuzzy.parser import RuleSyntaxError, parse_rulebase
@@ -29,11 +29,11 @@ class MatchPanel:
     """`current()`: the rules on the pitch and their name; `on_watch(a, b, names)` plays their match on the
     pitch. `tournament` (classroom mode): its entries can be picked too."""
 
-    def __init__(self, gui: viser.GuiApi, store: ScopedStore, runs: ScopedRuns, vocabulary: Vocabulary, *,
+    def __init__(self, gui: viser.GuiApi, store: ScopedStore, vocabulary: Vocabulary, *,
                  current: Callable[[], tuple[Rulebase, str]],
                  on_watch: Callable[[Rulebase, Rulebase, tuple[str, str]], None],
                  tournament: Tournament | None = None):
-        self.store, self.runs, self.vocabulary, self.tournament = store, runs, vocabulary, tournament
+        self.store, self.vocabulary, self.tournament = store, vocabulary, tournament
         self.current = current
         self.examples = {f"{EXAMPLE}{e.title}": e for e in examples()}
         gui.add_html(f'<div style="{style.FONT}; font-size:{style.FONT_SIZE}px; color:{style.INK}">Two players on one '
@@ -85,7 +85,8 @@ class MatchPanel:
         self._say(f"Watching A {a_name} against B {b_name}.")
 
     def player(self, label: str) -> tuple[Rulebase, str]:
-        """The rules and name a label stands for (NotFound: gone since the list was made)."""
+        """The rules and name a label stands for (NotFound: gone since the list was made; ValueError: no player's
+        label)."""
         if label == ON_PITCH:
             return self.current()
         if label in self.examples:
@@ -97,7 +98,7 @@ class MatchPanel:
                 if not number.isdigit():
                     break
                 return read(int(number))
-        raise NotFound(f"no player “{label}”: pick another")
+        raise ValueError(f"no player “{label}”: pick another")
 
     def _saved(self, record_id: int) -> tuple[Rulebase, str]:
         record = self.store.get_rulebase(record_id)
@@ -110,7 +111,7 @@ class MatchPanel:
     def _entry(self, entry_id: int) -> tuple[Rulebase, str]:
         entry = next((e for e in self.tournament.entries() if e.id == entry_id), None) if self.tournament else None
         if entry is None:
-            raise NotFound(f"class entry #{entry_id} has left the tournament")
+            raise NotFound("class entry", entry_id, f"class entry #{entry_id} has left the tournament")
         return parse_rulebase(entry.text, self.vocabulary), entry.name
 
     def _say(self, text: str, *, error: bool = False) -> None:
