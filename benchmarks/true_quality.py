@@ -7,7 +7,7 @@ times what the UI's population view adds: each generation's shown players (its 1
 on the same starts in one batch, best-ranked first, an elite shown before not again, within the view's share
 of the wall time (app/web/ui/player_qualities.py's PlayerQualities, here called at each generation's end
 instead of on its thread), as a share of the run without it, and how many of the shown players got a
-figure; what the view's button "Re-play these 12 on 20 starts" costs when pressed after the run (the last
+figure; what the view's button "Measure these 12 on 20 fresh starts" costs when pressed after the run (the last
 generation's shown players, none known before, in one batch, against the run's seconds per generation); and, for
 scale, what re-playing all of them every generation would cost.
 

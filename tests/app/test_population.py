@@ -282,8 +282,8 @@ def test_population_replays_keep_to_their_share_of_the_time_best_ranked_first():
 
 def test_the_replay_button_replays_every_shown_player_beyond_the_share(monkeypatch):
     """Within 5% of the time the grid's players stayed "not re-played" (0 of 12 under every pitch): the
-    caption says once how many are re-played, the empty pitches say nothing, and "Re-play these N on 20
-    starts" re-plays the rest (their cost stated) without spending the background's share."""
+    caption says once how many are re-played, the empty pitches say nothing, and "Measure these N on 20
+    fresh starts" re-plays the rest (their cost stated) without spending the background's share."""
     monkeypatch.setattr(style, "POPULATION_REFRESH_SECONDS", 0.0)
     now, replayed = [0.0], []
 
@@ -306,9 +306,9 @@ def test_the_replay_button_replays_every_shown_player_beyond_the_share(monkeypat
     assert replayed == [1]  # the best measured the cost; the share paid for no more
     assert "not re-played" not in panel.grid.content and panel.grid.content.count("re-played 0.") == 1
     assert "1 of 4 so far" in panel.caption.content and 'data-replayed="1"' in panel.caption.content
-    assert "re-plays the rest (60 games, about 0.3 s)" in panel.caption.content  # the cost, before it is paid
+    assert "measures the rest (60 games, about 0.3 s)" in panel.caption.content  # the cost, before it is paid
     assert panel.replay_button.visible and not panel.replay_button.disabled
-    assert panel.replay_button.label == f"Re-play these 4 on {TRUE_QUALITY_STARTS} starts"
+    assert panel.replay_button.label == f"Measure these 4 on {TRUE_QUALITY_STARTS} fresh starts"
     allowance = qualities._allowance
     panel.replay_button.click()  # on viser's thread: the next frame asks
     panel.advance(1)

@@ -32,7 +32,7 @@ def replayed_lines(page, grid: str) -> list[str]:
 def test_population_grid_says_not_replayed_once_and_its_button_replays_every_pitch(ui, browser, monkeypatch):
     # Re-playing within 5% of the time left every pitch "not re-played" (0 of 12), under each pitch in type as
     # large as a title, in the panel and in the projector view. Now the small caption says it once, the empty
-    # pitches say nothing, and "Re-play these 12 on 20 starts" gives every pitch its true quality.
+    # pitches say nothing, and "Measure these 12 on 20 fresh starts" gives every pitch its true quality.
     page, session = open_tab(ui, browser, PROJECTOR_SIZES[0])
     # No background share: the grid's figures beyond the first (which measures the cost) are the button's.
     monkeypatch.setattr(ui.context.player_qualities, "share", 0.0)
@@ -59,11 +59,11 @@ def test_population_grid_says_not_replayed_once_and_its_button_replays_every_pit
         assert not any(line and not line.startswith("re-played ") for line in before), before  # the rest: silent
         body = page.locator("body").inner_text()
         assert "not re-played" not in body
-        assert re.search(rf"[01] of {GRID} so far; the button re-plays the rest \(\d+ games, about", caption.inner_text())
+        assert re.search(rf"[01] of {GRID} so far; the button measures the rest \(\d+ games, about", caption.inner_text())
         assert float(page.evaluate("() => parseFloat(getComputedStyle("
                                    "document.querySelector('.population-caption')).fontSize)")) <= style.FONT_SIZE - 2
 
-        button = page.get_by_role("button", name=f"Re-play these {GRID} on {TRUE_QUALITY_STARTS} starts")
+        button = page.get_by_role("button", name=f"Measure these {GRID} on {TRUE_QUALITY_STARTS} fresh starts")
         assert button.is_enabled()
         button.click()
         wait_until(lambda: all(line.startswith("re-played ") for line in replayed_lines(page, ".population")),

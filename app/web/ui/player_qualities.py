@@ -27,7 +27,7 @@ class PlayerQualities:
     again, or the same generation in another tab, is not re-played). A player's 20 games cost about a tenth
     of a Table 2 generation, so the thread spends at most `share` of the wall time (style.POPULATION_REPLAY_SHARE;
     measured by benchmarks/true_quality.py): players it has no time for stay unknown until a user asks for them
-    (`request(..., everyone=True)`: the view's "Re-play these 12" button, at most a grid of players on `starts`
+    (`request(..., everyone=True)`: the view's "Measure these 12" button, at most a grid of players on `starts`
     games; `share` None: every shown player, whatever it costs). `replayer_for(game, vocabulary, starts)` makes
     the batch re-player of a game."""
 

@@ -4,7 +4,7 @@ one pymunk Space). While this tab's evolution runs, it shows the latest generati
 compares them fairly, live while the next generation is being evaluated; after the run, its last. Under
 each, its true quality once known: the player re-played on the common fresh starts (app/runs/true_quality.py),
 by `PlayerQualities` (player_qualities.py) on a thread of its own, never on a tab's frame loop: the best first
-within a share of the time, and the whole grid when the user presses "Re-play these 12 on 20 starts". The
+within a share of the time, and the whole grid when the user presses "Measure these 12 on 20 fresh starts". The
 caption, not every pitch, says how many are not re-played."""
 
 from __future__ import annotations
@@ -123,7 +123,7 @@ class PopulationPanel:
         self.game: GameConfig | None = None  # the shown run's
         self.geometry = PitchGeometry.from_world(world)
         self.caption = gui.add_html("")
-        self.replay_button = gui.add_button("Re-play these players", visible=False)
+        self.replay_button = gui.add_button("Measure these players", visible=False)  # never "play": tests find Play
         self.replay_button.on_click(lambda _: self.ask_replay())
         self.grid = gui.add_html(
             f'<div style="{style.FONT}; color:{style.MUTED}; font-size:{style.FONT_SIZE}px">{escape(EMPTY_TEXT)}</div>'
@@ -274,7 +274,7 @@ class PopulationPanel:
         if done == count:
             return said + ".</div>"
         so_far = "re-playing the best" if self._replaying and done == 0 else f"{done} of {count} so far"
-        return said + f". {so_far}; the button re-plays the rest ({self._cost(count - done)}).</div>"
+        return said + f". {so_far}; the button measures the rest ({self._cost(count - done)}).</div>"
 
     def _cost(self, players: int) -> str:
         """e.g. '220 games, about 2.4 s': what re-playing `players` costs, measured by the last re-play."""
@@ -283,12 +283,12 @@ class PopulationPanel:
         return f"{players * self.qualities.starts} games{took}"
 
     def _show_button(self, count: int, done: int) -> None:
-        """'Re-play these 12 on 20 starts', with what it costs; pressed once at a time, gone when all are known."""
+        """'Measure these 12 on 20 fresh starts', with what it costs; pressed once at a time, gone when all are known."""
         button = self.replay_button
         button.visible = self._replays and done < count
         if not button.visible:
             return
-        button.label = f"Re-play these {count} on {self.qualities.starts} starts"
+        button.label = f"Measure these {count} on {self.qualities.starts} fresh starts"
         button.hint = (f"{self._cost(count - done)} on this machine, on a thread of their own: the pitches go on "
                        "meanwhile. A player re-played before is not re-played again.")
         button.disabled = self._replaying_all
