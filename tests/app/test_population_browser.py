@@ -1,6 +1,6 @@
 """The population view's true quality in headless Chromium at a classroom projector's 1280 x 800: said once in
-a small caption, re-played for the whole grid by its button, shown under every pitch, in the panel and in the
-projector view. Screenshots go to artifacts/screenshots/."""
+a small caption, re-played for the whole grid by its button (in the panel, and in the projector view above its
+larger grid), shown under every pitch in both views. Screenshots go to artifacts/screenshots/."""
 
 from __future__ import annotations
 
@@ -63,12 +63,36 @@ def test_population_grid_says_not_replayed_once_and_its_button_replays_every_pit
         assert float(page.evaluate("() => parseFloat(getComputedStyle("
                                    "document.querySelector('.population-caption')).fontSize)")) <= style.FONT_SIZE - 2
 
-        button = page.get_by_role("button", name=f"Measure these {GRID} on {TRUE_QUALITY_STARTS} fresh starts")
+        label = f"Measure these {GRID} on {TRUE_QUALITY_STARTS} fresh starts"
+        button = page.get_by_role("button", name=label)
         assert button.is_enabled()
-        button.click()
+
+        # The projector view: the larger pitches silent too, and the same button above them (the teacher
+        # measures without leaving the view).
+        page.keyboard.press("p")
+        page.locator(".projector-status").wait_for()
+        band_tab(page, "Population").click()
+        wait_until(lambda: len(replayed_lines(page, ".projector-population")) == GRID, timeout=60)
+        assert not any(line and not line.startswith("re-played ")
+                       for line in replayed_lines(page, ".projector-population"))
+        shot(page, "projector-population-before-replay-1280x800")
+        visible = [b for b in page.get_by_role("button", name=label).all() if b.is_visible()]
+        assert len(visible) == 1  # the projector's: the panel's is folded away
+        visible[0].click()
+        wait_until(lambda: all(line.startswith("re-played ")
+                               for line in replayed_lines(page, ".projector-population")), timeout=180)
+        wait_until(lambda: not any(b.is_visible() for b in page.get_by_role("button", name=label).all()))
+        cells = page.evaluate("() => [...document.querySelectorAll('.projector-population .mini-pitch')]"
+                              ".map((cell) => cell.getBoundingClientRect().bottom)")
+        assert max(cells) <= PROJECTOR_SIZES[0]["height"], "a small pitch below the window"
+        shot(page, "projector-population-replayed-1280x800")
+        page.keyboard.press("p")
+        wait_until(lambda: not session.projector.on)
+
+        # Back in the panel: every pitch shows its true quality, the button is gone (nothing left to re-play).
         wait_until(lambda: all(line.startswith("re-played ") for line in replayed_lines(page, ".population")),
-                   timeout=180)
-        wait_until(lambda: not button.is_visible())  # nothing left to re-play
+                   timeout=60)
+        assert not button.is_visible()
         assert caption.get_attribute("data-replayed") == str(GRID) and "so far" not in caption.inner_text()
         shot(page, "population-after-replay-1280x800")
         # Each figure is the player's own: re-played on the common starts, as every run's best is.
@@ -78,15 +102,6 @@ def test_population_grid_says_not_replayed_once_and_its_button_replays_every_pit
                               "(line) => parseFloat(line.dataset.replayed))")
         assert shown == pytest.approx([q.fitness for q in expected], abs=1e-6)
         assert session.population.shown_players()[0] == run_id
-
-        page.keyboard.press("p")  # the projector view: the same figures under its larger pitches
-        page.locator(".projector-status").wait_for()
-        band_tab(page, "Population").click()
-        wait_until(lambda: len(replayed_lines(page, ".projector-population")) == GRID, timeout=60)
-        assert all(line.startswith("re-played ") for line in replayed_lines(page, ".projector-population"))
-        shot(page, "projector-population-replayed-1280x800")
-        page.keyboard.press("p")
-        wait_until(lambda: not session.projector.on)
     finally:
         session.evolve.stop()
         page.close()

@@ -153,7 +153,8 @@ class Session:
         """The score, the tick counter and the play controls: all a tab needs to play."""
         gui = self.client.gui
         self.projector = ProjectorView(self.client, self.pitch, self.layout.right_panel_id,
-                                       on_leave=self.toggle_projector, on_toggle=self._render)
+                                       on_leave=self.toggle_projector, on_toggle=self._render,
+                                       on_measure=lambda: self.population.ask_replay())
         # Tabs and buttons without icons: viser reads each icon from a 2 MB zip file the first time it
         # is used, seconds that the first visitor after a start would wait for.
         self._tabs = gui.add_tab_group()
@@ -480,6 +481,6 @@ class Session:
             if self.ready.is_set():
                 self.inference.show(game.inputs(), game.rule_texts, game.inference(), game.outcome_text(),
                                     game.outcome_refused(), tick=int(game.state.tick))
-                self.projector.show_population(self.population.grid.content)
+                self.projector.show_population(self.population.grid.content, self.population.measure_button())
                 self.policy.show_current(game.inputs())
             self.pitch.show(game.frame())

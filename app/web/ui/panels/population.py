@@ -142,6 +142,7 @@ class PopulationPanel:
         self._player_qualities: list[TrueQuality | None] | None = None  # the shown players', once answered
         self._arrived: list[tuple[tuple, bool]] = []  # answered on the re-play thread, not picked up yet
         self._caption_key: tuple | None = None
+        self._measure: tuple[str, bool] | None = None  # the button's label and disabled, while shown
         self._last_render = 0.0
 
     def shown_players(self) -> tuple[int, int, Sequence["SampledPlayer"]] | None:
@@ -203,6 +204,10 @@ class PopulationPanel:
     def _replaying_all(self) -> bool:
         """A re-play the button asked for is under way (of these players, or of a generation shown before)."""
         return any(everyone for _, everyone in self._outstanding)
+
+    def measure_button(self) -> tuple[str, bool] | None:
+        """The button's label and whether it is disabled, None while hidden (the projector view shows it too)."""
+        return self._measure
 
     def player_qualities(self) -> list[TrueQuality | None] | None:
         """The shown players' true quality, by rank (None: not re-played yet); None until first answered."""
@@ -287,8 +292,10 @@ class PopulationPanel:
         button = self.replay_button
         button.visible = self._replays and done < count
         if not button.visible:
+            self._measure = None
             return
         button.label = f"Measure these {count} on {self.qualities.starts} fresh starts"
         button.hint = (f"{self._cost(count - done)} on this machine, on a thread of their own: the pitches go on "
                        "meanwhile. A player re-played before is not re-played again.")
         button.disabled = self._replaying_all
+        self._measure = (button.label, button.disabled)
