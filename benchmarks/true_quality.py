@@ -123,7 +123,8 @@ def main() -> None:
                round(statistics.median(r["figures"] / r["generations"] for r in runs), 2)),
         Figure(f"the population view's button: its {runs[0]['button_players']} shown players re-played on {starts} "
                "fresh starts at once", round(statistics.median(r["button"] for r in runs), 2), "s",
-               note=f"a Table 2 generation takes {statistics.median(r['wall'] / r['generations'] for r in runs):.2f} s"),
+               note="a Table 2 generation takes "
+                    f"{statistics.median(r['wall'] / r['generations'] for r in runs):.2f} s"),
         Figure(f"all {everyone['shown']} shown players re-played every generation, share of the run (not done: "
                "for scale)", round(100 * everyone["population"] / everyone["wall"], 1), "%", note="one run"),
     ]

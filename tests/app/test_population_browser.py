@@ -59,7 +59,8 @@ def test_population_grid_says_not_replayed_once_and_its_button_replays_every_pit
         assert not any(line and not line.startswith("re-played ") for line in before), before  # the rest: silent
         body = page.locator("body").inner_text()
         assert "not re-played" not in body
-        assert re.search(rf"[01] of {GRID} so far; the button measures the rest \(\d+ games, about", caption.inner_text())
+        assert re.search(rf"[01] of {GRID} so far; the button measures the rest \(\d+ games, about",
+                         caption.inner_text())
         assert float(page.evaluate("() => parseFloat(getComputedStyle("
                                    "document.querySelector('.population-caption')).fontSize)")) <= style.FONT_SIZE - 2
 

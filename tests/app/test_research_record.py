@@ -152,6 +152,7 @@ def test_seeds_judged_again_are_merged_with_the_seeds_whose_verdicts_are_current
     assert "all --seeds 1,2; the rest kept from all-x3 (recorded 2026-12-04" in merged["command"]
     (tmp_path / "study.json").write_text(json.dumps(merged))
     page = hook.render(PAGE, tmp_path / "study.json")
-    assert "| max-length | 6.4.1, Fig. 16 | settles at about 2/3 | agrees | agrees | agrees | agrees in 3 of 3 |" in page
+    assert ("| max-length | 6.4.1, Fig. 16 | settles at about 2/3 | agrees | agrees | agrees | agrees in 3 of 3 |"
+            in page)
     grid = script.verdict_grid(merged, tmp_path / "images")
     assert grid.stat().st_size > 0

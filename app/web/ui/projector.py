@@ -41,8 +41,9 @@ class _ClientPlacement(_PlacementMixin):
 class ProjectorView:
     """`right_panel_id`: the right panel's (folded with the main panel while on); `on_leave()`: the way back's
     click (the session toggles under its lock); `on_toggle()`: redraw after a switch; `on_measure()`: the
-    population grid's "Measure these 12" button, here as in its panel. The band (a floating panel over the canvas's top PROJECTOR_BAND px) has the tabs Game (the large
-    type), Population and, in classroom mode, Class; beside it a small panel holds the way back."""
+    population grid's "Measure these 12" button, here as in its panel. The band (a floating panel over the
+    canvas's top PROJECTOR_BAND px) has the tabs Game (the large type), Population and, in classroom mode,
+    Class; beside it a small panel holds the way back."""
 
     def __init__(self, client: viser.ClientHandle, pitch: PitchView, right_panel_id: str,
                  on_leave: Callable[[], None], on_toggle: Callable[[], None],

@@ -481,6 +481,6 @@ class Session:
             if self.ready.is_set():
                 self.inference.show(game.inputs(), game.rule_texts, game.inference(), game.outcome_text(),
                                     game.outcome_refused(), tick=int(game.state.tick))
-                self.projector.show_population(self.population.grid.content, self.population.measure_button())
+                self.projector.show_population(self.population.grid.content, self.population.button_state())
                 self.policy.show_current(game.inputs())
             self.pitch.show(game.frame())

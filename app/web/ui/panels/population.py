@@ -205,7 +205,7 @@ class PopulationPanel:
         """A re-play the button asked for is under way (of these players, or of a generation shown before)."""
         return any(everyone for _, everyone in self._outstanding)
 
-    def measure_button(self) -> tuple[str, bool] | None:
+    def button_state(self) -> tuple[str, bool] | None:
         """The button's label and whether it is disabled, None while hidden (the projector view shows it too)."""
         return self._measure
 
@@ -288,7 +288,7 @@ class PopulationPanel:
         return f"{players * self.qualities.starts} games{took}"
 
     def _show_button(self, count: int, done: int) -> None:
-        """'Measure these 12 on 20 fresh starts', with what it costs; pressed once at a time, gone when all are known."""
+        """'Measure these 12 on 20 fresh starts', with its cost; pressed once at a time, gone when all are known."""
         button = self.replay_button
         button.visible = self._replays and done < count
         if not button.visible:
