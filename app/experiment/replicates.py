@@ -37,6 +37,8 @@ VERDICTS_FILE = "verdicts.csv"
 VERDICTS_FIGURE = "replicates-verdicts.png"
 MAX_REPLICATES = 100
 LABEL_CLAIM_CHARACTERS = 48  # of a claim in the verdict grid's row labels
+LABEL_INCHES_PER_CHARACTER = 0.055  # a row label's width per character at its 7 pt
+LEGEND_INCHES = 1.6  # the verdict grid's legend, beside it
 COLOURS = {AGREES: "#1a7f37", DISAGREES: "#c62828", INCONCLUSIVE: "#d4a72c", TOO_SMALL: "#9e9e9e",
            NOT_RUN: "#ffffff"}
 
@@ -244,11 +246,14 @@ def _verdict_figure(folder: Path, seeds: list[int], rows: list[Row]) -> Figure:
     """A grid: one row per finding, one column per replicate, coloured by verdict."""
     order = list(COLOURS)
     grid = np.array([[order.index(v) for v in row.verdicts] for row in rows])
-    figure = MatplotlibFigure(figsize=(5.0 + 0.5 * len(seeds), 1.0 + 0.24 * len(rows)), dpi=DPI, layout="constrained")
+    labels = row_labels(rows)
+    # As wide as the longest label needs beside the grid and its legend: a fixed width cut the labels off.
+    width = LABEL_INCHES_PER_CHARACTER * max(map(len, labels)) + max(2.0, 0.6 * len(seeds)) + LEGEND_INCHES
+    figure = MatplotlibFigure(figsize=(width, 1.0 + 0.24 * len(rows)), dpi=DPI, layout="constrained")
     axes = figure.subplots()
     axes.imshow(grid, cmap=ListedColormap(list(COLOURS.values())), vmin=0, vmax=len(order) - 1, aspect="auto")
     axes.set_xticks(range(len(seeds)), [f"seed {s}" for s in seeds], fontsize=8)
-    axes.set_yticks(range(len(rows)), row_labels(rows), fontsize=7)
+    axes.set_yticks(range(len(rows)), labels, fontsize=7)
     axes.set_xticks(np.arange(len(seeds)) - 0.5, minor=True)
     axes.set_yticks(np.arange(len(rows)) - 0.5, minor=True)
     axes.grid(which="minor", color="white", linewidth=1.5)

@@ -159,3 +159,31 @@ def test_the_verdict_grid_never_labels_two_rows_alike():
     assert len(set(labels)) == len(labels) == len(FINDINGS)
     twins = [Row("initial", "6.2, Fig. 11", "The same claim", ["agrees"], "agrees in 1 of 1", "agrees")] * 2
     assert len(set(row_labels(twins))) == 2
+
+
+def test_the_verdict_grid_keeps_its_row_labels_and_legend_in_the_picture(tmp_path, monkeypatch):
+    """With a claim in each row label the grid kept its old width: the labels and the legend were cut off."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    from soccer_lab.app.experiment import replicates
+    from soccer_lab.app.experiment.replicates import Row, _verdict_figure
+
+    drawn = []
+
+    class Kept(replicates.MatplotlibFigure):
+        def savefig(self, *args, **kwargs):
+            drawn.append(self)
+            return super().savefig(*args, **kwargs)
+
+    monkeypatch.setattr(replicates, "MatplotlibFigure", Kept)
+    claim = "The pool of unique premise genes falls slowly but steadily over the generations, then levels off."
+    rows = [Row("max-length", f"6.4.{i}, Figs. 14-15", claim, ["agrees", "disagrees", "agrees"], "agrees in 2 of 3",
+                replicates.VARIES) for i in range(25)]
+    _verdict_figure(tmp_path, [0, 1, 2], rows)
+    figure = drawn[0]
+    renderer = FigureCanvasAgg(figure).get_renderer()
+    width = figure.get_size_inches()[0] * figure.dpi
+    axes = figure.axes[0]
+    for label in axes.get_yticklabels():
+        assert label.get_window_extent(renderer).x0 >= 0, label.get_text()
+    assert axes.get_legend().get_window_extent(renderer).x1 <= width

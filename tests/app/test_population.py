@@ -78,11 +78,19 @@ def test_every_finished_generation_is_published_with_its_best_players(tmp_path):
     store.close()
 
 
+class FakeButton(SimpleNamespace):
+    def on_click(self, callback) -> None:
+        self.click = lambda: callback(None)
+
+
 class FakeGui:
-    """Only what the panel asks of viser: HTML elements whose content it sets."""
+    """Only what the panel asks of viser: HTML elements whose content it sets, a button it labels and shows."""
 
     def add_html(self, content: str) -> SimpleNamespace:
         return SimpleNamespace(content=content)
+
+    def add_button(self, label: str, **props) -> FakeButton:
+        return FakeButton(label=label, **props)
 
 
 GAME = GameConfig(max_ticks=200)
@@ -199,7 +207,8 @@ def test_population_view_shows_each_players_replayed_quality_beside_its_fitness(
     assert [float(value) for value in lines] == pytest.approx([q.fitness for q in expected], abs=1e-6)
     assert f"re-played {expected[0].fitness:.2f} ± {expected[0].fitness_std:.2f}" in panel.grid.content
     assert f"re-played on the same {TRUE_QUALITY_STARTS} fresh starts" in panel.caption.content
-    assert 'data-replaying="false"' in panel.caption.content and "2 of 2 re-played" in panel.caption.content
+    assert 'data-replaying="false"' in panel.caption.content and "(mean ± spread).</div>" in panel.caption.content
+    assert not panel.replay_button.visible  # nothing left to re-play
 
 
 def test_population_replays_stay_off_the_frame_loop_and_replay_an_elite_once(monkeypatch):
@@ -225,7 +234,7 @@ def test_population_replays_stay_off_the_frame_loop_and_replay_an_elite_once(mon
     for _ in range(5):
         panel.advance(2)  # frames go on while the re-play waits
     assert time.perf_counter() - started < 5 and panel.player_qualities() is None
-    assert "re-playing…" in panel.grid.content and 'data-replaying="true"' in panel.caption.content
+    assert 'data-replaying="true"' in panel.caption.content and "re-playing the best" in panel.caption.content
     release.set()
     wait_until(lambda: (panel.advance(1), panel.player_qualities())[1] is not None)
     panel.generation_finished(2, 1, (SampledPlayer(scorer, 0.25), SampledPlayer(chaser, 0.5)))
@@ -242,6 +251,7 @@ def test_an_rcss_runs_players_get_no_simple_soccer_quality(monkeypatch):
     panel.generation_finished(3, 0, (SampledPlayer(CODEC.decode(parse_compact(CHASER, VOCABULARY)), 0.5),))
     panel.advance(1)
     assert 'class="replayed"' not in panel.grid.content and "re-played on" not in panel.caption.content
+    assert not panel.replay_button.visible
 
 
 def test_population_replays_keep_to_their_share_of_the_time_best_ranked_first():
@@ -268,3 +278,43 @@ def test_population_replays_keep_to_their_share_of_the_time_best_ranked_first():
     now[0] += 3600.0  # an idle hour saves no burst: at most a minute's share
     qualities._qualities(1, GAME, players + [CODEC.decode(parse_compact(SCORER, VOCABULARY))])
     assert len(replayed[2]) == 3 and replayed[2] == players[5:] + [CODEC.decode(parse_compact(SCORER, VOCABULARY))]
+
+
+def test_the_replay_button_replays_every_shown_player_beyond_the_share(monkeypatch):
+    """Within 5% of the time the grid's players stayed "not re-played" (0 of 12 under every pitch): the
+    caption says once how many are re-played, the empty pitches say nothing, and "Measure these N on 20
+    fresh starts" re-plays the rest (their cost stated) without spending the background's share."""
+    monkeypatch.setattr(style, "POPULATION_REFRESH_SECONDS", 0.0)
+    now, replayed = [0.0], []
+
+    def costly_replayer(game, vocabulary, starts):
+        def batch(rulebases):
+            replayed.append(len(rulebases))
+            now[0] += 0.1 * len(rulebases)  # 0.1 s a player
+            return [TrueQuality(starts, 0.5 + 0.01 * len(replayed), 0.1, 1.0, 0.5) for _ in rulebases]
+        return batch
+
+    qualities = PlayerQualities(VOCABULARY, replayer_for=costly_replayer, share=0.05, clock=lambda: now[0])
+    panel = PopulationPanel(FakeGui(), GAME.world, VOCABULARY, start_seed=lambda: SEED, game_of_run=lambda _: GAME,
+                            qualities=qualities)
+    players = tuple(SampledPlayer(CODEC.decode(parse_compact(f"(B,vN,A)(KG,n,H)(B,nF,A)(GB,n,{level})", VOCABULARY)),
+                                  0.1 * rank) for rank, level in enumerate(("vL", "L", "sL", "M"), start=1))
+    panel.generation_finished(1, 0, players)
+    panel.advance(1)
+    wait_until(lambda: (panel.advance(1), panel.player_qualities())[1] is not None)
+    panel.advance(1)
+    assert replayed == [1]  # the best measured the cost; the share paid for no more
+    assert "not re-played" not in panel.grid.content and panel.grid.content.count("re-played 0.") == 1
+    assert "1 of 4 so far" in panel.caption.content and 'data-replayed="1"' in panel.caption.content
+    assert "measures the rest (60 games, about 0.3 s)" in panel.caption.content  # the cost, before it is paid
+    assert panel.replay_button.visible and not panel.replay_button.disabled
+    assert panel.replay_button.label == f"Measure these 4 on {TRUE_QUALITY_STARTS} fresh starts"
+    allowance = qualities._allowance
+    panel.replay_button.click()  # on viser's thread: the next frame asks
+    panel.advance(1)
+    assert panel.replay_button.disabled and "re-playing all 4…" in panel.caption.content
+    wait_until(lambda: (panel.advance(1), panel.player_qualities())[1].count(None) == 0)
+    panel.advance(1)
+    assert replayed == [1, 3] and qualities._allowance == allowance  # the rest, not charged to the share
+    assert panel.grid.content.count("re-played 0.") == 4 and 'data-replayed="4"' in panel.caption.content
+    assert not panel.replay_button.visible  # nothing left to re-play

@@ -108,3 +108,51 @@ def test_the_verdicts_open_with_the_chapters_findings_counted_by_robust_verdict(
     page = hook.verdicts_section({"verdicts": rows, "seeds": [0, 1]})
     assert page.startswith("The chapter's 3 findings at 2 seeds: **2** agrees, **1** varies with the seed.\n\n|")
     assert not hook.verdicts_section({"verdicts": rows[3:], "seeds": [0, 1]}).startswith("The chapter's")
+
+
+def test_seeds_judged_again_are_merged_with_the_seeds_whose_verdicts_are_current(tmp_path):
+    """Seeds 1 and 2 of the three-seed study were judged with the verdict tests of the day before: re-run into
+    a folder of their own, they replace those seeds' verdicts, and seed 0's (current), the questions beyond the
+    chapter and every invocation are kept from the earlier record; summary and robust verdict are counted again."""
+    finding = {"preset": "max-length", "chapter": "6.4.1, Fig. 16", "claim": "settles at about 2/3"}
+    question = {"preset": "restarts", "chapter": "beyond", "claim": "do restarts help?", "seed 0": "no difference",
+                "seed 1": "no difference", "seed 2": "no difference", "summary": "'no difference' in 3 of 3",
+                "robust": "no difference"}
+
+    def run(seeds):
+        return {"preset": "all", "seeds": seeds, "started": "2026-12-04T12:38:51+00:00", "seconds": 60.0, "ran": 2,
+                "skipped": 0, "load_average_before": [0.5, 0.2, 0.1], "load_average_after": [2.0, 2.0, 2.0],
+                "cores": 2}
+
+    def progress(experiment, seed):
+        return {"experiment": experiment, "seed": seed, "trials": 2, "finished": 2, "games": 10, "games_finished": 10}
+
+    size = {"population": 200, "generations": 25, "max_ticks": 1000, "replays": 100}
+    earlier = {"folder": "all-x3", "recorded": "2026-12-04T14:09:21+00:00", "command": "experiment all-plus",
+               "size": size, "seeds": [0, 1, 2], "complete": True,
+               "progress": [progress(e, s) for e in ("all", "all-plus") for s in (0, 1, 2)],
+               "runs": [run([0, 1, 2])],
+               "verdicts": [{**finding, "seed 0": "agrees", "seed 1": "disagrees", "seed 2": "disagrees",
+                             "summary": "agrees in 1 of 3", "robust": "varies with the seed"}, question],
+               "answers": [{"preset": "restarts", "where": "beyond", "seed": s, "question": "do restarts help?",
+                            "answer": "no difference", "measured": "0.1 vs 0.1", "test": "Mann-Whitney U"}
+                           for s in (0, 1, 2)]}
+    new = {"folder": "all-s12", "recorded": "2026-12-05T15:00:00+00:00", "command": "experiment all --seeds 1,2",
+           "size": size, "seeds": [1, 2], "complete": True, "progress": [progress("all", s) for s in (1, 2)],
+           "runs": [run([1, 2])],
+           "verdicts": [{**finding, "seed 1": "agrees", "seed 2": "agrees", "summary": "agrees in 2 of 2",
+                         "robust": "agrees"}], "answers": []}
+    merged = script.merged_record(new, earlier)
+    assert merged["seeds"] == [0, 1, 2] and merged["complete"] and merged["folder"] == "all-s12 + all-x3"
+    assert merged["verdicts"] == [{**finding, "seed 0": "agrees", "seed 1": "agrees", "seed 2": "agrees",
+                                   "summary": "agrees in 3 of 3", "robust": "agrees"}, question]
+    assert [(p["experiment"], p["seed"]) for p in merged["progress"]] == [
+        ("all", 0), ("all", 1), ("all", 2), ("all-plus", 0), ("all-plus", 1), ("all-plus", 2)]
+    assert merged["runs"] == earlier["runs"] + new["runs"] and merged["answers"] == earlier["answers"]
+    assert "all --seeds 1,2; the rest kept from all-x3 (recorded 2026-12-04" in merged["command"]
+    (tmp_path / "study.json").write_text(json.dumps(merged))
+    page = hook.render(PAGE, tmp_path / "study.json")
+    assert ("| max-length | 6.4.1, Fig. 16 | settles at about 2/3 | agrees | agrees | agrees | agrees in 3 of 3 |"
+            in page)
+    grid = script.verdict_grid(merged, tmp_path / "images")
+    assert grid.stat().st_size > 0

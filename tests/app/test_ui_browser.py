@@ -374,7 +374,7 @@ def test_a_small_evolution_shows_progress_and_its_best_player_can_be_loaded(ui, 
     assert "re-played on the same 20 fresh starts as every run's best" in caption.inner_text()
     wait_until(lambda: page.locator(".mini-pitch .replayed").count() == shown)
     lines = page.locator(".mini-pitch .replayed").all_inner_texts()
-    assert all(line.startswith(("re-played ", "not re-played")) for line in lines)
+    assert all(line.startswith("re-played ") or not line.strip() for line in lines)  # unknown: said once, above
     page.get_by_role("tab", name="Library").click()
     shot(page, "6-library-and-population")
     # Newest first: the run just made is selected, not the older one.

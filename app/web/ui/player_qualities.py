@@ -26,9 +26,10 @@ class PlayerQualities:
     one thread, one batch per generation shown, best-ranked first, each player once per run (an elite shown
     again, or the same generation in another tab, is not re-played). A player's 20 games cost about a tenth
     of a Table 2 generation, so the thread spends at most `share` of the wall time (style.POPULATION_REPLAY_SHARE;
-    measured by benchmarks/true_quality.py): players it has no time for stay "not re-played" (`share` None:
-    every shown player, whatever it costs). `replayer_for(game, vocabulary, starts)` makes the batch re-player
-    of a game."""
+    measured by benchmarks/true_quality.py): players it has no time for stay unknown until a user asks for them
+    (`request(..., everyone=True)`: the view's "Measure these 12" button, at most a grid of players on `starts`
+    games; `share` None: every shown player, whatever it costs). `replayer_for(game, vocabulary, starts)` makes
+    the batch re-player of a game."""
 
     def __init__(self, vocabulary: Vocabulary, starts: int = TRUE_QUALITY_STARTS,
                  replayer_for: Callable[[GameConfig, Vocabulary, int], BatchReplayer] = simple_soccer_batch_replayer,
@@ -49,37 +50,51 @@ class PlayerQualities:
         self._lock = threading.Lock()
 
     def request(self, run_id: int, game: GameConfig, rulebases: Sequence[Rulebase],
-                done: Callable[[list[TrueQuality | None]], None]) -> None:
+                done: Callable[[list[TrueQuality | None]], None], everyone: bool = False) -> None:
         """Re-play `rulebases` (a run's, in its `game`, best first) off the caller's thread; `done(qualities)`
-        follows there (None: a player not re-played, the budget spent)."""
+        follows there (None: a player not re-played, the budget spent). `everyone`: all of them, outside the
+        share (a user asked: the cost is theirs, `len(rulebases)` x `starts` games at most)."""
         with self._lock:
             if self._thread is None:
                 self._thread = threading.Thread(target=self._serve, name="population-replays", daemon=True)
                 self._thread.start()
-        self._requests.put((run_id, game, tuple(rulebases), done))
+        self._requests.put((run_id, game, tuple(rulebases), done, everyone))
+
+    def known(self, run_id: int, rulebases: Sequence[Rulebase]) -> list[TrueQuality | None]:
+        """The figures already re-played for `rulebases` of run `run_id` (None: not re-played), at no cost."""
+        with self._lock:
+            return [self._known.get((run_id, r)) for r in rulebases]
+
+    def seconds_for(self, players: int) -> float | None:
+        """About how long re-playing `players` takes, from the last re-play (None before the first)."""
+        return None if self._per_player is None else players * self._per_player
 
     def _serve(self) -> None:
         while True:
-            run_id, game, rulebases, done = self._requests.get()
+            run_id, game, rulebases, done, everyone = self._requests.get()
             try:
-                done(self._qualities(run_id, game, rulebases))
+                done(self._qualities(run_id, game, rulebases, everyone))
             except Exception:  # a failed re-play leaves its players' figures unknown; the thread goes on
                 LOG.exception("re-playing the population view's players failed")
 
-    def _qualities(self, run_id: int, game: GameConfig, rulebases: Sequence[Rulebase]) -> list[TrueQuality | None]:
-        missing = list(dict.fromkeys(r for r in rulebases if (run_id, r) not in self._known))
-        chosen = missing[:self._affordable(len(missing))]
+    def _qualities(self, run_id: int, game: GameConfig, rulebases: Sequence[Rulebase],
+                   everyone: bool = False) -> list[TrueQuality | None]:
+        missing = list(dict.fromkeys(r for r, q in zip(rulebases, self.known(run_id, rulebases)) if q is None))
+        chosen = missing if everyone else missing[:self._affordable(len(missing))]
         if chosen:
             started = self.clock()
-            for rulebase, quality in zip(chosen, self._replayer(game)(chosen)):
-                self._known[(run_id, rulebase)] = quality
+            qualities = self._replayer(game)(chosen)
             took = self.clock() - started
+            with self._lock:
+                for rulebase, quality in zip(chosen, qualities):
+                    self._known[(run_id, rulebase)] = quality
+                while len(self._known) > KNOWN_QUALITIES:
+                    self._known.popitem(last=False)
             self.spent += took
-            self._allowance -= took
+            if not everyone:  # asked-for re-plays are the user's; the share is the background's
+                self._allowance -= took
             self._per_player = took / len(chosen)
-            while len(self._known) > KNOWN_QUALITIES:
-                self._known.popitem(last=False)
-        return [self._known.get((run_id, r)) for r in rulebases]
+        return self.known(run_id, rulebases)
 
     def _affordable(self, wanted: int) -> int:
         """How many players the budget pays for now: `share` of the time since the last request, saved up to

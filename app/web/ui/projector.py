@@ -41,11 +41,15 @@ class _ClientPlacement(_PlacementMixin):
 
 class ProjectorView:
     """`right_panel_id`: the right panel's (folded with the main panel while on); `on_leave()`: the way back's
-    click (the session toggles under its lock); `on_toggle()`: redraw after a switch. The band (a floating panel over the canvas's top PROJECTOR_BAND px) has the tabs Game (the large
-    type), Population and, in classroom mode, Class; beside it a small panel holds the way back."""
+    click (the session toggles under its lock); `on_toggle()`: redraw after a switch; `on_watch(p)`: a
+    match's thinking switch (0 for A, 1 for B); `on_measure()`: the
+    population grid's "Measure these 12" button, here as in its panel. The band (a floating panel over the
+    canvas's top PROJECTOR_BAND px) has the tabs Game (the large type), Population and, in classroom mode,
+    Class; beside it a small panel holds the way back."""
 
     def __init__(self, client: viser.ClientHandle, pitch: PitchView, right_panel_id: str,
-                 on_leave: Callable[[], None], on_toggle: Callable[[], None], on_watch: Callable[[int], None]):
+                 on_leave: Callable[[], None], on_toggle: Callable[[], None], on_watch: Callable[[int], None],
+                 on_measure: Callable[[], None] = lambda: None):
         self.client = client
         self.pitch = pitch
         self.on = False
@@ -57,8 +61,11 @@ class ProjectorView:
         with self.band.add_tab("Game"):
             self.status = gui.add_html("")
         with self.band.add_tab("Population"):
+            self.measure = gui.add_button("Measure these players", visible=False)  # never "play": tests find Play
+            self.measure.on_click(lambda _: on_measure())
             self.population = gui.add_html("")
         self._population_shown: str | None = None
+        self._measure_shown: tuple[str, bool] | None = None
         # Beside it, the way back.
         self.way_back = gui.add_panel(visible=False)
         with self.way_back.add_tab(LEAVE_TAB):
@@ -132,10 +139,18 @@ class ProjectorView:
         if self.status.content != html:
             self.status.content = html
 
-    def show_population(self, grid_html: str) -> None:
+    def show_population(self, grid_html: str, measure: tuple[str, bool] | None = None) -> None:
         """The population grid, larger than in its panel (style.PROJECTOR_ZOOM) and in more columns (the panel's
-        three made four rows, the last below a 1280 x 800 window)."""
-        if not self.on or grid_html == self._population_shown:
+        three made four rows, the last below a 1280 x 800 window); above it the panel's button (`measure`: its
+        label and whether it is disabled; None: hidden), so the class's figures need no way back."""
+        if not self.on:
+            return
+        if measure != self._measure_shown:
+            self._measure_shown = measure
+            self.measure.visible = measure is not None
+            if measure is not None:
+                self.measure.label, self.measure.disabled = measure
+        if grid_html == self._population_shown:
             return
         self._population_shown = grid_html
         self.population.content = (

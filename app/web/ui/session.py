@@ -162,7 +162,8 @@ class Session:
         gui = self.client.gui
         self.projector = ProjectorView(self.client, self.pitch, self.layout.right_panel_id,
                                        on_leave=self.toggle_projector, on_toggle=self._render,
-                                       on_watch=self.show_thinking_of)
+                                       on_watch=self.show_thinking_of,
+                                       on_measure=lambda: self.population.ask_replay())
         # Tabs and buttons without icons: viser reads each icon from a 2 MB zip file the first time it
         # is used, seconds that the first visitor after a start would wait for.
         self._tabs = gui.add_tab_group()
@@ -565,7 +566,7 @@ class Session:
                 self.inference.show(game.inputs(), game.rule_texts, game.inference(), game.outcome_text(),
                                     game.outcome_refused(), tick=int(game.state.tick),
                                     whose=thinking_html(game) if match else "")
-                self.projector.show_population(self.population.grid.content)
+                self.projector.show_population(self.population.grid.content, self.population.button_state())
                 self.policy.show_current(game.inputs())
             self.pitch.show(game.frame())
 

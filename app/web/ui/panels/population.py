@@ -2,8 +2,10 @@
 one pymunk Space). While this tab's evolution runs, it shows the latest generation's best players
 (the RunManager samples them as each generation finishes), all from the same start so the class
 compares them fairly, live while the next generation is being evaluated; after the run, its last. Under
-each, its true quality: the player re-played on the common fresh starts (app/runs/true_quality.py), by
-`PlayerQualities` (player_qualities.py) on a thread of its own, never on a tab's frame loop."""
+each, its true quality once known: the player re-played on the common fresh starts (app/runs/true_quality.py),
+by `PlayerQualities` (player_qualities.py) on a thread of its own, never on a tab's frame loop: the best first
+within a share of the time, and the whole grid when the user presses "Measure these 12 on 20 fresh starts". The
+caption, not every pitch, says how many are not re-played."""
 
 from __future__ import annotations
 
@@ -36,14 +38,13 @@ EMPTY_TEXT = ("Start an evolution in the Evolve tab. Once its first generation h
 def population_html(
     geometry: PitchGeometry, observation: Observation, state: GameState, labels: Sequence[str],
     columns: int = style.POPULATION_GRID[0], qualities: Sequence[TrueQuality | None] | None = None,
-    replaying: bool = True,
 ) -> str:
     """Small pitches in a grid of `columns`, game g where observation[g] saw it (state: the games' score and
-    whether and why each ended); with `qualities`, under each its player's true quality (None: being re-played
-    while `replaying`, else not re-played)."""
+    whether and why each ended); with `qualities`, under each its player's true quality (None: not known yet,
+    an empty line: the caption says how many)."""
     cells = "".join(
         _mini_pitch(geometry, observation, g, int(state.goals[g]), END_REASONS[state.end_reason[g]] if state.done[g]
-                    else None, labels[g], "" if qualities is None else _quality_line(qualities[g], replaying))
+                    else None, labels[g], "" if qualities is None else _quality_line(qualities[g]))
         for g in range(len(labels))
     )
     return (
@@ -52,16 +53,13 @@ def population_html(
     )
 
 
-def _quality_line(quality: TrueQuality | None, replaying: bool = True) -> str:
-    """The player's re-played fitness (mean ± spread) under its pitch; 're-playing…' until known, 'not
-    re-played' when the re-play budget had no time for it."""
-    if quality is not None:
-        text = f"re-played {quality.fitness:.2f} ± {quality.fitness_std:.2f}"
-    else:
-        text = "re-playing…" if replaying else "not re-played"
+def _quality_line(quality: TrueQuality | None) -> str:
+    """The player's re-played fitness (mean ± spread) under its pitch, in the label's type; until it is known an
+    empty line of the same height, so the grid does not jump when it arrives."""
+    text = "&nbsp;" if quality is None else f"re-played {quality.fitness:.2f} ± {quality.fitness_std:.2f}"
     value = "" if quality is None else f"{quality.fitness:.6f}"
-    return (f'<div class="replayed" data-replayed="{value}" style="margin-top:-4px; "font-size:{style.SMALL_FONT_SIZE}px; '
-            f'color:{style.MUTED}">{text}</div>')
+    return (f'<div class="replayed" data-replayed="{value}" style="font-size:{style.SMALL_FONT_SIZE + 1}px; '
+            f'color:{style.INK}">{text}</div>')
 
 
 def _mini_pitch(geometry: PitchGeometry, observation: Observation, g: int, goals: int, ended: str | None,
@@ -125,6 +123,8 @@ class PopulationPanel:
         self.game: GameConfig | None = None  # the shown run's
         self.geometry = PitchGeometry.from_world(world)
         self.caption = gui.add_html("")
+        self.replay_button = gui.add_button("Measure these players", visible=False)  # never "play": tests find Play
+        self.replay_button.on_click(lambda _: self.ask_replay())
         self.grid = gui.add_html(
             f'<div style="{style.FONT}; color:{style.MUTED}; font-size:{style.FONT_SIZE}px">{escape(EMPTY_TEXT)}</div>'
         )
@@ -134,13 +134,15 @@ class PopulationPanel:
         # and the run that ended with how it ended.
         self._pending: tuple[int, int, Sequence["SampledPlayer"]] | None = None
         self._ended: tuple[int, str] | None = None
+        self._replay_asked = False  # set by the button's thread
         self._pending_lock = threading.Lock()
         self._shown: tuple[int, int, int, int] | None = None  # run id, generation, players, seed
         self._players: Sequence["SampledPlayer"] = ()
-        self._replaying = False  # the shown players' true quality is being re-played
+        self._outstanding: list[tuple[tuple, bool]] = []  # re-plays asked and not answered: (shown, everyone)
         self._player_qualities: list[TrueQuality | None] | None = None  # the shown players', once answered
-        self._arrived: tuple[tuple, list[TrueQuality | None]] | None = None  # set by the re-play thread
+        self._arrived: list[tuple[tuple, bool]] = []  # answered on the re-play thread, not picked up yet
         self._caption_key: tuple | None = None
+        self._measure: tuple[str, bool] | None = None  # the button's label and disabled, while shown
         self._last_render = 0.0
 
     def shown_players(self) -> tuple[int, int, Sequence["SampledPlayer"]] | None:
@@ -158,16 +160,24 @@ class PopulationPanel:
         with self._pending_lock:
             self._ended = (run_id, str(status))
 
+    def ask_replay(self) -> None:
+        """The button: the next frame asks for every shown player's true quality (off the frame loop)."""
+        with self._pending_lock:
+            self._replay_asked = True
+
     def advance(self, ticks: int) -> None:
         """Called by the session loop (under its lock) with the ticks the main pitch advanced."""
         with self._pending_lock:
             pending, self._pending = self._pending, None
-            arrived, self._arrived = self._arrived, None
+            arrived, self._arrived = self._arrived, []
+            asked, self._replay_asked = self._replay_asked, False
             ended = self._ended
         if pending is not None:
             self._rebuild(*pending)
-        if arrived is not None and arrived[0] == self._shown:  # not a generation shown before
-            self._player_qualities, self._replaying, self._caption_key = arrived[1], False, None
+        if arrived:
+            self._answered(arrived)
+        if asked and self._replays and not self._replaying_all:
+            self._replay_shown(everyone=True)
         if self.batch is None:
             return
         self._show_caption(ended)
@@ -178,29 +188,51 @@ class PopulationPanel:
             self._last_render = now
             qualities = (self._player_qualities or [None] * len(self.labels)) if self._replays else None
             self.grid.content = population_html(self.geometry, self.batch.observation, self.batch.state, self.labels,
-                                                qualities=qualities, replaying=self._replaying)
+                                                qualities=qualities)
 
     @property
     def _replays(self) -> bool:
         """Whether the shown players get a true quality (a SimpleSoccer run, with a re-player)."""
         return self.qualities is not None and self._shown is not None and self.replayable(self._shown[0])
 
+    @property
+    def _replaying(self) -> bool:
+        """A re-play of the shown players is under way."""
+        return any(shown == self._shown for shown, _ in self._outstanding)
+
+    @property
+    def _replaying_all(self) -> bool:
+        """A re-play the button asked for is under way (of these players, or of a generation shown before)."""
+        return any(everyone for _, everyone in self._outstanding)
+
+    def button_state(self) -> tuple[str, bool] | None:
+        """The button's label and whether it is disabled, None while hidden (the projector view shows it too)."""
+        return self._measure
+
     def player_qualities(self) -> list[TrueQuality | None] | None:
-        """The shown players' true quality, by rank (None: not re-played, the budget spent); None until answered."""
+        """The shown players' true quality, by rank (None: not re-played yet); None until first answered."""
         return self._player_qualities
 
-    def _replay_shown(self) -> None:
-        """Ask for the shown players' true quality: it arrives on the re-play thread, is shown next frame."""
-        self._player_qualities, self._replaying = None, self._replays
-        if not self._replaying:
-            return
+    def _replay_shown(self, everyone: bool = False) -> None:
+        """Ask for the shown players' true quality (`everyone`: all of them, else the share of the time pays
+        for): it arrives on the re-play thread, is shown next frame."""
         shown = self._shown
+        self._outstanding.append((shown, everyone))
 
-        def arrived(qualities: list[TrueQuality | None]) -> None:
+        def arrived(_: list[TrueQuality | None]) -> None:
             with self._pending_lock:
-                self._arrived = (shown, qualities)
+                self._arrived.append((shown, everyone))
 
-        self.qualities.request(shown[0], self.game, [p.rulebase for p in self._players], arrived)
+        self.qualities.request(shown[0], self.game, [p.rulebase for p in self._players], arrived, everyone)
+
+    def _answered(self, arrived: list[tuple[tuple, bool]]) -> None:
+        """Re-plays answered: the shown players' figures are the ones known now (an elite's from a generation
+        before, or a generation the button asked for that the grid has moved on from)."""
+        for answer in arrived:
+            self._outstanding.remove(answer)
+        if self._player_qualities is not None or any(shown == self._shown for shown, _ in arrived):
+            self._player_qualities = self.qualities.known(self._shown[0], [p.rulebase for p in self._players])
+        self._caption_key = None
 
     def _rebuild(self, run_id: int, generation: int, players: Sequence["SampledPlayer"]) -> None:
         shown = list(players)[: style.POPULATION_GRID[0] * style.POPULATION_GRID[1]]
@@ -211,30 +243,59 @@ class PopulationPanel:
         self.labels = [f"#{rank} · {player.fitness:.2f}" for rank, player in enumerate(shown, start=1)]
         self._shown = (run_id, generation, len(shown), seed)
         self._players = shown
-        self._replay_shown()
+        self._player_qualities = None
+        if self._replays:
+            self._replay_shown()
 
     def _show_caption(self, ended: tuple[int, str] | None) -> None:
         run_id, generation, count, seed = self._shown
         status = ended[1] if ended is not None and ended[0] == run_id else None
-        if (self._shown, status) == self._caption_key:
+        done = sum(q is not None for q in self._player_qualities or ())
+        key = (self._shown, status, done, self._replaying, self._replaying_all)
+        if key == self._caption_key:
             return
-        self._caption_key = (self._shown, status)
-        replayed = ""
-        if self._replays:
-            starts = self.qualities.starts
-            done = sum(q is not None for q in self._player_qualities or ())
-            replayed = (f" Under each, its fitness re-played on the same {starts} fresh starts as every run's best "
-                        "(mean ± spread), best-ranked first" + ("" if self.qualities.share is None else
-                                                                 f" within {self.qualities.share:.0%} of the time")
-                        + ": "
-                        + ("being re-played." if self._replaying else f"{done} of {count} re-played."))
+        self._caption_key = key
         when = (f"; the run {escape(status)} after this generation" if status is not None
                 else f" while generation {generation + 1} is evaluated")
         self.caption.content = (
             f'<div class="population-caption" data-run="{run_id}" data-generation="{generation}" '
             f'data-ended="{str(status is not None).lower()}" data-replaying="{str(self._replaying).lower()}" '
-            f'style="{style.FONT}; font-size:{style.FONT_SIZE}px">'
-            f"Run #{run_id}, generation {generation}: its {count} best players (rank · fitness), all from the "
-            f"start of seed {seed} in the run's game ({escape(rules_summary(self.game))}), played together by "
-            f"the batched engine{when}.{replayed}</div>"
+            f'data-replayed="{done}" style="{style.FONT}; font-size:{style.SMALL_FONT_SIZE + 1}px; '
+            f'color:{style.INK}">'
+            f"Run #{run_id}, generation {generation}: its {count} best players (rank · fitness), all from the start "
+            f"of seed {seed} in the run's game ({escape(rules_summary(self.game))}){when}."
+            f"{self._quality_sentence(count, done)}</div>"
         )
+        self._show_button(count, done)
+
+    def _quality_sentence(self, count: int, done: int) -> str:
+        """What the line under each pitch is, and how many players have one: said once, here."""
+        if not self._replays:
+            return ""
+        said = (f'<div style="margin-top:2px">Under each pitch: its fitness re-played on the '
+                f"same {self.qualities.starts} fresh starts as every run's best (mean ± spread)")
+        if self._replaying_all:
+            return said + f"; re-playing all {count}…</div>"
+        if done == count:
+            return said + ".</div>"
+        so_far = "re-playing the best" if self._replaying and done == 0 else f"{done} of {count} so far"
+        return said + f". {so_far}; the button measures the rest ({self._cost(count - done)}).</div>"
+
+    def _cost(self, players: int) -> str:
+        """e.g. '220 games, about 2.4 s': what re-playing `players` costs, measured by the last re-play."""
+        seconds = self.qualities.seconds_for(players)
+        took = "" if seconds is None else f", about {max(seconds, 0.1):.1f} s"
+        return f"{players * self.qualities.starts} games{took}"
+
+    def _show_button(self, count: int, done: int) -> None:
+        """'Measure these 12 on 20 fresh starts', with its cost; pressed once at a time, gone when all are known."""
+        button = self.replay_button
+        button.visible = self._replays and done < count
+        if not button.visible:
+            self._measure = None
+            return
+        button.label = f"Measure these {count} on {self.qualities.starts} fresh starts"
+        button.hint = (f"{self._cost(count - done)} on this machine, on a thread of their own: the pitches go on "
+                       "meanwhile. A player re-played before is not re-played again.")
+        button.disabled = self._replaying_all
+        self._measure = (button.label, button.disabled)
