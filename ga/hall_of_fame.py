@@ -14,10 +14,8 @@ from typing import Any
 
 import numpy as np
 
+from soccer_lab.ga.config import MAX_HALL_SAMPLE, MAX_HALL_SIZE
 from soccer_lab.ga.genes import GENE_DTYPE, GENE_WIDTH
-
-MAX_HALL_SIZE = 100
-MAX_HALL_SAMPLE = 20  # each is a match per evaluation: the cost grows with it
 
 
 @dataclass(frozen=True, eq=False)

@@ -116,10 +116,14 @@ class StoreWriter:
         self.run_id = run_id
         self.codec = codec
         self.notify = notify
+        self.opponents: list[str] | None = None  # whom the generation under way is scored against (co-evolution)
+
+    def on_opponents(self, generation: int, labels: list[str]) -> None:
+        self.opponents = labels
 
     def on_generation(self, stats: Any, population: list[Individual]) -> None:
         self._record(stats.to_dict(), generation_best(population), sample_players(population, self.codec),
-                     lineage_line(stats.generation, population))
+                     lineage_line(stats.generation, population, self.opponents))
 
     def restore(self, history: list[dict[str, Any]], best: Individual | None, lineage: dict[int, str]) -> None:
         """On resume: the generations the checkpoint holds but the store missed (the app ended
