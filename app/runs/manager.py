@@ -21,7 +21,7 @@ import logging
 import shutil
 import threading
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, Callable, Sequence
 
@@ -257,6 +257,8 @@ class RunManager:
         trial: TrialConfig | dict[str, Any] | None = None,
         start_servers: int | None = None,
         owner: int | None = None,
+        opponent: str | None = None,
+        coevolve: Any = None,
     ) -> RunRecord:
         """Start a new run of `algorithm` ("ga" or "random-search"), named `name` or, when None, by its
         settings. `ga`/`game`/`trial`: a GAConfig/GameConfig/TrialConfig or a dict of their fields (missing
@@ -264,8 +266,11 @@ class RunManager:
         (HOST:PORT, servers the user runs) or on `start_servers` (default 1) servers the run starts
         itself. Invalid values raise ValueError before anything is saved; a server another run plays on, or
         no rcssserver to start, raises RunStateError. `owner`: the student starting it (classroom mode), whose
-        run is bounded by `student_bounds` and who runs one at a time."""
-        settings = RunSettings.build(self._seeded(ga), game, env, servers, trial, algorithm, start_servers)
+        run is bounded by `student_bounds` and who runs one at a time. `opponent` (rule text): every evaluation a
+        match against that player; `coevolve` (CoevolutionConfig or its fields): matches against a hall of fame
+        founded by the opponent or the built-in demo."""
+        settings = RunSettings.build(self._seeded(ga), game, env, servers, trial, algorithm, start_servers,
+                                     opponent, coevolve)
         with self._lock:
             settings = self._placed(self._with_executable(self._check_student(owner, settings)))
             queued = self._must_queue()
@@ -508,8 +513,7 @@ class RunManager:
         """Games played elsewhere (game processes, Ray): the run is one worker, its chunks sent one at a time."""
         if self.remote_games is None or settings.env != SIMPLE or settings.ga.workers == 1:
             return settings
-        return RunSettings(settings.ga.model_copy(update={"workers": 1}), settings.game, settings.env,
-                           settings.servers, settings.trial, settings.algorithm, settings.start_servers)
+        return replace(settings, ga=settings.ga.model_copy(update={"workers": 1}))
 
     def _check_servers_free(self, settings: RunSettings) -> None:
         wanted = {parse_server(server) for server in settings.servers}
