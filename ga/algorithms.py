@@ -11,7 +11,8 @@ Co-evolution (`hall`, ga/hall_of_fame.py): before each generation is evaluated, 
 are drawn from the hall of fame with the same Generator, and the evaluator is asked for one against them
 (`evaluate.against(rulebases)`); after it, the generation's best joins the hall. The hall is part of the
 state, so a resumed co-evolution run continues bit for bit too. Callbacks with an `on_opponents(generation,
-labels)` method hear whom the generation is scored against, before it is evaluated.
+members)` method hear whom the generation is scored against (the hall of fame members drawn: each with its
+chromosome and label), before it is evaluated.
 
 `stop` is obeyed within a generation too (ga/evaluation.py plays it in chunks and checks between them,
 the behaviour seeds' games included): the generation in progress is abandoned and the run ends as it was
@@ -118,7 +119,7 @@ def _run(state: RunState, evaluate: Evaluator, callbacks: Iterable[Callback], ch
                 hall, opponents = hall.draw(rng)
                 evaluation.use(evaluate.against([codec.decode(member.chromosome) for member in opponents]))
                 for hear in hearing_opponents:
-                    hear(len(state.history), list(hall.drawn))
+                    hear(len(state.history), opponents)
             try:
                 population = _evaluated(population, evaluation, codec, rng)
                 behaviours = probe(population, evaluation) if probe is not None else NOT_MEASURED

@@ -118,8 +118,8 @@ class StoreWriter:
         self.notify = notify
         self.opponents: list[str] | None = None  # whom the generation under way is scored against (co-evolution)
 
-    def on_opponents(self, generation: int, labels: list[str]) -> None:
-        self.opponents = labels
+    def on_opponents(self, generation: int, members: list[Any]) -> None:
+        self.opponents = [member.label for member in members]
 
     def on_generation(self, stats: Any, population: list[Individual]) -> None:
         self._record(stats.to_dict(), generation_best(population), sample_players(population, self.codec),

@@ -280,8 +280,8 @@ class RunOutputs:
         if best is not None:
             self._keep_best(best, _found_in(folder.best_record(), best))
 
-    def on_opponents(self, generation: int, labels: list[str]) -> None:
-        self.opponents = labels
+    def on_opponents(self, generation: int, members: list[Any]) -> None:
+        self.opponents = [member.label for member in members]
 
     def on_generation(self, stats: Any, population: list[Individual]) -> None:
         self.statistics.append(stats.to_dict())

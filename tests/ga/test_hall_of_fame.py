@@ -54,8 +54,8 @@ class Heard:
     def __init__(self):
         self.opponents = {}
 
-    def on_opponents(self, generation, labels):
-        self.opponents[generation] = labels
+    def on_opponents(self, generation, members):
+        self.opponents[generation] = [member.label for member in members]
 
     def on_generation(self, stats, population):
         assert stats.generation in self.opponents  # heard before the generation was scored
