@@ -100,6 +100,11 @@ def run_trial(spec: TrialSpec, evaluate: Evaluator | None = None) -> TrialResult
     from soccer_lab.soccer.config import SOCCER_VOCABULARY
     from soccer_lab.soccer.evaluate import SimpleSoccerEvaluator
 
+    if spec.setting.coevolve is not None:  # the matches preset's co-evolved trials
+        from soccer_lab.app.experiment.matches import run_coevolution_trial
+
+        return run_coevolution_trial(spec)
+
     evaluate = evaluate or SimpleSoccerEvaluator(spec.game, SOCCER_VOCABULARY)
     if spec.checkpoint is not None and spec.checkpoint.is_file():
         results = [resume(spec.checkpoint, evaluate)]

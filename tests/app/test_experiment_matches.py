@@ -1,0 +1,106 @@
+"""The matches preset (app/experiment/matches.py): its settings, its co-evolved trials' crowd share by generation,
+its questions answered by matches between the trials' bests (the same folder, the same answers), with replicates;
+and the answers' logic on fabricated data."""
+
+from __future__ import annotations
+
+import csv
+import json
+
+import numpy as np
+import pytest
+
+from soccer_lab.app.experiment.executors import LocalExecutor
+from soccer_lab.app.experiment.figures import FIGURES_FOLDER
+from soccer_lab.app.experiment.matches import (NO_DIFFERENCE, head_to_head, kiddie_soccer, matches_answers,
+                                               matches_study)
+from soccer_lab.app.experiment.presets import (ALL_PLUS, ALONE, COEVOLUTION, COEVOLVED, MATCHES, SEEING,
+                                               ExperimentOptions, preset, presets)
+from soccer_lab.app.experiment.replicates import VERDICTS_FILE, run_replicates
+from soccer_lab.app.experiment.report import REPORT_MD
+from soccer_lab.app.experiment.runner import TRIALS_FOLDER, plan, run_experiment
+from soccer_lab.app.experiment.table import BestsTable
+from soccer_lab.app.experiment.verdicts import TOO_SMALL
+
+TINY = ExperimentOptions(trials=2, population=6, generations=3, max_ticks=80, seed=3, replays=2)
+
+
+def test_the_matches_preset_shares_its_alone_trials_with_initial_and_stays_out_of_all_plus():
+    full = preset(MATCHES, ExperimentOptions())
+    alone, coevolved, seeing = full.settings
+    assert [s.label for s in full.settings] == [ALONE, COEVOLVED, SEEING] and full.trials == 10
+    assert alone.key == preset("initial", ExperimentOptions()).settings[0].key  # the chapter's Table 2 trials
+    assert (coevolved.coevolve, seeing.coevolve) == (COEVOLUTION, COEVOLUTION)
+    assert not coevolved.see_opponent and seeing.see_opponent and len({s.key for s in full.settings}) == 3
+    assert coevolved.ga == alone.ga  # Table 2 in every setting: only whom it plays differs
+    assert coevolved.games == 4 * COEVOLUTION.hall_sample * alone.games
+    assert MATCHES not in {p.name for p in presets(ALL_PLUS, ExperimentOptions())}
+
+
+@pytest.fixture(scope="module")
+def tiny_run(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("matches")
+    return run_experiment(MATCHES, TINY, folder, LocalExecutor(2)), folder
+
+
+def test_a_shrunk_matches_run_records_the_crowd_share_and_answers_its_four_questions(tiny_run):
+    outcome, folder = tiny_run
+    answers = [(q.where, a) for q, a in outcome.report.answers if q.preset == MATCHES]
+    assert [where for where, _ in answers] == [f"SPEC 4.7 ({letter})" for letter in "abcd"]
+    assert all(a.verdict == TOO_SMALL and a.measured != "-" for _, a in answers)  # measured, not judged
+    spec = next(s for s in plan(MATCHES, TINY).specs if s.setting.label == SEEING)
+    record = json.loads((folder / TRIALS_FOLDER / f"{spec.name}.best.json").read_text())
+    assert len(record["crowd_share"]) == TINY.generations and all(0 <= s <= 1 for s in record["crowd_share"])
+    assert record["see_opponent"] is True and record["game"]["max_ticks"] == TINY.max_ticks
+    for kind in ("crowd_share", "head_to_head", "mean_fitness"):
+        assert (folder / FIGURES_FOLDER / f"{MATCHES}-{kind}.png").read_bytes().startswith(b"\x89PNG")
+    markdown = (folder / REPORT_MD).read_text()
+    assert "Does a co-evolved player beat the chapter's best" in markdown and "within 5 m of the ball" in markdown
+
+
+def test_the_same_folder_gives_the_same_matches(tiny_run):
+    _, folder = tiny_run
+    chosen = preset(MATCHES, TINY)
+    bests = BestsTable.read(folder / "bests.csv")
+    first, again = matches_study(folder, chosen, bests), matches_study(folder, chosen, bests)
+    assert len(first.against_demo) == len(first.coevolved_against_alone) == TINY.trials
+    np.testing.assert_array_equal(first.against_demo, again.against_demo)
+    np.testing.assert_array_equal(first.seeing_against_coevolved, again.seeing_against_coevolved)
+    assert set(first.crowd) == {COEVOLVED, SEEING} and first.crowd[COEVOLVED].shape == (TINY.trials, TINY.generations)
+
+
+def test_replicates_of_the_matches_preset_summarise_its_answers(tmp_path):
+    outcome = run_replicates(MATCHES, TINY.model_copy(update={"trials": 1, "generations": 2}), [0, 1], tmp_path,
+                             LocalExecutor(2))
+    with (tmp_path / VERDICTS_FILE).open(newline="") as handle:
+        rows = [row for row in csv.DictReader(handle) if row["preset"] == MATCHES]
+    assert len(rows) == 4 and all(row["seed 0"] and row["seed 1"] for row in rows)
+    assert len(outcome.replicates) == 2
+
+
+# ---- the answers on fabricated data ----------------------------------------------------------------------
+def test_head_to_head_says_who_wins_only_when_the_test_finds_it():
+    wins = head_to_head(np.array([0.5, 1.0, 0.75, 1.5, 0.25, 2.0, 0.6, 0.9]), "co-evolved", "alone", 0.7, "4 each")
+    assert wins.verdict == "yes: co-evolved beats alone" and "p = 0.00781" in wins.test and wins.reason
+    loses = head_to_head(-np.array([0.5, 1.0, 0.75, 1.5, 0.25, 2.0, 0.6, 0.9]), "alone", "the demo", 0.1, "20")
+    assert loses.verdict == "no: the demo beats alone"
+    even = head_to_head(np.array([0.5, -1.0, 0.75, -1.5, 0.25, -0.3, 0.6, -0.9]), "seeing", "co-evolved", 0.5, "4")
+    assert even.verdict == NO_DIFFERENCE and "could have detected a mean goal difference of about" in even.test
+    assert even.no_difference_found
+
+
+def test_kiddie_soccer_appears_and_passes_only_with_a_rise_then_a_fall():
+    rng = np.random.default_rng(0)
+    hump = 0.1 + 0.3 * np.sin(np.linspace(0, np.pi, 9)) + rng.uniform(0, 0.02, (8, 9))
+    assert kiddie_soccer({COEVOLVED: hump}).verdict == "appears and passes"
+    rising = np.linspace(0.1, 0.5, 9) + rng.uniform(0, 0.02, (8, 9))
+    assert kiddie_soccer({COEVOLVED: rising}).verdict == "appears, does not pass"
+    flat = 0.2 + rng.uniform(-0.05, 0.05, (8, 9))
+    assert kiddie_soccer({COEVOLVED: flat}).verdict.startswith("no rise")
+
+
+def test_an_empty_study_answers_not_run(tmp_path):
+    chosen = preset(MATCHES, TINY)
+    study = matches_study(tmp_path, chosen, BestsTable([]))
+    assert not study.played
+    assert {a.verdict for a in matches_answers(study).values()} == {"not run"}
