@@ -27,6 +27,7 @@ test could have detected (normal approximation, the trials counted at the rank t
 from __future__ import annotations
 
 import json
+import textwrap
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Sequence
@@ -36,7 +37,7 @@ from matplotlib.figure import Figure as MatplotlibFigure
 from matplotlib.ticker import MaxNLocator
 from scipy import stats
 
-from soccer_lab.app.experiment.figures import DPI, FIGURES_FOLDER, SIZE_INCHES, Figure
+from soccer_lab.app.experiment.figures import DPI, FIGURES_FOLDER, SIZE_INCHES, TITLE_CHARACTERS, Figure
 from soccer_lab.app.experiment.presets import ALONE, COEVOLVED, MATCHES, SEEING, Preset
 from soccer_lab.app.experiment.table import SEED, SETTING, TRIAL, BestsTable
 from soccer_lab.app.experiment.verdicts import ALPHA, NOT_RUN, POWER, RANK_EFFICIENCY, Assessment
@@ -306,7 +307,7 @@ def write_matches_figures(study: MatchesStudy, folder: Path) -> list[Figure]:
     if study.crowd:
         figures.append(_save(_crowd_figure(study), folder, "crowd_share",
                              f"Kiddie soccer: share of ticks both players are within {CROWD_DISTANCE:g} m of the "
-                             "ball, by generation (co-evolved runs)"))
+                             "ball, by generation (co-evolved runs; thick: median over trials, faint: each trial)"))
     groups = {"(a) alone vs the demo": study.against_demo, "(b) co-evolved vs alone": study.coevolved_against_alone,
               "(d) seeing vs co-evolved": study.seeing_against_coevolved}
     if any(len(v) for v in groups.values()):
@@ -316,7 +317,7 @@ def write_matches_figures(study: MatchesStudy, folder: Path) -> list[Figure]:
 
 
 def _save(figure: MatplotlibFigure, folder: Path, kind: str, caption: str) -> Figure:
-    figure.suptitle(caption, fontsize=10)
+    figure.suptitle(textwrap.fill(caption, TITLE_CHARACTERS, break_on_hyphens=False), fontsize=10)
     relative = Path(FIGURES_FOLDER) / f"{MATCHES}-{kind}.png"
     figure.savefig(folder / relative, metadata={"Software": None})
     return Figure(relative, caption)
@@ -330,7 +331,7 @@ def _crowd_figure(study: MatchesStudy) -> MatplotlibFigure:
         for curve in curves:
             axes.plot(generations, 100 * curve, color=colour, alpha=0.2, linewidth=0.8)
         axes.plot(generations, 100 * np.nanmedian(curves, axis=0), color=colour, linewidth=2,
-                  label=f"{setting} (median of {len(curves)} trials; faint: each trial)")
+                  label=setting.replace(", ", ",\n") + f"\n({len(curves)} trials)")
     axes.set_xlabel("generation")
     axes.set_ylabel("ticks both near the ball (%)")
     axes.xaxis.set_major_locator(MaxNLocator(integer=True))
