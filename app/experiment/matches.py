@@ -365,6 +365,17 @@ QUESTION_TEXTS = (
 )
 
 
+def matches_questions(folder: Path, preset: Preset, bests: BestsTable) -> tuple[tuple[Any, ...], MatchesStudy]:
+    """The preset's questions as the report asks them (app/experiment/beyond.py's Question, each answering with
+    the study's assessment), and the study: its matches played now."""
+    from soccer_lab.app.experiment.beyond import Question
+
+    study = matches_study(folder, preset, bests)
+    answers = matches_answers(study)
+    return tuple(Question(MATCHES, f"SPEC 4.7 ({letter})", text, lambda *_, a=answers[letter]: a)
+                 for letter, text in QUESTION_TEXTS), study
+
+
 def matches_answers(study: MatchesStudy) -> dict[str, Assessment]:
     return {
         "a": head_to_head(study.against_demo, "alone", "the demo", study.wins.get("a"),

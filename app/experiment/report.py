@@ -33,7 +33,7 @@ from typing import Callable
 import numpy as np
 from scipy import stats
 
-from soccer_lab.app.experiment.beyond import BEYOND_INTRODUCTION, QUESTIONS, Question, assess_questions
+from soccer_lab.app.experiment.beyond import BEYOND_INTRODUCTION, QUESTIONS, assess_questions
 from soccer_lab.app.experiment.figures import Figure, write_figures
 from soccer_lab.app.experiment.presets import ANSWERED_NAMES, MATCHES, ROBOCUP, Preset
 from soccer_lab.app.experiment.table import BestsTable, StatisticsTable
@@ -555,14 +555,11 @@ def write_report(table: StatisticsTable, presets: list[Preset], folder: Path,
     figures = {p.name: write_figures(table, p, folder, bests) for p in present}
     questions = QUESTIONS
     for preset in (p for p in present if p.name == MATCHES):  # its questions are answered by matches played now
-        from soccer_lab.app.experiment.matches import QUESTION_TEXTS, matches_answers, matches_study, \
-            write_matches_figures
+        from soccer_lab.app.experiment.matches import matches_questions, write_matches_figures
 
-        study = matches_study(folder, preset, bests)
+        asked, study = matches_questions(folder, preset, bests)
         figures[preset.name] += write_matches_figures(study, folder)
-        answers = matches_answers(study)
-        questions += tuple(Question(MATCHES, f"SPEC 4.7 ({letter})", text, lambda *_, a=answers[letter]: a)
-                           for letter, text in QUESTION_TEXTS)
+        questions += asked
     report = Report(assess_findings(table, presets), [f for p in present for f in figures[p.name]],
                     assess_questions(table, bests, present, questions))
     blocks = _blocks(table, bests, present, figures, report)

@@ -113,8 +113,9 @@ class EvolvePanel:
         self.opponent = gui.add_dropdown("Opponent", (ALONE, FIXED, COEVOLVE), initial_value=ALONE,
                                          hint="Alone: the chapter's games. Otherwise every evaluation is matches: "
                                               "against one player, or against earlier generations' bests")
-        self.opponent_player = gui.add_dropdown("Opponent player (co-evolve: generation 0's)", ORDER,
-                                                initial_value=DEMO, hint="An example player")
+        self.opponent_player = gui.add_dropdown("Opponent player", ORDER, initial_value=DEMO,
+                                                hint="An example player; co-evolving, generation 0's opponent, "
+                                                     "kept in the hall of fame")
         hall = CoevolutionConfig.model_fields
         self.hall_size = NumberField.for_field(gui, "Hall of fame size", hall["hall_size"],
                                                hint=hall["hall_size"].description)
