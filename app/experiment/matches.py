@@ -86,7 +86,7 @@ class CrowdMeter:
 def run_coevolution_trial(spec: Any) -> Any:
     """A co-evolved trial of the matches preset: Table 2 against a hall of fame founded by the built-in demo, its
     crowd share by generation, its best re-played in one match against the demo from each replay start."""
-    from soccer_lab.app.experiment.runner import TrialResult, best_record
+    from soccer_lab.app.experiment.trial_result import TrialResult, best_record
     from soccer_lab.fuzzy.vocabulary import Vocabulary
     from soccer_lab.ga.algorithms import evolve
     from soccer_lab.ga.codec import ChromosomeCodec
@@ -192,7 +192,7 @@ def _game(folder: Path, preset: Preset, bests: BestsTable) -> Any:
 
 
 def match_seeds(trial_seed: int, count: int) -> list[int]:
-    from soccer_lab.app.experiment.runner import derived_seeds
+    from soccer_lab.app.experiment.trial_result import derived_seeds
 
     return derived_seeds(trial_seed, MATCHES_KEY, count)
 

@@ -28,12 +28,12 @@ from datetime import datetime, timezone
 from pathlib import Path
 from typing import Any, Iterable, Protocol
 
-import numpy as np
 
 from soccer_lab.app.experiment.presets import (RCSS_TRIAL, ROBOCUP, ExperimentOptions, Preset, Setting, presets,
                                                trial_seed)
 from soccer_lab.app.experiment.table import ALGORITHM, PRESET, SEED, SETTING, TRIAL, BestsTable, StatisticsTable
-from soccer_lab.ga.config import SEED_BOUND, GAConfig
+from soccer_lab.app.experiment.trial_result import TrialResult, best_record, derived_seeds
+from soccer_lab.ga.config import GAConfig
 from soccer_lab.ga.evaluation import Evaluator
 from soccer_lab.ga.state import GA
 from soccer_lab.soccer.config import GameConfig
@@ -80,18 +80,6 @@ class TrialSpec:
         return derived_seeds(self.seed, REPLAY_KEY, self.replays)
 
 
-def derived_seeds(seed: int, key: int, count: int) -> list[int]:
-    """`count` seeds drawn from (seed, key): apart from every seed the run itself draws."""
-    state = np.random.SeedSequence(seed, spawn_key=(key,)).generate_state(count, np.uint64)
-    return [int(value) % SEED_BOUND for value in state]
-
-
-@dataclass(frozen=True)
-class TrialResult:
-    rows: list[dict[str, Any]]  # statistics per generation (restarts one after another)
-    best: dict[str, Any]  # the best player, the fitness the GA saw and its replays (trials/*.best.json)
-
-
 def run_trial(spec: TrialSpec, evaluate: Evaluator | None = None) -> TrialResult:
     """One whole GA (or random search) run, or one per restart; then its best re-played. Runs in a
     worker process or Ray task with SimpleSoccer games, or with `evaluate` (trials on rcssservers) in
@@ -128,24 +116,6 @@ def _one_after_another(histories: list[list[dict[str, Any]]]) -> list[dict[str, 
                   "evaluations": before["evaluations"] + row["evaluations"],
                   "wall_time": before["wall_time"] + row["wall_time"]} for row in history]
     return rows
-
-
-def best_record(result: Any, rows: list[dict[str, Any]], replay: Evaluator, seeds: list[int]) -> dict[str, Any]:
-    """The trial's best: what the GA saw, its replays (app/runs/true_quality.py) and its rules, as a rulebase
-    file every tool opens (trials/*.best.json: the rulebase JSON with the trial's figures beside it)."""
-    from soccer_lab.app.rulebase_files import rulebase_json
-    from soccer_lab.app.runs.true_quality import replayed_quality
-    from soccer_lab.fuzzy.printer import format_rulebase
-
-    best = result.best
-    quality = replayed_quality(result.best_rulebase, replay, seeds)
-    return {**json.loads(rulebase_json(result.best_rulebase, result.vocabulary)),
-            "generation": next(row["generation"] for row in rows if row["best"] <= best.fitness),
-            "fitness_seen": best.fitness, "evaluations_seen": best.evaluations, "replays": quality.starts,
-            "replay_fitness": quality.fitness, "replay_fitness_std": quality.fitness_std,
-            "replay_goals": quality.goals, "replay_scoring": quality.scoring,
-            "chromosome": best.chromosome.tolist(),
-            "rule_text": format_rulebase(result.best_rulebase, result.vocabulary)}
 
 
 @dataclass(frozen=True)
