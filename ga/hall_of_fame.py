@@ -42,7 +42,7 @@ class HallOfFame:
     sample: int  # members each generation is scored against
     founder: HallMember
     bests: tuple[HallMember, ...] = ()  # oldest first
-    drawn: tuple[str, ...] = ()  # the labels of the members the last generation was scored against
+    drawn: tuple[HallMember, ...] = ()  # the members the last generation was scored against (one may have left)
 
     def __post_init__(self) -> None:
         if not 1 <= self.size <= MAX_HALL_SIZE:
@@ -62,7 +62,7 @@ class HallOfFame:
             chosen = list(members)
         else:
             chosen = [members[i] for i in sorted(rng.choice(len(members), size=self.sample, replace=False))]
-        return replace(self, drawn=tuple(m.label for m in chosen)), chosen
+        return replace(self, drawn=tuple(chosen)), chosen
 
     def with_best(self, chromosome: np.ndarray, generation: int) -> "HallOfFame":
         """The hall after a generation whose best is `chromosome`."""
@@ -73,12 +73,13 @@ class HallOfFame:
 
     def to_dict(self) -> dict[str, Any]:
         return {"size": self.size, "sample": self.sample, "founder": self.founder.to_dict(),
-                "bests": [member.to_dict() for member in self.bests], "drawn": list(self.drawn)}
+                "bests": [member.to_dict() for member in self.bests], "drawn": [m.to_dict() for m in self.drawn]}
 
     @classmethod
     def from_dict(cls, data: dict[str, Any]) -> "HallOfFame":
         return cls(int(data["size"]), int(data["sample"]), HallMember.from_dict(data["founder"]),
-                   tuple(HallMember.from_dict(m) for m in data["bests"]), tuple(str(d) for d in data["drawn"]))
+                   tuple(HallMember.from_dict(m) for m in data["bests"]),
+                   tuple(HallMember.from_dict(m) for m in data["drawn"]))
 
 
 def founded_hall(founder: np.ndarray, label: str, size: int, sample: int) -> HallOfFame:

@@ -55,19 +55,41 @@ TRIALS_FOLDER = "trials"  # app/experiment/runner.py's, where each trial's best.
 # ---- the co-evolved trials -----------------------------------------------------------------------------
 class CrowdMeter:
     """GA callback: after each generation, the share of ticks both players were near the ball in matches of
-    CROWD_PLAYERS of its players against the generation's opponents (each from the player's first seed)."""
+    CROWD_PLAYERS of its players against the generation's opponents (each from the player's first seed). With
+    a `path`, the shares so far are kept there after each generation (a checkpointed trial resumes with them,
+    `resumed`)."""
 
-    def __init__(self, game: Any, vocabulary: Any):
+    def __init__(self, game: Any, vocabulary: Any, path: Path | None = None, generations: int = 0):
         from soccer_lab.ga.codec import ChromosomeCodec
 
         self.game, self.vocabulary, self.codec = game, vocabulary, ChromosomeCodec(vocabulary)
         self.opponents: list[Any] = []
-        self.shares: list[float] = []
+        self.path = path
+        kept = json.loads(path.read_text()) if path is not None and path.is_file() else []
+        self.shares: list[float] = (kept + [float("nan")] * generations)[:generations]
 
     def on_opponents(self, generation: int, members: list[Any]) -> None:
         self.opponents = [self.codec.decode(member.chromosome) for member in members]
 
+    def resumed(self, state: Any) -> None:
+        """Continue after a checkpoint's `state`: the last generation's share, when a kill between the checkpoint
+        and the file lost it, measured again from the checkpoint's population and opponents."""
+        if self.shares and np.isnan(self.shares[-1]):
+            self.on_opponents(len(self.shares) - 1, list(state.hall.drawn))
+            self.shares[-1] = self.share(state.population)
+            self._keep()
+
     def on_generation(self, stats: Any, population: list[Any]) -> None:
+        self.shares.append(self.share(population))
+        self._keep()
+
+    def _keep(self) -> None:
+        if self.path is not None:
+            temporary = self.path.with_name(self.path.name + ".tmp")
+            temporary.write_text(json.dumps(self.shares))
+            temporary.replace(self.path)
+
+    def share(self, population: list[Any]) -> float:
         from soccer_lab.soccer.match import MatchBatch
 
         step = max(1, len(population) // CROWD_PLAYERS)
@@ -80,15 +102,17 @@ class CrowdMeter:
                     seeds += [seed, seed]
         halves = MatchBatch(pairs, seeds, self.game, self.vocabulary).run() if pairs else []
         ticks = sum(h.ticks for h in halves)
-        self.shares.append(sum(h.crowded for h in halves) / ticks if ticks else 0.0)
+        return sum(h.crowded for h in halves) / ticks if ticks else 0.0
 
 
 def run_coevolution_trial(spec: Any) -> Any:
     """A co-evolved trial of the matches preset: Table 2 against a hall of fame founded by the built-in demo, its
-    crowd share by generation, its best re-played in one match against the demo from each replay start."""
-    from soccer_lab.app.experiment.trial_result import TrialResult, best_record
+    crowd share by generation, its best re-played in one match against the demo from each replay start. With
+    the spec's checkpoint, checkpointed after every generation, and continued from it when it is there."""
+    from soccer_lab.app.experiment.trial_result import TrialResult, best_record, crowd_file
     from soccer_lab.fuzzy.vocabulary import Vocabulary
-    from soccer_lab.ga.algorithms import evolve
+    from soccer_lab.ga.algorithms import evolve, resume
+    from soccer_lab.ga.checkpoint import load_checkpoint
     from soccer_lab.ga.codec import ChromosomeCodec
     from soccer_lab.ga.hall_of_fame import founded_hall
     from soccer_lab.soccer.config import SOCCER_VOCABULARY
@@ -99,9 +123,16 @@ def run_coevolution_trial(spec: Any) -> Any:
     demo = _demo()
     hall = founded_hall(ChromosomeCodec(vocabulary).encode(demo), DEMO_LABEL, setting.coevolve.hall_size,
                         setting.coevolve.hall_sample)
-    meter = CrowdMeter(spec.game, vocabulary)
-    result = evolve(spec.config, HallEvaluator(config=spec.game, vocabulary=vocabulary), vocabulary, hall=hall,
-                    callbacks=[meter])
+    evaluate = HallEvaluator(config=spec.game, vocabulary=vocabulary)
+    checkpoint = spec.checkpoint
+    if checkpoint is not None and checkpoint.is_file():
+        state = load_checkpoint(checkpoint)
+        meter = CrowdMeter(spec.game, vocabulary, crowd_file(checkpoint), len(state.history))
+        meter.resumed(state)
+        result = resume(checkpoint, evaluate, callbacks=[meter])
+    else:
+        meter = CrowdMeter(spec.game, vocabulary, crowd_file(checkpoint) if checkpoint is not None else None)
+        result = evolve(spec.config, evaluate, vocabulary, hall=hall, callbacks=[meter], checkpoint=checkpoint)
     rows = [stats.to_dict() for stats in result.history]
     replay = MatchEvaluator(demo, spec.game.model_copy(update={"games_per_evaluation": 1}), vocabulary)
     best = best_record(result, rows, replay, spec.replay_seeds())

@@ -13,8 +13,8 @@ skipped, the load average before and after): a resumed experiment's wall time is
 Resuming is running again into the same folder: finished trial files are read, not recomputed. The
 folder's manifest.json records the options that fix the trials' results; another experiment with
 the same options (say `all` after `selection`) reuses the trials they share. A trial on rcssserver
-(hours at the chapter's size) also checkpoints its GA after every generation into
-trials/<setting key>-<trial>.checkpoint and continues from there.
+(hours at the chapter's size), and a co-evolved trial of the matches preset, also checkpoints its GA after
+every generation into trials/<setting key>-<trial>.checkpoint and continues from there.
 """
 
 from __future__ import annotations
@@ -32,7 +32,7 @@ from typing import Any, Iterable, Protocol
 from soccer_lab.app.experiment.presets import (RCSS_TRIAL, ROBOCUP, ExperimentOptions, Preset, Setting, presets,
                                                trial_seed)
 from soccer_lab.app.experiment.table import ALGORITHM, PRESET, SEED, SETTING, TRIAL, BestsTable, StatisticsTable
-from soccer_lab.app.experiment.trial_result import TrialResult, best_record, derived_seeds
+from soccer_lab.app.experiment.trial_result import TrialResult, best_record, crowd_file, derived_seeds
 from soccer_lab.ga.config import GAConfig
 from soccer_lab.ga.evaluation import Evaluator
 from soccer_lab.ga.state import GA
@@ -184,6 +184,7 @@ class TrialFolder:
             writer.writerows(rows)
         temporary.replace(self.statistics(spec))  # the file exists only once whole: it marks the trial done
         self.checkpoint(spec).unlink(missing_ok=True)
+        crowd_file(self.checkpoint(spec)).unlink(missing_ok=True)
 
     def read(self, spec: TrialSpec) -> list[dict[str, str]]:
         with self.statistics(spec).open(newline="") as handle:
@@ -253,8 +254,9 @@ def run_trials_in(experiments: Iterable[tuple[Plan, Path]], executor: Any,
         for spec in experiment.specs:
             specs.append(spec)
             if not trials.finished(spec):
-                on_servers = spec.setting.trial is not None  # checkpointed after every generation
-                pending.append(replace(spec, checkpoint=trials.checkpoint(spec)) if on_servers else spec)
+                # long trials (on rcssserver, co-evolved) are checkpointed after every generation
+                long = spec.setting.trial is not None or spec.setting.coevolve is not None
+                pending.append(replace(spec, checkpoint=trials.checkpoint(spec)) if long else spec)
                 folders[spec.name, spec.seed] = trials  # a trial's seed differs between replicates
                 order[spec.name, spec.seed] = index
     pending.sort(key=lambda spec: (order[spec.name, spec.seed], -spec.setting.games))

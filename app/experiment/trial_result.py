@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import json
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -18,6 +19,11 @@ def derived_seeds(seed: int, key: int, count: int) -> list[int]:
     """`count` seeds drawn from (seed, key): apart from every seed the run itself draws."""
     state = np.random.SeedSequence(seed, spawn_key=(key,)).generate_state(count, np.uint64)
     return [int(value) % SEED_BOUND for value in state]
+
+
+def crowd_file(checkpoint: Path) -> Path:
+    """Where a checkpointed co-evolved trial keeps its crowd share by generation (app/experiment/matches.py)."""
+    return checkpoint.with_name(checkpoint.name + ".crowd")
 
 
 @dataclass(frozen=True)

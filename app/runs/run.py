@@ -267,7 +267,7 @@ class Run:
             return {}
         finished = len(state.history)
         lines = {g: line for g, line in LineageFile.read(self.folder.lineage).items() if g < finished}
-        drawn = list(state.hall.drawn) if state.hall is not None else None
+        drawn = [member.label for member in state.hall.drawn] if state.hall is not None else None
         lines.setdefault(finished - 1, lineage_line(finished - 1, state.population, drawn))
         return dict(sorted(lines.items()))
 

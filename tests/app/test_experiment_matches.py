@@ -104,3 +104,46 @@ def test_an_empty_study_answers_not_run(tmp_path):
     study = matches_study(tmp_path, chosen, BestsTable([]))
     assert not study.played
     assert {a.verdict for a in matches_answers(study).values()} == {"not run"}
+
+
+KILLED_TRIAL = """
+import sys, pickle
+from soccer_lab.app.experiment.matches import run_coevolution_trial
+run_coevolution_trial(pickle.loads(bytes.fromhex(sys.argv[1])))
+"""
+
+
+def test_a_killed_coevolved_trial_resumes_from_its_checkpoint_and_ends_as_the_uninterrupted_one(tmp_path):
+    import os
+    import pickle
+    import signal
+    import subprocess
+    import sys
+    import time
+    from dataclasses import replace
+
+    from soccer_lab.app.experiment.matches import run_coevolution_trial
+    from soccer_lab.app.experiment.trial_result import crowd_file
+
+    options = TINY.model_copy(update={"generations": 8})
+    spec = next(s for s in plan(MATCHES, options).specs if s.setting.label == COEVOLVED)
+    whole = run_coevolution_trial(replace(spec, checkpoint=tmp_path / "whole.checkpoint"))
+    checkpoint = tmp_path / "killed.checkpoint"
+    killed = replace(spec, checkpoint=checkpoint)
+    process = subprocess.Popen([sys.executable, "-c", KILLED_TRIAL, pickle.dumps(killed).hex()])
+    deadline = time.monotonic() + 300
+    while not (checkpoint.is_file() and len(json.loads(checkpoint.read_text())["history"]) >= 2):
+        assert process.poll() is None, "the trial ended before it could be killed"
+        assert time.monotonic() < deadline, "no checkpoint of generation 1"
+        time.sleep(0.01)
+    os.kill(process.pid, signal.SIGKILL)
+    process.wait()
+    assert len(json.loads(checkpoint.read_text())["history"]) < options.generations  # really mid-run
+    assert crowd_file(checkpoint).is_file()
+    resumed = run_coevolution_trial(killed)
+    drop = ("wall_time",)
+    assert [{k: v for k, v in row.items() if k not in drop} for row in resumed.rows] == \
+        [{k: v for k, v in row.items() if k not in drop} for row in whole.rows]
+    assert resumed.best["chromosome"] == whole.best["chromosome"]
+    assert np.allclose(resumed.best["crowd_share"], whole.best["crowd_share"], equal_nan=True)
+    assert len(resumed.best["crowd_share"]) == options.generations

@@ -78,7 +78,7 @@ def test_generation_0_plays_the_founder_then_the_hall_grows_with_distinct_bests_
     assert labels == sorted(labels, key=lambda label: int(label.rsplit(" ", 1)[1]))  # oldest first, the last kept
     chromosomes = [m.chromosome.tobytes() for m in hall.members]
     assert len(set(chromosomes)) == len(chromosomes)  # distinct players
-    assert list(hall.drawn) == heard.opponents[CONFIG.max_generations - 1]
+    assert [m.label for m in hall.drawn] == heard.opponents[CONFIG.max_generations - 1]
 
 
 def test_one_seed_fixes_a_coevolution_run_and_a_resumed_run_finishes_the_same(tmp_path):
