@@ -47,6 +47,13 @@ def test_evolve_coevolve_keeps_the_hall_in_run_json_and_lineage_names_each_gener
     shown = run_command("lineage", tmp_path / "run", "--generation", "2")
     assert shown.returncode == 0, shown.stderr
     assert f"gen   2: {', '.join(opponents[2])}" in shown.stdout and "gen   0: the built-in demo" in shown.stdout
+    import soccer_lab as sl
+
+    api = sl.evolve(population_size=8, generations=3, seed=1, max_ticks=100, workers=1,
+                    coevolve={"hall_size": 2, "hall_sample": 2}, out=tmp_path / "api")
+    cli = sl.open_run(tmp_path / "run")
+    assert [{k: v for k, v in row.items() if k != "wall_time"} for row in api.statistics] == \
+        [{k: v for k, v in row.items() if k != "wall_time"} for row in cli.statistics]  # Python's API, the same run
     with_opponent = run_command("evolve", *EVOLVE, "--coevolve", "--opponent", STRIKER, "--out", tmp_path / "striker")
     assert with_opponent.returncode == 0, with_opponent.stderr
     first = record_opponents(LineageFile.read(tmp_path / "striker" / "lineage.jsonl")[0])
