@@ -5,8 +5,9 @@ not by hand (docs/hooks/matches_results.py reads the file).
     python scripts/matches_results.py EXPERIMENT_FOLDER --record --command "soccer-lab experiment matches ..."
 
 The record holds the command and size, each setting's finished trials against the plan (an unfinished run
-says how far it got), each invocation's wall time and load average (runs.jsonl), and, once every trial has
-finished, each question's answer, measured figures and test, as the report gives them.
+says how far it got), each invocation's wall time and load average (runs.jsonl), the crowd share by
+generation of the co-evolved trials finished so far (median over them), and, once every trial has finished,
+each question's answer, measured figures and test, as the report gives them.
 """
 
 from __future__ import annotations
@@ -17,6 +18,8 @@ import shutil
 import sys
 from datetime import datetime, timezone
 from pathlib import Path
+
+import numpy as np
 
 DOCS_IMAGES = Path(__file__).resolve().parent.parent / "docs" / "images" / "research"
 DOCS_RESULTS = Path(__file__).resolve().parent.parent / "docs" / "results" / "research"
@@ -31,6 +34,8 @@ def matches_record(folder: Path, command: str) -> dict:
     from soccer_lab.app.experiment.runner import MANIFEST, TrialFolder, assemble, assemble_bests, plan, read_runs
 
     options = ExperimentOptions.from_identity(json.loads((folder / MANIFEST).read_text()))
+    runs = read_runs(folder)  # the manifest leaves the trials out (more only add files): the last invocation's
+    options = options.model_copy(update={"trials": next((r["trials"] for r in reversed(runs) if r.get("trials")), None)})
     experiment = plan(MATCHES, options)
     trials = TrialFolder(folder)
     progress = []
@@ -39,6 +44,13 @@ def matches_record(folder: Path, command: str) -> dict:
         progress.append({"setting": setting.label, "trials": len(specs),
                          "finished": sum(trials.finished(spec) for spec in specs)})
     complete = all(p["finished"] == p["trials"] for p in progress)
+    crowd = {}
+    for setting in experiment.presets[0].settings:
+        shares = [json.loads(trials.best(m.spec).read_text())["crowd_share"] for m in experiment.memberships
+                  if m.setting == setting.label and setting.coevolve is not None and trials.best(m.spec).is_file()]
+        if shares:
+            crowd[setting.label] = {"trials": len(shares),
+                                    "median_by_generation": [float(np.nanmedian(g)) for g in zip(*shares)]}
     answers = []
     if complete:
         table, bests = assemble(experiment, folder), assemble_bests(experiment, folder)
@@ -50,7 +62,8 @@ def matches_record(folder: Path, command: str) -> dict:
     return {"command": command, "folder": folder.name, "recorded": datetime.now(timezone.utc).strftime("%Y-%m-%d %H:%M"),
             "size": {"population": options.population, "generations": options.generations,
                      "max_ticks": options.max_ticks, "replays": options.replays, "seed": options.seed},
-            "progress": progress, "complete": complete, "runs": read_runs(folder), "answers": answers}
+            "progress": progress, "complete": complete, "runs": runs, "crowd_share": crowd,
+            "answers": answers}
 
 
 def main() -> None:

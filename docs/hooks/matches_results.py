@@ -2,7 +2,8 @@
 docs/results/research/matches.json (what `python scripts/matches_results.py FOLDER --record` writes):
 
 - `<!-- generated: matches-run -->`: the command, the size, each setting's finished trials against the plan,
-  each invocation's wall time with the load average around it;
+  each invocation's wall time with the load average around it, and the crowd share by generation of the
+  co-evolved trials finished so far;
 - `<!-- generated: matches-answers -->`: each question's answer, measured figures and test, and the study's
   figures, once every trial has finished.
 
@@ -45,6 +46,16 @@ def run_section(study: dict) -> str:
                             run["cores"]] for run in study["runs"]]))
     else:
         text.append("No invocation of this folder finished with its wall time logged (runs.jsonl) yet.")
+    crowd = study.get("crowd_share", {})
+    if crowd:
+        generations = max(len(c["median_by_generation"]) for c in crowd.values())
+        shown = [g for g in range(generations) if g % 4 == 0 or g == generations - 1]
+        text.append("Kiddie soccer so far: the share of ticks both players are within 5 m of the ball, median over "
+                    "the co-evolved trials finished, by generation:\n\n"
+                    + table(["setting", "trials", *(f"gen {g}" for g in shown)],
+                            [[setting, c["trials"], *(f"{c['median_by_generation'][g]:.1%}"
+                                                      if g < len(c["median_by_generation"]) else "-" for g in shown)]
+                             for setting, c in crowd.items()]))
     return "\n\n".join(text)
 
 

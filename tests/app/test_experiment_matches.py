@@ -147,3 +147,38 @@ def test_a_killed_coevolved_trial_resumes_from_its_checkpoint_and_ends_as_the_un
     assert resumed.best["chromosome"] == whole.best["chromosome"]
     assert np.allclose(resumed.best["crowd_share"], whole.best["crowd_share"], equal_nan=True)
     assert len(resumed.best["crowd_share"]) == options.generations
+
+
+def test_the_study_is_recorded_for_the_docs_with_how_far_it_got_and_its_answers(tiny_run, tmp_path):
+    """scripts/matches_results.py's record and docs/hooks/matches_results.py's tables: an unfinished study says
+    how far it got and shows the crowd share so far, a finished one its four answers."""
+    import importlib.util
+    import shutil
+    from pathlib import Path
+
+    def load(path: Path, name: str):
+        spec = importlib.util.spec_from_file_location(name, path)
+        module = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(module)
+        return module
+
+    root = Path(__file__).resolve().parents[2]
+    script = load(root / "scripts" / "matches_results.py", "matches_results_script")
+    hook = load(root / "docs" / "hooks" / "matches_results.py", "matches_results_hook")
+    _, folder = tiny_run
+    record = script.matches_record(folder, "soccer-lab experiment matches --trials 2")
+    assert record["complete"] and [a["where"] for a in record["answers"]] == [f"SPEC 4.7 ({x})" for x in "abcd"]
+    assert set(record["crowd_share"]) == {COEVOLVED, SEEING}
+    results = tmp_path / "matches.json"
+    results.write_text(json.dumps(record))
+    page = hook.render(f"{hook.RUN}\n\n{hook.ANSWERS}\n", results)
+    assert "Finished." in page and "Kiddie soccer so far" in page and "Does seeing the opponent help" in page
+    unfinished = tmp_path / "unfinished"
+    shutil.copytree(folder, unfinished)
+    next((unfinished / TRIALS_FOLDER).glob("*-coevolved-seeing-*-1.csv")).unlink()
+    partial = script.matches_record(unfinished, "")
+    assert not partial["complete"] and partial["answers"] == []
+    assert {p["setting"]: p["finished"] for p in partial["progress"]}[SEEING] == 1
+    results.write_text(json.dumps(partial))
+    page = hook.render(f"{hook.RUN}\n\n{hook.ANSWERS}\n", results)
+    assert "**Not finished**" in page and "No answers yet" in page
