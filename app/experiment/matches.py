@@ -43,6 +43,13 @@ from soccer_lab.app.experiment.table import SEED, SETTING, TRIAL, BestsTable
 from soccer_lab.app.experiment.verdicts import ALPHA, NOT_RUN, POWER, RANK_EFFICIENCY, Assessment
 from soccer_lab.soccer.match import CROWD_DISTANCE
 
+MATCHES_INTRODUCTION = (
+    "Not the chapter's future work but its background's next step (SPEC 4.7): players evolved alone (Table 2, the "
+    "chapter's setting), co-evolved against a hall of fame of earlier bests founded by the built-in demo, and "
+    "co-evolved seeing the opponent, put on one pitch. A co-evolved run's fitness is over matches against its hall, "
+    "not comparable with a run's alone; its best is re-played against the demo. The questions are answered by "
+    "matches between the trials' bests played when this report was written, and the co-evolved runs' share of "
+    "ticks both players are near the ball by generation (kiddie soccer).")
 CROWD_PLAYERS = 10  # players of each co-evolved generation re-played against its opponents for the crowd share
 DEMO_MATCHES = 20  # matches each alone trial's best plays against the demo
 PAIR_MATCHES = 4  # matches between two trials' bests

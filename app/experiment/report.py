@@ -616,6 +616,10 @@ def _blocks(table: StatisticsTable, bests: BestsTable, presets: list[Preset], fi
         blocks += [("h2", "Beyond the chapter"), ("p", BEYOND_INTRODUCTION)]
         for preset in beyond:
             blocks.append(("h3", f"{preset.title} ({preset.name})"))
+            if preset.name == MATCHES:
+                from soccer_lab.app.experiment.matches import MATCHES_INTRODUCTION
+
+                blocks.append(("p", MATCHES_INTRODUCTION))
             blocks += _preset_blocks(table, bests, preset, figures[preset.name])
             answers = [(q, a) for q, a in report.answers if q.preset == preset.name]
             blocks.append(("table", ["chapter", "question", "answer here", "measured here", "test"],
