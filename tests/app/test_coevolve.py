@@ -115,3 +115,19 @@ def test_the_web_api_starts_a_coevolution_run_and_refuses_bad_hall_settings(tmp_
             refused = client.post("/api/runs", json={"ga": TINY_GA, **body})
             assert refused.status_code == 422, (body, refused.text)
         assert json.dumps(refused.json()).count("Traceback") == 0
+
+
+def test_a_students_coevolution_run_counts_its_matches_against_the_class_bound_and_keeps_them():
+    from soccer_lab.app.runs.manager import RunStateError
+    from soccer_lab.app.web.classroom.settings import ClassSettings
+
+    bound = ClassSettings(max_run_games=5_000)
+    small = RunSettings.build({"population_size": 100, "max_generations": 4, "workers": 2},
+                              coevolve={"hall_sample": 3})  # 100 x 4 x 3 matches x 2 halves = 2,400
+    kept = bound.check_student_run(small)
+    assert kept.coevolve == small.coevolve and kept.ga.workers == 1
+    alone = RunSettings.build({"population_size": 600, "max_generations": 4})  # 2,400 games alone
+    assert bound.check_student_run(alone).coevolve is None
+    with pytest.raises(RunStateError, match="14,400 games .*6 match halves x 1 games per evaluation.* 5,000"):
+        bound.check_student_run(RunSettings.build({"population_size": 600, "max_generations": 4},
+                                                  coevolve={"hall_sample": 3}))  # 14,400 halves

@@ -53,10 +53,11 @@ class ClassSettings(BaseModel):
         games = ga.population_size * ga.max_generations * (matches * game.games_per_evaluation + ga.behaviour_seeds)
         if games > self.max_run_games:
             behaviour = f" + {ga.behaviour_seeds} behaviour seeds" if ga.behaviour_seeds else ""
+            halves = f"{matches} match halves x " if matches > 1 else ""
             raise RunStateError(
                 f"this run would play up to {games:,} games (population {ga.population_size} x {ga.max_generations} "
-                f"generations x ({game.games_per_evaluation} games per evaluation{behaviour})); a student's run "
-                f"plays at most {self.max_run_games:,}: make it smaller")
+                f"generations x ({halves}{game.games_per_evaluation} games per evaluation{behaviour})); a student's "
+                f"run plays at most {self.max_run_games:,}: make it smaller")
         if game.max_ticks > self.max_run_ticks:
             raise RunStateError(f"max_ticks {game.max_ticks} is over the class's {self.max_run_ticks} for a "
                                 "student's run")
