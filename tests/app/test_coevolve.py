@@ -54,6 +54,12 @@ def test_evolve_coevolve_keeps_the_hall_in_run_json_and_lineage_names_each_gener
     cli = sl.open_run(tmp_path / "run")
     assert [{k: v for k, v in row.items() if k != "wall_time"} for row in api.statistics] == \
         [{k: v for k, v in row.items() if k != "wall_time"} for row in cli.statistics]  # Python's API, the same run
+    from soccer_lab.app.lineage.family_tree import RunLineage
+    from soccer_lab.app.web.ui.panels.lineage import lineage_html
+
+    lineage = RunLineage.from_folder(tmp_path / "run")
+    shown_in_the_app = lineage_html(lineage.family_tree(lineage.place(2)), 1)  # the Lineage tab's view
+    assert f'data-generation="2">gen 2: {", ".join(opponents[2])}</div>' in shown_in_the_app
     with_opponent = run_command("evolve", *EVOLVE, "--coevolve", "--opponent", STRIKER, "--out", tmp_path / "striker")
     assert with_opponent.returncode == 0, with_opponent.stderr
     first = record_opponents(LineageFile.read(tmp_path / "striker" / "lineage.jsonl")[0])
