@@ -597,3 +597,37 @@ class HallEvaluator:
                           ticks=sum(h.ticks for h in halves) / matches,
                           min_ball_goal_distance=min(h.min_ball_goal_distance[i % 2] for i, h in enumerate(halves)),
                           end_reason=halves[0].end_reason)
+
+
+# ---- one half traced, for a recording's replay --------------------------------------------------------
+@dataclass(frozen=True)
+class MatchTrace:
+    """One half tick by tick in the pitch's frame (the left player's), as each tick began: each player's
+    position and facing (degrees), the ball, each side's goals so far."""
+
+    left: np.ndarray  # float[T, 3]: x, y, facing
+    right: np.ndarray  # float[T, 3]
+    ball: np.ndarray  # float[T, 2]
+    goals: np.ndarray  # int[T, 2]: left's, right's
+
+    def __len__(self) -> int:
+        return len(self.ball)
+
+
+def traced_half(left: Rulebase, right: Rulebase, seed: int, config: GameConfig,
+                vocabulary: Vocabulary) -> tuple[HalfResult, MatchTrace]:
+    """The first half of the match from `seed` (`left` on the left), played alone (so as in any batch) and
+    traced tick by tick."""
+    batch = MatchBatch([(left, right)], [seed], config, vocabulary)
+    rows = []
+    while not batch.finished:
+        left_body, _, ball_body, _, right_body, _ = batch.world.objects(0)
+        ox, oy = batch.world.pitches.offsets[0]
+        facing = batch.players.facing
+        rows.append((left_body.position.x - ox, left_body.position.y - oy, facing[0],
+                     right_body.position.x - ox, right_body.position.y - oy, (facing[1] + 180.0) % 360.0,
+                     ball_body.position.x - ox, ball_body.position.y - oy, batch.players.goals[0],
+                     batch.players.goals[1]))
+        batch.step()
+    table = np.array(rows, dtype=float).reshape(-1, 10)
+    return batch.result(0), MatchTrace(table[:, 0:3], table[:, 3:6], table[:, 6:8], table[:, 8:10].astype(np.int64))

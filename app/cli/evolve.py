@@ -384,17 +384,29 @@ def _summary(run: "Run", result: "RunResult") -> None:
     typer.echo(f"outputs in {folder.path}: {', '.join(p.name for p in _outputs(folder))}")
 
 
+def _match_replay_line(run: "Run") -> str:
+    """Where a match run's best player's first match is (its first half in the recording), and how to play it."""
+    game = run.best_game
+    if run.settings.coevolve is not None:
+        founder = "the --opponent" if run.settings.opponent else "soccer/data/examples/demo.rules"
+        line = (f"each evaluation was matches against the hall of fame (lineage.jsonl names each generation's "
+                f"opponents): soccer-lab match {run.folder.best_rules} {founder} plays the best against the first")
+    else:
+        line = (f"each evaluation was a match against the opponent: soccer-lab match {run.folder.best_rules} "
+                "OPPONENT.rules plays the best against it")
+    if game is None:
+        return line + "\nthe best player's first match cannot be replayed (whom it played was not heard: the run was resumed)"
+    trace = game.trace
+    return line + (f"\nreplay of the first half of the best player's first match (seed {game.seed}) in the recording: "
+                   f"{int(trace.goals[-1][0])}-{int(trace.goals[-1][1])}, {plural(game.result.kicks, 'kick')}, "
+                   f"{plural(game.result.ticks, 'tick')}")
+
+
 def _replay_line(run: "Run") -> str:
     game, rcss = run.best_game, run.settings.env == RCSS
     played = "trial" if rcss else "game"
-    if run.settings.coevolve is not None:
-        founder = "the --opponent" if run.settings.opponent else "soccer/data/examples/demo.rules"
-        return ("each evaluation was matches against the hall of fame (lineage.jsonl names each generation's "
-                f"opponents; the recording shows no match yet): soccer-lab match {run.folder.best_rules} "
-                f"{founder} plays the best against the first")
-    if run.settings.opponent:
-        return ("each evaluation was a match against the opponent (the recording shows no match yet): "
-                f"soccer-lab match {run.folder.best_rules} OPPONENT.rules plays the best against it")
+    if run.settings.coevolve is not None or run.settings.opponent:
+        return _match_replay_line(run)
     if game is None:
         why = ("it was not traced in this process: the run was resumed" if rcss
                else "its seed was not kept by the run it comes from")

@@ -199,17 +199,36 @@ class SimpleSoccerGames:
         else:
             yield SimpleSoccerEvaluator(self.game)
 
-    def replay(self, rulebase: "Rulebase", seed: int, vocabulary: "Vocabulary") -> Replay | None:
+    def replay(self, rulebase: "Rulebase", seed: int, vocabulary: "Vocabulary",
+               opponents: Sequence["Rulebase"] = ()) -> Replay | None:
         """The first game of the evaluation played from `seed` (its first of k games): a game depends only on
-        rulebase and seed, so this is the very game the GA scored. None against an opponent: the GA scored
-        a match, which the recording cannot show yet."""
+        rulebase and seed, so this is the very game the GA scored. Against an opponent, the first half of the
+        evaluation's first match (against the first of the hall's `opponents` drawn, co-evolving; None without
+        them), the player on the left: the very half the GA scored."""
         if self.opponent or self.coevolve is not None:
-            return None
+            return self._match_replay(rulebase, seed, vocabulary, opponents)
         from soccer_lab.soccer.engine import play_game
         from soccer_lab.soccer.evaluate import game_seeds
 
         first_game = game_seeds(seed, self.game.games_per_evaluation)[0]
         return Replay(first_game, *play_game(rulebase, first_game, self.game, trace=True, vocabulary=vocabulary))
+
+    def _match_replay(self, rulebase: "Rulebase", seed: int, vocabulary: "Vocabulary",
+                      opponents: Sequence["Rulebase"]) -> Replay | None:
+        from soccer_lab.soccer.engine import GameResult
+        from soccer_lab.soccer.evaluate import game_seeds
+        from soccer_lab.soccer.match import match_fitness, traced_half
+
+        if self.coevolve is None:
+            opponents = [opponent_rulebase(self.opponent)]
+        if not opponents:
+            return None  # co-evolving, and whom it played is not known here
+        first_match = game_seeds(seed, self.game.games_per_evaluation * (len(opponents) if self.coevolve else 1))[0]
+        half, trace = traced_half(rulebase, opponents[0], first_match, self.game, vocabulary)
+        fitness = match_fitness(half.goals[0] - half.goals[1], half.kicks[0], half.min_ball_goal_distance[0],
+                                self.game.world.pitch_length)
+        return Replay(first_match, GameResult(fitness, half.goals[0], half.kicks[0], half.ticks,
+                                              half.min_ball_goal_distance[0], half.end_reason), trace)
 
 
 @dataclass(frozen=True)

@@ -301,6 +301,10 @@ class GenerationReplays:
         self.codec = ChromosomeCodec(vocabulary)
         self.games: dict[tuple[bytes, int], Replay] = {}
         self.first_trials: dict[tuple[bytes, int], Replay] = {}  # traced first evaluations of the living
+        self.opponents: list[Any] = []  # co-evolution: the generation's opponents (the hall members drawn)
+
+    def on_opponents(self, generation: int, members: list[Any]) -> None:
+        self.opponents = [self.codec.decode(member.chromosome) for member in members]
 
     def on_generation(self, stats: Any, population: list[Individual]) -> None:
         self._keep_first_trials(population)
@@ -341,4 +345,11 @@ class GenerationReplays:
 
     def _played_again(self, individual: Individual) -> Replay | None:
         rulebase = self.codec.decode(individual.chromosome)
-        return self.environment.replay(rulebase, individual.first_seed, self.vocabulary) if len(rulebase) else None
+        if not len(rulebase):
+            return None
+        if isinstance(self.environment, SimpleSoccerGames) and self.environment.coevolve is not None:
+            # its first evaluation's opponents are known only when it was this generation's (a resumed run's
+            # earlier generations were played before the hall members were heard)
+            opponents = self.opponents if individual.evaluations == 1 else []
+            return self.environment.replay(rulebase, individual.first_seed, self.vocabulary, opponents)
+        return self.environment.replay(rulebase, individual.first_seed, self.vocabulary)

@@ -137,3 +137,34 @@ def test_a_students_coevolution_run_counts_its_matches_against_the_class_bound_a
     with pytest.raises(RunStateError, match="14,400 games .*6 match halves x 1 games per evaluation.* 5,000"):
         bound.check_student_run(RunSettings.build({"population_size": 600, "max_generations": 4},
                                                   coevolve={"hall_sample": 3}))  # 14,400 halves
+
+
+@pytest.mark.parametrize("coevolve", [None, {"hall_size": 2, "hall_sample": 2}], ids=["fixed opponent", "co-evolved"])
+def test_a_match_runs_recording_replays_each_generations_best_in_the_half_the_ga_scored(tmp_path, coevolve):
+    from soccer_lab.soccer.examples import example
+    from soccer_lab.soccer.config import SOCCER_VOCABULARY
+    from soccer_lab.soccer.match import MatchTrace, play_matches
+    from tests.app.test_recording import columns
+
+    striker = example("striker")
+    settings = RunSettings.build(GAConfig(population_size=6, max_generations=2, seed=4, workers=1),
+                                 GameConfig(max_ticks=80), opponent=striker.text, coevolve=coevolve)
+    run = Run.create(settings, tmp_path / "run")
+    with run.evaluator() as evaluate:
+        result = run.play(evaluate)
+    game = run.best_game
+    assert isinstance(game.trace, MatchTrace) and len(game.trace) == game.result.ticks + 1
+    # generation 0 played the fixed opponent, or the founder it gave the hall: its best's replay is the very
+    # first half the GA scored it on (one opponent, one match: the match's seed is the evaluation's own)
+    from soccer_lab.app.runs.outputs import GenerationBestsFile
+    from soccer_lab.ga.codec import ChromosomeCodec
+
+    first = dict(GenerationBestsFile.read(run.folder.generation_bests))[0]
+    scored = play_matches(ChromosomeCodec(SOCCER_VOCABULARY).decode(first.chromosome), striker.rulebase(SOCCER_VOCABULARY),
+                          [first.first_seed], settings.game, SOCCER_VOCABULARY)[0].halves[0]
+    goals = columns(run.folder.recording, "/replay/generation_0/score/goals")
+    assert len(goals["tick"]) == scored.ticks + 1 and goals["Scalars:scalars"][-1] == [float(scored.goals[0])]
+    for generation in range(2):
+        ball = columns(run.folder.recording, f"/replay/generation_{generation}/ball")
+        opponent = columns(run.folder.recording, f"/replay/generation_{generation}/opponent")
+        assert ball["tick"] and ball["tick"] == opponent["tick"]
