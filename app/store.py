@@ -96,6 +96,24 @@ MIGRATIONS: tuple[tuple[str, ...], ...] = (
     (  # a rulebase saved from a run's best keeps what it was measured at (app/runs/outputs.py's best_of_run)
         "ALTER TABLE rulebases ADD COLUMN best_of TEXT",
     ),
+    (  # the class knockout (app/web/classroom/knockout.py): its draw, and each tie as it finishes
+        """CREATE TABLE class_knockouts (
+            id INTEGER PRIMARY KEY AUTOINCREMENT,
+            created TEXT NOT NULL,
+            seed INTEGER NOT NULL,
+            best_of INTEGER NOT NULL,
+            game TEXT NOT NULL,
+            draw TEXT NOT NULL,
+            status TEXT NOT NULL,
+            finished TEXT,
+            error TEXT)""",
+        """CREATE TABLE class_knockout_ties (
+            knockout_id INTEGER NOT NULL REFERENCES class_knockouts(id) ON DELETE CASCADE,
+            round INTEGER NOT NULL,
+            tie INTEGER NOT NULL,
+            result TEXT NOT NULL,
+            PRIMARY KEY (knockout_id, round, tie))""",
+    ),
 )
 SCHEMA_VERSION = len(MIGRATIONS)
 
@@ -232,6 +250,33 @@ class RoundRecord:
 
     def to_dict(self) -> dict[str, Any]:
         return asdict(self)
+
+
+class KnockoutStatus(StrEnum):
+    PLAYING = "playing"
+    FINISHED = "finished"
+    FAILED = "failed"
+    INTERRUPTED = "interrupted"  # the app ended while it was played: started again, the same seed plays it again
+
+
+@dataclass(frozen=True)
+class KnockoutRecord:
+    """A class knockout: its seeded `draw` (one dict per entry, draw number 1 first), the ties played so far in
+    round and tie order (`ties`: one dict each, app/web/classroom/knockout.py's play_tie), and where it is."""
+
+    id: int
+    created: str
+    seed: int
+    best_of: int  # matches per tie
+    game: dict[str, Any]  # the GameConfig every match was played with
+    draw: list[dict[str, Any]]
+    status: KnockoutStatus
+    finished: str | None
+    error: str | None
+    ties: list[dict[str, Any]]
+
+    def to_dict(self) -> dict[str, Any]:
+        return {**asdict(self), "status": str(self.status)}
 
 
 def name_key(name: str) -> str:
@@ -605,6 +650,67 @@ class Store:
     def list_rounds(self) -> list[RoundRecord]:
         """Newest first."""
         return [_round_record(row) for row in self._query("SELECT * FROM class_rounds ORDER BY id DESC")]
+
+
+    # ---- classroom: knockouts ----------------------------------------------------------------------
+    def create_knockout(self, seed: int, best_of: int, game: dict[str, Any], draw: list[dict[str, Any]]) -> KnockoutRecord:
+        """A knockout about to be played (status playing, no tie yet)."""
+        with self._transaction() as cursor:
+            cursor.execute(
+                "INSERT INTO class_knockouts (created, seed, best_of, game, draw, status) VALUES (?, ?, ?, ?, ?, ?)",
+                (now(), int(seed), int(best_of), _json(game, "knockout game"), _json(draw, "knockout draw"),
+                 KnockoutStatus.PLAYING.value))
+            knockout_id = cursor.lastrowid
+        return self.get_knockout(knockout_id)
+
+    def record_tie(self, knockout_id: int, tie: dict[str, Any]) -> None:
+        """A finished tie (its dict has `round` and `tie`, numbered from 1)."""
+        with self._transaction() as cursor:
+            cursor.execute("INSERT INTO class_knockout_ties (knockout_id, round, tie, result) VALUES (?, ?, ?, ?)",
+                           (_valid_id(knockout_id), int(tie["round"]), int(tie["tie"]), _json(tie, "knockout tie")))
+
+    def end_knockout(self, knockout_id: int, status: KnockoutStatus, error: str | None = None) -> KnockoutRecord:
+        with self._transaction() as cursor:
+            cursor.execute("UPDATE class_knockouts SET status = ?, finished = ?, error = ? WHERE id = ?",
+                           (KnockoutStatus(status).value, now(), error, _valid_id(knockout_id)))
+            if cursor.rowcount == 0:
+                raise NotFound("knockout", knockout_id)
+        return self.get_knockout(knockout_id)
+
+    def mark_knockouts_interrupted(self) -> list[int]:
+        """Knockouts left playing by an app that ended: marked interrupted (not resumed: the teacher starts
+        one again, and the same seed plays the same matches). Their ids."""
+        with self._transaction() as cursor:
+            playing = (KnockoutStatus.PLAYING.value,)
+            ids = [row[0] for row in cursor.execute("SELECT id FROM class_knockouts WHERE status = ?", playing)]
+            cursor.execute("UPDATE class_knockouts SET status = ?, finished = ?, error = ? WHERE status = ?",
+                           (KnockoutStatus.INTERRUPTED.value, now(), "the app ended while it was played", *playing))
+        return ids
+
+    def get_knockout(self, knockout_id: int) -> KnockoutRecord:
+        rows = self._query("SELECT * FROM class_knockouts WHERE id = ?", (_valid_id(knockout_id),))
+        if not rows:
+            raise NotFound("knockout", knockout_id)
+        ties = self._query("SELECT result FROM class_knockout_ties WHERE knockout_id = ? ORDER BY round, tie",
+                           (knockout_id,))
+        return _knockout_record(rows[0], [json.loads(row["result"]) for row in ties])
+
+    def latest_knockout(self) -> KnockoutRecord | None:
+        rows = self._query("SELECT id FROM class_knockouts ORDER BY id DESC LIMIT 1")
+        return self.get_knockout(rows[0][0]) if rows else None
+
+    def list_knockouts(self) -> list[KnockoutRecord]:
+        """Newest first."""
+        ids = [row[0] for row in self._query("SELECT id FROM class_knockouts ORDER BY id DESC")]
+        return [self.get_knockout(knockout_id) for knockout_id in ids]
+
+
+def _knockout_record(row: sqlite3.Row, ties: list[dict[str, Any]]) -> KnockoutRecord:
+    values = dict(row)
+    values["game"] = json.loads(values["game"])
+    values["draw"] = json.loads(values["draw"])
+    values["status"] = KnockoutStatus(values["status"])
+    return KnockoutRecord(**values, ties=ties)
 
 
 def _round_record(row: sqlite3.Row) -> RoundRecord:

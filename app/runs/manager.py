@@ -26,6 +26,7 @@ from pathlib import Path
 from typing import Any, Callable, Sequence
 
 from soccer_lab.app.runs.environments import SIMPLE
+from soccer_lab.app.runs.listeners import Listeners
 from soccer_lab.app.paths import RUNS_FOLDER
 from soccer_lab.app.runs.run import Run, RunSettings
 from soccer_lab.app.runs.queue import QueuedRun, QueuePlace, RunPace, RunQueue, budget_ticks
@@ -204,6 +205,8 @@ class RunManager:
         self.max_concurrent_runs = max_concurrent_runs
         self.rcssserver = str(rcssserver) if rcssserver is not None else None
         self._active: dict[int, _ActiveRun] = {}
+        # every run thread until its very end: one that has left _active still writes its end status
+        self._threads: set[threading.Thread] = set()
         self.queue_runs = queue_runs
         self.new_seed = new_seed
         self._queue = RunQueue()
@@ -213,7 +216,7 @@ class RunManager:
         # function giving the evaluator that plays them elsewhere (app/runs/games.py: the class's game
         # processes, or Ray), one worker each
         self.remote_games: Callable[[Any], Any] | None = None
-        self._listeners: list[Listener] = []
+        self._listeners: Listeners[RunEvent] = Listeners("run")
         self._lock = threading.RLock()
         # Classroom mode: a student's run's settings as it may play them (app/web/classroom/settings.py), or
         # RunStateError saying which bound they pass
@@ -225,24 +228,10 @@ class RunManager:
     def add_listener(self, listener: Listener) -> Callable[[], None]:
         """Call `listener(event)` on every generation and status change (from the run's thread;
         keep it quick). Returns the function that removes it."""
-        with self._lock:
-            self._listeners.append(listener)
-
-        def remove() -> None:
-            with self._lock:
-                if listener in self._listeners:
-                    self._listeners.remove(listener)
-
-        return remove
+        return self._listeners.add(listener)
 
     def _notify(self, event: RunEvent) -> None:
-        with self._lock:
-            listeners = list(self._listeners)
-        for listener in listeners:
-            try:
-                listener(event)
-            except Exception:  # a broken listener (a closed browser tab) must not end the run
-                log.exception("run listener failed")
+        self._listeners.notify(event)
 
     # ---- starting, stopping, resuming -----------------------------------------------------
     def start(
@@ -333,12 +322,12 @@ class RunManager:
     def shutdown(self, *, wait: float = SHUTDOWN_WAIT_SECONDS) -> None:
         """interrupt_all, then give the runs' threads `wait` s in all to end (they are daemon threads: one
         still busy ends with the process, its last checkpoint kept)."""
-        with self._lock:
-            active = list(self._active.values())
         self.interrupt_all()
         deadline = time.monotonic() + wait
-        for run in active:
-            run.thread.join(max(0.0, deadline - time.monotonic()))
+        with self._lock:
+            threads = list(self._threads)
+        for thread in threads:
+            thread.join(max(0.0, deadline - time.monotonic()))
 
     def progress(self, run_id: int) -> GenerationProgress | None:
         """How far a running run's current generation is; None when it is not running."""
@@ -530,11 +519,19 @@ class RunManager:
         self._active[record.id] = _ActiveRun(thread, frozenset(parse_server(server) for server in settings.servers),
                                              owner=record.owner, expected_seconds=self.pace.seconds(settings),
                                              generations=settings.ga.max_generations, budget=budget_ticks(settings))
+        self._threads.add(thread)
         self._notify(RunEvent(record.id, RunStatus.RUNNING))
         thread.start()
 
     # ---- the run's thread -----------------------------------------------------------------
     def _run(self, record: RunRecord, settings: RunSettings, resume_run: bool) -> None:
+        try:
+            self._play_to_the_end(record, settings, resume_run)
+        finally:
+            with self._lock:
+                self._threads.discard(threading.current_thread())
+
+    def _play_to_the_end(self, record: RunRecord, settings: RunSettings, resume_run: bool) -> None:
         active = self._active[record.id]
         status, error = RunStatus.FINISHED, None
         try:

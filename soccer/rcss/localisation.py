@@ -98,6 +98,11 @@ class Pose(NamedTuple):
         angle = math.radians(self.body + direction)
         return self.x + distance * math.cos(angle), self.y + distance * math.sin(angle)
 
+    def turned_half(self) -> "Pose":
+        """The same pose in the pitch turned half a turn: the right side's own frame, in which it attacks +x
+        as side l does (flag names are global, so localisation gives the pose in side l's frame)."""
+        return Pose(-self.x, -self.y, normalise_angle(self.body + 180.0))
+
 
 def localise(see: See, head_angle: float = 0.0) -> Pose | None:
     """The pose that best explains the landmarks in view, or None with fewer than two of them."""

@@ -52,10 +52,13 @@ class Perception(NamedTuple):
 
 
 class WorldModel:
-    """Own pose and the ball's global position, from see messages and prediction in between."""
+    """Own pose and the ball's position, from see messages and prediction in between, in the player's own
+    frame: side l's (the server's global one), or for side r the pitch turned half a turn, so that either side
+    attacks +x (as a right-side player in SimpleSoccer's matches, soccer/match.py)."""
 
-    def __init__(self, params: ServerParams):
+    def __init__(self, params: ServerParams, side: str = "l"):
         self.params = params
+        self.right_side = side == "r"
         self.pose: Pose | None = None
         self.ball: tuple[float, float] | None = None  # global, where last seen
         self.ball_in_last_see = False
@@ -73,7 +76,10 @@ class WorldModel:
         see = cycle.see
         if see is None:
             return
-        self.pose = localise(see, head) or self.pose
+        seen_from = localise(see, head)
+        if seen_from is not None and self.right_side:
+            seen_from = seen_from.turned_half()
+        self.pose = seen_from or self.pose
         ball = see.ball
         near = ball or see.near_ball
         self.near_ball_distance = near.distance if near is not None else None
@@ -118,7 +124,8 @@ class RcssPlayer:
     """One fuzzy player: `decide(cycle)` returns this cycle's body command(s) as text."""
 
     def __init__(self, rulebase: Rulebase, params: ServerParams, vocabulary: Vocabulary = SOCCER_VOCABULARY,
-                 skills: str = GameConfig.model_fields["skills"].default):
+                 skills: str = GameConfig.model_fields["skills"].default, side: str = "l"):
+        """`side`: the server's side of the player's connection ("l" or "r"); it attacks the other side's goal."""
         layout = VocabularyLayout.from_vocabulary(vocabulary)  # refuses a vocabulary the skills cannot play
         compiled = compile_rulebases([rulebase], vocabulary)
         self.skill_set = skill_set_flags(skills)  # (assisted, goal_in_view_only)
@@ -128,7 +135,7 @@ class RcssPlayer:
         self.last_command: tuple[int, float, float, int] = (NONE, 0.0, 0.0, NO_OUTCOME)  # kind, value, direction, why
         self.last_sent: str | None = None
         self.params = params
-        self.world = WorldModel(params)
+        self.world = WorldModel(params, side)
         self.constants = world_constants(params)
         self.view_half_angle = VIEW_HALF_ANGLE["normal"]
         # the kernel's first arguments, made once: its work arrays (inputs, visible, strengths, outputs)

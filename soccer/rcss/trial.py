@@ -43,9 +43,9 @@ from soccer_lab.soccer.fitness import fitness as fitness_of
 from soccer_lab.soccer.rcss.client import PlayerCycle, Session, TrainerCycle
 from soccer_lab.soccer.rcss.errors import RcssConfigError
 from soccer_lab.soccer.rcss.localisation import PITCH_HALF_LENGTH, PITCH_HALF_WIDTH
+from soccer_lab.soccer.rcss.params import ServerParams
 from soccer_lab.soccer.rcss.player import RcssPlayer
 from soccer_lab.soccer.rcss.servers import NOISELESS_OPTIONS
-
 PLAY_ON = "play_on"
 BEFORE_KICK_OFF = "before_kick_off"  # the mode a new server starts in: the clock stands still, nothing moves
 CONTINUING_MODES = frozenset({PLAY_ON, "drop_ball"})  # the ball stays in play
@@ -302,15 +302,16 @@ def run_trial(session: Session, rulebase: Rulebase, seed: int, config: TrialConf
     scores the worst fitness unplayed. A server whose noise is not the trial's is refused (RcssConfigError)."""
     if len(rulebase) == 0:
         return TrialResult(fitness_of(config.fitness, 0, 0, 1, math.inf, 2 * PITCH_HALF_LENGTH), 0, 0, 0, "no rules", seed)
-    check_noise(session, config)
+    check_noise(session.server, session.params, config.noise)
     return Trial(session, rulebase, seed, config, trace).run()
 
 
-def check_noise(session: Session, config: TrialConfig) -> None:
-    if session.params.noise == config.noise:
+def check_noise(server: str, params: ServerParams, noise: bool, wanting: str = "the trials want") -> None:
+    """RcssConfigError unless the server (its `params`) adds noise exactly when `noise` says (a match's too)."""
+    if params.noise == noise:
         return
-    if config.noise:
-        raise RcssConfigError(f"rcssserver at {session.server} runs without noise, but the trials want the server's "
+    if noise:
+        raise RcssConfigError(f"rcssserver at {server} runs without noise, but {wanting} the server's "
                               "noise: start it with its default player_rand, ball_rand and kick_rand")
-    raise RcssConfigError(f"rcssserver at {session.server} adds noise, but the trials want none: start it with "
+    raise RcssConfigError(f"rcssserver at {server} adds noise, but {wanting} none: start it with "
                           + " ".join(f"{name}={value}" for name, value in NOISELESS_OPTIONS.items()))

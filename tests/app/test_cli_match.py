@@ -4,8 +4,10 @@ and the API agree, bad input is one line and exit status 2."""
 from __future__ import annotations
 
 import json
+import socket
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 import pytest
@@ -42,7 +44,8 @@ def test_the_api_gives_the_table_and_matches_the_command_prints():
     printed = json.loads(match(STRIKER, DEMO, *SHORT, "--seed", 2, "--json").stdout)
     played = sl.match(STRIKER, DEMO, matches=3, seed=2, max_ticks=300)
     assert printed["players"] == {"A": str(STRIKER), "B": str(DEMO)}
-    assert {k: v for k, v in printed.items() if k not in ("players", "seed")} == json.loads(json.dumps(
+    assert printed["env"] == "simple"
+    assert {k: v for k, v in printed.items() if k not in ("players", "seed", "env")} == json.loads(json.dumps(
         played.to_dict()))
     assert sum(m.goals[0] + m.goals[1] for m in played.matches) > 0
     assert played.a.goals_for == sum(m.goals[0] for m in played.matches)
@@ -66,6 +69,15 @@ def test_seeing_the_opponent_plays_rules_that_name_it(tmp_path):
     ([STRIKER, DEMO, "--max-ticks", "0"], "--max-ticks"),
     ([STRIKER, DEMO, "--skills", "magic"], "--skills"),
     ([STRIKER], "Missing argument"),
+    ([STRIKER, DEMO, "--env", "rcss", "--see-opponent", "--server", "127.0.0.1:6000"],
+     "--see-opponent: SimpleSoccer only, not with --env rcss"),
+    ([STRIKER, DEMO, "--rcssserver", "/usr/bin/rcssserver"], "--rcssserver needs --env rcss"),
+    ([STRIKER, DEMO, "--env", "rcss", "--server", "127.0.0.1:6000", "--server", "127.0.0.1:6010"],
+     "--server: a match plays on one server"),
+    ([STRIKER, DEMO, "--env", "rcss", "--server", "127.0.0.1:6000", "--rcssserver", "/usr/bin/rcssserver"],
+     "give one or the other"),
+    ([STRIKER, DEMO, "--env", "rcss", "--rcssserver", "/nowhere/rcssserver"], "no rcssserver: '/nowhere/rcssserver'"),
+    ([STRIKER, DEMO, "--env", "rcss", "--server", "127.0.0.1:9", "--max-ticks", "0"], "--max-ticks"),
 ])
 def test_bad_input_is_one_line_and_status_2(args, fragment):
     done = match(*args)
@@ -74,7 +86,12 @@ def test_bad_input_is_one_line_and_status_2(args, fragment):
 
 
 @pytest.mark.parametrize("arguments, error", [({"matches": 0}, ValueError), ({"seed": -1}, ValueError),
-                                              ({"max_ticks": 0}, ValueError), ({"colour": "red"}, TypeError)])
+                                              ({"max_ticks": 0}, ValueError), ({"colour": "red"}, TypeError),
+                                              ({"env": "robocup"}, ValueError),
+                                              ({"server": "127.0.0.1:6000"}, ValueError),
+                                              ({"env": "rcss", "see_opponent": True}, ValueError),
+                                              ({"env": "rcss", "colour": "red"}, TypeError),
+                                              ({"env": "rcss", "count_touches": True}, TypeError)])
 def test_the_api_refuses_bad_options(arguments, error):
     with pytest.raises(error):
         sl.match(STRIKER, DEMO, **arguments)
@@ -139,3 +156,17 @@ def test_the_api_refuses_an_opponent_with_no_rules(tmp_path):
     empty.write_text("\n")
     with pytest.raises(ValueError):
         sl.evolve(population_size=4, generations=1, opponent=empty, out=tmp_path / "run")
+
+
+def test_a_match_on_an_rcssserver_that_does_not_answer_is_one_line_within_seconds():
+    started = time.monotonic()
+    done = match(STRIKER, DEMO, "--env", "rcss", "--server", f"127.0.0.1:{silent_port()}")
+    assert done.returncode == 2 and "no reply from rcssserver at 127.0.0.1:" in done.stderr, done.stderr
+    assert len(done.stderr.strip().splitlines()) == 1 and time.monotonic() - started < 30
+
+
+def silent_port() -> int:
+    """A UDP port nobody answers on (bound and closed: free for a moment)."""
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as probe:
+        probe.bind(("127.0.0.1", 0))
+        return probe.getsockname()[1]

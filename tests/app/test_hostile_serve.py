@@ -84,7 +84,7 @@ def join_attempts_refused_by_rate(serve: Serve, attempts: int) -> int:
 def test_forwarded_for_does_not_make_a_new_visitor_per_request(tmp_path):
     serve = Serve(tmp_path, "--class", "--join-code", CODE, "--address", "127.0.0.1")
     try:
-        # a join attempt costs ten of a burst of sixty: the seventh from one address waits
+        # a wrong code costs ten of a burst of sixty: the seventh from one address waits
         assert join_attempts_refused_by_rate(serve, 12) >= 5
     finally:
         serve.stop()

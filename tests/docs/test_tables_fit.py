@@ -17,7 +17,7 @@ CHROMIUM_ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-backg
                  "--disable-component-update", "--disable-sync", "--no-first-run"]
 WINDOW = {"width": 1280, "height": 900}
 PAGES = ["research/calibration", "research/replicates", "research", "research/open-questions", "inspecting",
-         "performance", "robocup"]
+         "performance", "robocup", "teaching/match-day"]
 pytestmark = [
     pytest.mark.browser,
     pytest.mark.skipif(not Path(CHROMIUM).exists(), reason=f"Chromium not installed at {CHROMIUM}"),

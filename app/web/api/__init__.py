@@ -14,7 +14,7 @@ from soccer_lab.app.web.api.errors import MAX_BODY_BYTES, BodyGuard, install_err
 from soccer_lab.app.web.api.guard import RequestGuard
 from soccer_lab.app.web.api.models import ServerInfo
 from soccer_lab.app.web.api.routes import classroom as classroom_routes
-from soccer_lab.app.web.api.routes import experiments, lineage, rulebases, rules, runs, vocabulary
+from soccer_lab.app.web.api.routes import experiments, knockouts, lineage, rulebases, rules, runs, vocabulary
 from soccer_lab.app.web.api.ui_page import UI_PATH, ui_router
 from soccer_lab.app.web.origins import SiteAddresses
 from soccer_lab.app.web.rerun_viewer import VIEWER_PATH, viewer_home
@@ -71,6 +71,7 @@ def create_app(
         api.include_router(module.router)
     if classroom is not None:
         api.include_router(classroom_routes.router)
+        api.include_router(knockouts.router)
 
     @api.get("/server", tags=["server"], summary="Addresses of the UI, the rerun viewer and the API docs")
     def server() -> ServerInfo:

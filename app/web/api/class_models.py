@@ -1,4 +1,4 @@
-"""The classroom API's bodies (/api/class, classroom mode only): joining, entries, rounds, settings."""
+"""The classroom API's bodies (/api/class, classroom mode only): joining, entries, rounds, knockouts, settings."""
 
 from __future__ import annotations
 
@@ -8,7 +8,9 @@ from pydantic import BaseModel, Field, model_validator
 
 from soccer_lab.app.web.api.models import Name, Strict
 from soccer_lab.app.web.classroom.settings import ENTRY_MAX_CHARACTERS, MAX_STARTS, ClassSettings
-from soccer_lab.app.store import EntryRecord, RoundRecord
+from soccer_lab.app.store import EntryRecord, KnockoutRecord, RoundRecord
+from soccer_lab.app.web.classroom.knockout import DEFAULT_BEST_OF, MAX_BEST_OF, champion, rounds_of
+from soccer_lab.soccer.config import MAX_TICKS
 
 
 class JoinRequest(Strict):
@@ -102,3 +104,47 @@ class StudentOut(BaseModel):
     id: int
     name: str
     created: str
+
+
+class KnockoutStart(Strict):
+    """A class knockout of every entry (the teacher's)."""
+
+    best_of: int = Field(DEFAULT_BEST_OF, ge=1, le=MAX_BEST_OF, description="matches per tie: an odd number")
+    seed: int | None = Field(None, ge=0, lt=2**63, description="the draw's and the matches' seed; default: a "
+                                                                 "fresh one, shown and recorded")
+    max_ticks: int | None = Field(None, ge=1, le=MAX_TICKS, description="ticks a half at most; default and bound: "
+                                                                         "the class's max_run_ticks")
+
+
+class DrawPlace(BaseModel):
+    draw: int  # the place in the seeded draw: 1 first
+    entry_id: int
+    name: str
+    source: str
+
+
+class KnockoutOut(BaseModel):
+    """A knockout: its seeded draw, its ties as played so far (`ties`: round, tie, draw numbers a and b (None:
+    a bye), the matches with their seeds and goals (A's, B's), matches won, goals, the winner's draw number
+    and what decided it), and its champion once the final is played."""
+
+    id: int
+    created: str
+    seed: int
+    best_of: int
+    game: dict[str, Any]
+    status: str  # playing, finished, failed, interrupted
+    finished: str | None
+    error: str | None
+    rounds: int
+    draw: list[DrawPlace]
+    ties: list[dict[str, Any]]
+    champion: str | None
+    csv: str  # every match as CSV
+
+    @classmethod
+    def of(cls, record: KnockoutRecord, csv_url: str) -> "KnockoutOut":
+        winner = champion(record)
+        return cls(**{**record.to_dict(), "draw": [DrawPlace(**{k: place[k] for k in DrawPlace.model_fields})
+                                                   for place in record.draw]},
+                   rounds=rounds_of(len(record.draw)), champion=winner["name"] if winner else None, csv=csv_url)

@@ -13,9 +13,10 @@ In classroom mode (`classroom` given) every request must also come from a browse
 teacher's); only the join page, its style and icon, and the join requests themselves are open. A page asked
 for without them is sent to the join page (303, with the page to come back to), anything else is refused
 (401). Every visitor's request rate is bounded (429 with Retry-After), each request weighed by its cost
-before it is paid: a join attempt costs JOIN_ATTEMPT_COST requests (the code cannot be guessed quickly), a
-game-playing one PLAYING_REQUEST_COST, and a body one more per BODY_BYTES_PER_REQUEST bytes (a 1 MB body a
-visitor's whole burst). A visitor is their class cookie's, else the address that connected: forwarded-for
+before it is paid: a game-playing one costs PLAYING_REQUEST_COST, and a body one more per BODY_BYTES_PER_REQUEST bytes (a 1 MB body a
+visitor's whole burst). A join or teacher sign-in costs one, and a wrong code or token WRONG_GUESS_COST
+more once known (the route charges it, RATE_KEY_STATE names whom): the code cannot be guessed quickly, yet
+a pupil who mistyped it, or a class joining from one address, is not made to wait. A visitor is their class cookie's, else the address that connected: forwarded-for
 headers count only from the proxy `serve --trusted-proxy` names (uvicorn's setting, app/web/server.py). The admitted visitor is left in the request's state for the routes.
 """
 
@@ -28,7 +29,7 @@ from starlette.responses import RedirectResponse, Response
 from starlette.types import ASGIApp, Message, Receive, Scope, Send
 
 from soccer_lab.app.web.api.errors import MAX_BODY_BYTES, error_response
-from soccer_lab.app.web.classroom.admission import JOIN_ATTEMPT_COST
+from soccer_lab.app.web.classroom.admission import WRONG_GUESS_COST
 from soccer_lab.app.web.origins import SiteAddresses
 
 if TYPE_CHECKING:
@@ -46,7 +47,7 @@ JOIN_PAGE = "/join.html"
 # What a browser that has not joined may fetch: the join page and what it shows, and the join requests
 OPEN_TO_ALL = frozenset({("GET", JOIN_PAGE), ("GET", "/style.css"), ("GET", "/favicon.svg"),
                          ("POST", "/api/class/join"), ("POST", "/api/class/teacher")})
-JOIN_REQUESTS = frozenset({"/api/class/join", "/api/class/teacher"})
+RATE_KEY_STATE = "rate_key"  # where the guard leaves the visitor's rate key, for a charge after the fact
 # Requests that play games (seconds of CPU each) cost this many requests of a visitor's rate
 PLAYING_REQUESTS = frozenset({"/api/rules/usage", "/api/rules/simplify"})
 PLAYING_REQUEST_COST = 30
@@ -56,7 +57,7 @@ BODY_BYTES_PER_REQUEST = 4_000
 def request_cost(path: str, headers: dict[str, str], most: float) -> float:
     """What a request costs of its visitor's rate, known before its body is read: its kind, and its body's
     declared size (a body without Content-Length, streamed, is charged as the largest); at most `most`."""
-    kind = JOIN_ATTEMPT_COST if path in JOIN_REQUESTS else PLAYING_REQUEST_COST if path in PLAYING_REQUESTS else 1
+    kind = PLAYING_REQUEST_COST if path in PLAYING_REQUESTS else 1
     declared = headers.get("content-length", "")
     size = int(declared) if declared.isdigit() else MAX_BODY_BYTES if "transfer-encoding" in headers else 0
     return min(most, kind + size // BODY_BYTES_PER_REQUEST)
@@ -125,11 +126,12 @@ class RequestGuard:
         if wait is not None:
             seconds = max(1, round(wait + 0.5))
             refusal = error_response(429, f"too many requests: at most {classroom.rate.per_second:g} a second each (a "
-                                          f"game-playing request counts {PLAYING_REQUEST_COST}, a join attempt "
-                                          f"{JOIN_ATTEMPT_COST}, a body one more per {BODY_BYTES_PER_REQUEST:,} bytes); "
+                                          f"game-playing request counts {PLAYING_REQUEST_COST}, a wrong join code "
+                                          f"{WRONG_GUESS_COST}, a body one more per {BODY_BYTES_PER_REQUEST:,} bytes); "
                                           f"try again in {seconds} s")
             refusal.headers["Retry-After"] = str(seconds)
             return refusal
+        scope.setdefault("state", {})[RATE_KEY_STATE] = key
         if (method, path) in OPEN_TO_ALL:
             return None
         if visitor is None:

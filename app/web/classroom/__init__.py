@@ -6,5 +6,6 @@
   fixed bounds (entry size, request rate).
 - `rate.py`: each visitor's request rate.
 - `tournament.py`: entries, rounds played as one GameBatch, their ranked tables and CSV.
+- `knockout.py`: the class knockout: a seeded draw, ties of best-of-N matches, the bracket kept tie by tie, CSV.
 - `qr.py`: the QR code of the class's address, drawn by the app (no outside service).
 """

@@ -32,7 +32,7 @@ TEACHER_COOKIE = "soccer_lab_teacher"
 COOKIE_MAX_AGE = 12 * 3600  # a school day: a browser closed and opened again stays in the class
 CODE_ALPHABET = "ABCDEFGHJKMNPQRSTUVWXYZ23456789"  # no 0/O, 1/I/L: read off a projector
 CODE_LENGTH = 6
-JOIN_ATTEMPT_COST = 10  # a join or teacher attempt costs ten requests: guessing the code is slow
+WRONG_GUESS_COST = 10  # a wrong join code or teacher token costs ten requests: guessing is slow, joining is not
 TEACHER_NAME = "teacher"
 
 
@@ -55,6 +55,10 @@ def same_secret(given: str | None, secret: str) -> bool:
 
 class JoinRefused(ValueError):
     """A join or teacher attempt refused: the one line to show."""
+
+
+class WrongSecret(JoinRefused):
+    """A wrong join code or teacher token: a guess, charged WRONG_GUESS_COST of the visitor's rate."""
 
 
 @dataclass
@@ -84,7 +88,7 @@ class Classroom:
         that already joined (its student cookie) keeps its place and identity, renamed when the name differs,
         so one pupil is one account (`owner` of their runs) whatever names they try."""
         if not same_secret(code.strip().upper(), self.join_code):
-            raise JoinRefused("that is not this class's join code: check it on the teacher's screen")
+            raise WrongSecret("that is not this class's join code: check it on the teacher's screen")
         name = valid_display_name(name)
         token = cookie_parser(cookie_header or "").get(STUDENT_COOKIE)
         with self._joining:
@@ -120,7 +124,7 @@ class Classroom:
 
     def teacher_login(self, token: str) -> dict[str, str]:
         if not same_secret(token.strip(), self.teacher_token):
-            raise JoinRefused("that is not the teacher token `soccer-lab serve --class` printed")
+            raise WrongSecret("that is not the teacher token `soccer-lab serve --class` printed")
         return {JOIN_COOKIE: self.join_code, TEACHER_COOKIE: self.teacher_token}
 
 

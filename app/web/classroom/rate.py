@@ -32,6 +32,13 @@ class RateLimiter:
                 self._forget_idle(now)
             return None
 
+    def charge(self, key: str, cost: float) -> None:
+        """Spend `cost` more of `key`'s tokens after the fact, into debt if need be: its next requests wait."""
+        now = self._clock()
+        with self._lock:
+            tokens, when = self._buckets.get(key, (self.burst, now))
+            self._buckets[key] = (min(self.burst, tokens + (now - when) * self.per_second) - cost, now)
+
     def _forget_idle(self, now: float) -> None:
         for key, (tokens, when) in list(self._buckets.items()):
             if tokens + (now - when) * self.per_second >= self.burst:

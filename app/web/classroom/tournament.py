@@ -25,11 +25,13 @@ from statistics import fmean
 from typing import Any, Callable
 
 from soccer_lab.app.web.access import Forbidden, Visitor
+from soccer_lab.app.web.classroom.knockout import Knockout
 from soccer_lab.app.web.classroom.settings import (ENTRY_MAX_CHARACTERS, ENTRY_MAX_RULES, MAX_ENTRIES, MAX_STARTS,
                                                    ClassSettings)
 from soccer_lab.app.words import plural
+from soccer_lab.app.runs.listeners import Listeners
 from soccer_lab.app.runs.manager import RunStateError
-from soccer_lab.app.store import EntryRecord, NotFound, RoundRecord, Store, StoreError, name_key
+from soccer_lab.app.store import EntryRecord, KnockoutRecord, NotFound, RoundRecord, Store, StoreError, name_key
 from soccer_lab.fuzzy.parser import parse_rulebase
 from soccer_lab.fuzzy.rule import Rulebase
 from soccer_lab.fuzzy.vocabulary import Vocabulary
@@ -47,11 +49,13 @@ FORMULA_STARTS = ("=", "+", "-", "@", "\t", "\r")
 
 @dataclass(frozen=True)
 class TournamentEvent:
-    """What sessions hear: the entries changed, a round started, or a round's table is ready (`round`)."""
+    """What sessions hear: the entries changed, a round started, a round's table is ready (`round`), or the
+    knockout changed (`knockout`, as stored then: started, a tie played, ended)."""
 
-    kind: str  # "entries", "started", "finished", "failed"
+    kind: str  # "entries", "started", "finished", "failed", "knockout"
     round: RoundRecord | None = None
     message: str = ""
+    knockout: KnockoutRecord | None = None
 
 
 class Tournament:
@@ -61,30 +65,18 @@ class Tournament:
         self.vocabulary = vocabulary
         self.game = game  # the app's game; a round plays it with the class's skill set
         self._settings = settings
-        self._listeners: list[Callable[[TournamentEvent], None]] = []
+        self._listeners: Listeners[TournamentEvent] = Listeners("tournament")
         self._lock = threading.Lock()
         self._playing: threading.Thread | None = None
+        self.knockout = Knockout(store, vocabulary, self.round_game, lambda: self.settings.max_run_ticks,
+                                 lambda record: self._notify(TournamentEvent("knockout", knockout=record)))
 
     # ---- listeners ----
     def add_listener(self, listener: Callable[[TournamentEvent], None]) -> Callable[[], None]:
-        with self._lock:
-            self._listeners.append(listener)
-
-        def remove() -> None:
-            with self._lock:
-                if listener in self._listeners:
-                    self._listeners.remove(listener)
-
-        return remove
+        return self._listeners.add(listener)
 
     def _notify(self, event: TournamentEvent) -> None:
-        with self._lock:
-            listeners = list(self._listeners)
-        for listener in listeners:
-            try:
-                listener(event)
-            except Exception:  # a closed tab must not stop the others hearing
-                log.exception("tournament listener failed")
+        self._listeners.notify(event)
 
     # ---- entries ----
     def submit(self, visitor: Visitor, text: str, *, name: str | None = None, source: str = "rules") -> EntryRecord:

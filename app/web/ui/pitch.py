@@ -1,6 +1,8 @@
 """The top-down pitch in viser's 3D scene: the field (lines, goal), player with facing and view cone,
 ball and trail, each a flat picture (see pitch_pictures.py) but the trail, and what the player did this
-tick (an arrow or arc, and a label: command_mark.py). The pictures are the server's, sent once to every
+tick (an arrow or arc, and a label: command_mark.py). A match (match_game.py) lays a pitch with a goal at
+each end over the field and shows its second player in its own colour, each player's name under it with
+the way it attacks; the view cone and the mark are the player's whose thinking the panels show. The pictures are the server's, sent once to every
 tab (draw_pitch); each tab moves the frames they hang from (PitchView).
 
 Nothing is drawn off the grass: the canvas around it is the STADIUM colour, and a frame of that colour
@@ -21,7 +23,7 @@ import numpy as np
 import viser
 
 from soccer_lab.app.web.ui import style
-from soccer_lab.app.web.ui.command_mark import CommandMark
+from soccer_lab.app.web.ui.command_mark import CommandMark, label_half_width
 from soccer_lab.app.web.ui.pitch_pictures import (Picture, ball_picture, cone_picture, field_picture, player_picture,
                                                   solid_picture)
 from soccer_lab.soccer.config import WorldConfig
@@ -35,6 +37,13 @@ TRAIL_NODE = "/pitch/trail"
 COMMAND_NODE = "/pitch/command"
 COMMAND_LABEL_NODE = "/pitch/command_label"
 FRAME_NODE = "/stadium"  # the frame around the grass
+MATCH_FIELD_NODE = "/match_field"  # a match's pitch, a goal at each end, over the field (hidden but in a match)
+OPPONENT_NODE = "/pitch/opponent"  # a match's second player
+OPPONENT_CONE_NODES = {seen: name.replace(PLAYER_NODE, OPPONENT_NODE, 1) for seen, name in CONE_NODES.items()}
+NAME_LABEL_NODES = ("/pitch/player_name", "/pitch/opponent_name")
+Z_MATCH_FIELD = -0.04  # just over the field
+Z_WATCHED = 0.01  # a match's second player lies this much over A when watched, under it otherwise
+NAMES_GAP = 2.0  # metres between two players' names side by side: "A →" and "← B", never "A →← B"
 Z_GRASS, Z_CONE, Z_TRAIL, Z_COMMAND, Z_FRAME, Z_BODY = -0.05, 0.02, 0.03, 0.04, 0.1, 0.2
 Z_BALL = 0.25  # over the player: a ball at its feet stays in sight
 FRAME_WIDTH = 1000.0  # metres: far past any canvas's edge
@@ -74,6 +83,19 @@ class PitchFrame:
     trail: np.ndarray  # float[N, 2], oldest first
     ball_visible: bool
     command: CommandMark | None = None  # what the player did this tick (None: nothing yet)
+    match: MatchMarks | None = None  # a match's second player (None: one player on the pitch)
+
+
+@dataclass(frozen=True)
+class MatchMarks:
+    """A match's second player (B; PitchFrame's player is A), the names shown under A and B, and whose view cone
+    is shown (0: A's, 1: B's: the player whose thinking the panels show)."""
+
+    player: tuple[float, float]
+    facing: float  # radians
+    ball_visible: bool  # whether B sees the ball
+    labels: tuple[str, str]
+    watched: int
 
 
 def to_scene(x: float, y: float, z: float = 0.0) -> tuple[float, float, float]:
@@ -114,6 +136,11 @@ def draw_pitch(scene: viser.SceneApi, geometry: PitchGeometry, start: PitchFrame
         colour = style.BALL if seen else style.VIEW_CONE
         show_picture(scene, f"{name}/picture", cone_picture(geometry.view_half_angle, colour), 0.0)
     show_picture(scene, f"{BALL_NODE}/picture", ball_picture(), 0.0)
+    show_picture(scene, f"{MATCH_FIELD_NODE}/picture", field_picture(geometry, both_goals=True), Z_MATCH_FIELD)
+    show_picture(scene, f"{OPPONENT_NODE}/body", player_picture(colour=style.OPPONENT), 0.0)
+    for seen, name in OPPONENT_CONE_NODES.items():
+        colour = style.BALL if seen else style.VIEW_CONE
+        show_picture(scene, f"{name}/picture", cone_picture(geometry.view_half_angle, colour), 0.0)
 
 
 def draw_frame(scene: viser.SceneApi, geometry: PitchGeometry) -> None:
@@ -152,15 +179,45 @@ class PitchView:
             COMMAND_LABEL_NODE, "", position=to_scene(0, 0, Z_BODY), visible=False, font_size_mode="scene",
             font_scene_height=style.COMMAND_LABEL_HEIGHT, anchor="bottom-center")
         self._command_shown: CommandMark | None = None
+        # A match's pitch and second player, hidden until a match is shown (their pictures are draw_pitch's).
+        self.match_field = scene.add_frame(MATCH_FIELD_NODE, show_axes=False, visible=False)
+        self.opponent = scene.add_frame(OPPONENT_NODE, show_axes=False, position=to_scene(0, 0, Z_BODY), visible=False)
+        self.opponent_cones = {seen: scene.add_frame(name, show_axes=False, position=(0.0, 0.0, Z_CONE - Z_BODY))
+                               for seen, name in OPPONENT_CONE_NODES.items()}
+        self.names = tuple(scene.add_label(node, "", position=to_scene(0, 0, Z_BODY), visible=False,
+                                           font_size_mode="scene", font_scene_height=style.COMMAND_LABEL_HEIGHT,
+                                           anchor="bottom-center") for node in NAME_LABEL_NODES)
+        self._match_shown = False
 
     def show(self, frame: PitchFrame) -> None:
         self.player.position = to_scene(*frame.player, Z_BODY)
         self.player.wxyz = yaw_quaternion(frame.facing)
         self.ball.position = to_scene(*frame.ball, Z_BALL)
+        match = frame.match
         for seen, cone in self.cones.items():
-            cone.visible = seen == frame.ball_visible
+            cone.visible = seen == frame.ball_visible and (match is None or match.watched == 0)
+        self._show_match(frame, match)
         self._show_trail(frame.trail)
         self._show_command(frame.command)
+
+    def _show_match(self, frame: PitchFrame, match: MatchMarks | None) -> None:
+        if (match is not None) != self._match_shown:
+            self._match_shown = match is not None
+            self.match_field.visible = self.opponent.visible = self._match_shown
+            for label in self.names:
+                label.visible = self._match_shown
+        if match is None:
+            return
+        # the watched player over the other when they overlap (both are drawn larger than life)
+        self.opponent.position = to_scene(*match.player, Z_BODY + (Z_WATCHED if match.watched == 1 else -Z_WATCHED))
+        self.opponent.wxyz = yaw_quaternion(match.facing)
+        for seen, cone in self.opponent_cones.items():
+            cone.visible = seen == match.ball_visible and match.watched == 1
+        places = name_places(self.geometry.grass, (frame.player, match.player), match.labels)
+        for label, text, at in zip(self.names, match.labels, places):
+            if label.text != text:
+                label.text = text
+            label.position = to_scene(*at, Z_BODY)
 
     def _show_command(self, mark: CommandMark | None) -> None:
         shown = self._command_shown
@@ -214,3 +271,26 @@ class PitchView:
         camera.up_direction = (0.0, 1.0, 0.0)
         camera.position = (g.goal_depth / 2, 0.0, distance)
         camera.look_at = (g.goal_depth / 2, 0.0, 0.0)
+
+
+def name_places(grass: tuple[float, float, float, float], players: tuple[tuple[float, float], ...],
+                labels: tuple[str, ...]) -> list[tuple[float, float]]:
+    """Where the names of a match's two players go (each label's bottom centre): under each player (the mark's
+    label goes above it), whole on the grass; when the two would overlap (the players close), side by side, B's
+    on the side away from A's."""
+    x0, x1, _, y1 = grass
+    rooms = [label_half_width(f"{label}  ") for label in labels]  # an arrow is wider than a letter
+    places = []
+    for (px, py), room in zip(players, rooms):
+        y = py + style.PLAYER_DRAW_RADIUS + 1.0 + style.COMMAND_LABEL_HEIGHT
+        if y > y1 - 0.5:  # no room below: above the player
+            y = py - style.PLAYER_DRAW_RADIUS - 1.0
+        places.append((min(max(px, x0 + room), x1 - room), y))
+    (ax, ay), (bx, by) = places
+    apart = rooms[0] + rooms[1] + NAMES_GAP
+    if abs(ax - bx) < apart and abs(ay - by) < style.COMMAND_LABEL_HEIGHT:
+        side = 1.0 if bx >= ax else -1.0
+        if not x0 + rooms[1] <= ax + side * apart <= x1 - rooms[1]:  # no room on that side: the other
+            side = -side
+        places[1] = (ax + side * apart, ay)
+    return places

@@ -48,8 +48,9 @@ def _circle(cx: float, cy: float, radius: float) -> list[tuple[float, float]]:
              cy + radius * math.sin(2 * math.pi * i / CIRCLE_SEGMENTS)) for i in range(CIRCLE_SEGMENTS + 1)]
 
 
-def marking_segments(geometry) -> np.ndarray:
-    """Every painted line and the goal's outline as segments float[N, 2, 2] (world metres)."""
+def marking_segments(geometry, both_goals: bool = False) -> np.ndarray:
+    """Every painted line and the goal's outline (`both_goals`: both ends', a match's) as segments float[N, 2, 2]
+    (world metres)."""
     hl, hw = geometry.half_length, geometry.half_width
     pairs = _segments([(-hl, -hw), (hl, -hw), (hl, hw), (-hl, hw)], closed=True)
     pairs += [((0.0, -hw), (0.0, hw))]
@@ -59,15 +60,19 @@ def marking_segments(geometry) -> np.ndarray:
             line, inner = side * hl, side * (hl - depth)
             pairs += _segments([(line, -width / 2), (inner, -width / 2), (inner, width / 2), (line, width / 2)])
     goal, depth = geometry.goal_half_width, geometry.goal_depth
-    pairs += _segments([(hl, -goal), (hl + depth, -goal), (hl + depth, goal), (hl, goal)])
+    for end in (1.0, -1.0) if both_goals else (1.0,):
+        pairs += _segments([(end * hl, -goal), (end * (hl + depth), -goal), (end * (hl + depth), goal),
+                            (end * hl, goal)])
     return np.array(pairs, dtype=np.float64)
 
 
-def net_segments(geometry) -> np.ndarray:
-    """The net's strings inside the goal, float[N, 2, 2] (world metres)."""
+def net_segments(geometry, both_goals: bool = False) -> np.ndarray:
+    """The net's strings inside the goal (`both_goals`: both ends'), float[N, 2, 2] (world metres)."""
     hl, goal, depth = geometry.half_length, geometry.goal_half_width, geometry.goal_depth
-    pairs = [((hl + d, -goal), (hl + d, goal)) for d in np.arange(NET_MESH, depth, NET_MESH)]
-    pairs += [((hl, y), (hl + depth, y)) for y in np.arange(-goal + NET_MESH, goal, NET_MESH)]
+    pairs = []
+    for end in (1.0, -1.0) if both_goals else (1.0,):
+        pairs += [((end * (hl + d), -goal), (end * (hl + d), goal)) for d in np.arange(NET_MESH, depth, NET_MESH)]
+        pairs += [((end * hl, y), (end * (hl + depth), y)) for y in np.arange(-goal + NET_MESH, goal, NET_MESH)]
     return np.array(pairs, dtype=np.float64)
 
 
@@ -107,33 +112,40 @@ def _hex(rgb: tuple[int, int, int], alpha: float = 1.0) -> tuple[float, float, f
 
 
 @functools.cache  # the same for every tab: drawn once
-def field_picture(geometry, pixels_per_metre: float = style.FIELD_PIXELS_PER_METRE) -> Picture:
-    """Grass with mown stripes, the markings, the goal with its net and posts."""
+def field_picture(geometry, pixels_per_metre: float = style.FIELD_PIXELS_PER_METRE,
+                  both_goals: bool = False) -> Picture:
+    """Grass with mown stripes, the markings, the goal with its net and posts (`both_goals`: a match's pitch, a
+    goal at each end)."""
     margin = style.PITCH_MARGIN
     hl, hw = geometry.half_length, geometry.half_width
-    canvas = _Canvas(-hl - margin, hl + geometry.goal_depth + margin, -hw - margin, hw + margin, pixels_per_metre)
+    back = geometry.goal_depth if both_goals else 0.0
+    canvas = _Canvas(-hl - back - margin, hl + geometry.goal_depth + margin, -hw - margin, hw + margin,
+                     pixels_per_metre)
     axes = canvas.axes
     axes.add_patch(Rectangle((canvas.x0, canvas.y0), canvas.x1 - canvas.x0, canvas.y1 - canvas.y0,
                              color=_hex(style.GRASS), linewidth=0))
     stripe = 2 * hl / style.GRASS_STRIPES
     for i in range(0, style.GRASS_STRIPES, 2):
         axes.add_patch(Rectangle((-hl + i * stripe, -hw), stripe, 2 * hw, color=_hex(style.GRASS_STRIPE), linewidth=0))
-    axes.add_collection(LineCollection(net_segments(geometry), colors=[_hex(style.GOAL_NET)],
+    axes.add_collection(LineCollection(net_segments(geometry, both_goals), colors=[_hex(style.GOAL_NET)],
                                        linewidths=canvas.points(style.NET_LINE_WIDTH)))
-    axes.add_collection(LineCollection(marking_segments(geometry), colors=[_hex(style.LINE)],
+    axes.add_collection(LineCollection(marking_segments(geometry, both_goals), colors=[_hex(style.LINE)],
                                        linewidths=canvas.points(style.LINE_WIDTH), capstyle="round"))
-    for y in (-geometry.goal_half_width, geometry.goal_half_width):
-        axes.add_patch(Circle((hl, y), style.POST_DRAW_RADIUS, color=_hex(style.LINE), linewidth=0))
+    for x in (hl, -hl) if both_goals else (hl,):
+        for y in (-geometry.goal_half_width, geometry.goal_half_width):
+            axes.add_patch(Circle((x, y), style.POST_DRAW_RADIUS, color=_hex(style.LINE), linewidth=0))
     return canvas.picture()
 
 
 @functools.cache  # the same for every tab: drawn once
-def player_picture(pixels_per_metre: float = style.BODY_PIXELS_PER_METRE) -> Picture:
-    """The player seen from above, facing +x: a disc with a white line from its centre toward its front."""
+def player_picture(pixels_per_metre: float = style.BODY_PIXELS_PER_METRE,
+                   colour: tuple[int, int, int] = style.PLAYER) -> Picture:
+    """The player seen from above, facing +x: a disc (of `colour`) with a white line from its centre toward its
+    front."""
     radius = style.PLAYER_DRAW_RADIUS
     reach = radius * style.FACING_LINE_REACH
     canvas = _Canvas(-reach, reach, -reach, reach, pixels_per_metre)
-    canvas.axes.add_patch(Circle((0, 0), radius, color=_hex(style.PLAYER), linewidth=0))
+    canvas.axes.add_patch(Circle((0, 0), radius, color=_hex(colour), linewidth=0))
     canvas.axes.plot([0, reach - style.LINE_WIDTH], [0, 0], color=_hex(style.PLAYER_FACING),
                      linewidth=canvas.points(radius * 0.35), solid_capstyle="round")
     return canvas.picture()

@@ -1,7 +1,7 @@
 """The projector view of one tab: the pitch fills the window, the score, the tick, the action and what the
 player did in the world stand in large type in a band above it, and the side panels fold into their rails.
-The band's other tabs hold the population grid drawn larger and the class round's table (classroom mode),
-so a teacher can show them without leaving the view.
+The band's other tabs hold the population grid drawn larger, the class round's table and the class knockout's
+bracket (classroom mode), so a teacher can show them without leaving the view.
 
 The side panels are the server's (app/web/ui/layout.py); folding them for one tab only sends that tab the
 placement command viser's own `main_panel` handle sends (a client-scoped command for a panel every client
@@ -18,6 +18,7 @@ from viser._gui_handles import _PlacementMixin  # the placement commands main_pa
 
 from soccer_lab.app.web.ui import style
 from soccer_lab.app.web.ui.game import Game
+from soccer_lab.app.web.ui.match_game import LETTERS, MatchGame
 from soccer_lab.app.web.ui.panels.rules import HUNT_TEXT, parameters_text
 from soccer_lab.app.web.ui.panels.svg import escape
 from soccer_lab.app.web.ui.pitch import CAMERA_FOV, PitchView
@@ -44,7 +45,7 @@ class ProjectorView:
     type), Population and, in classroom mode, Class; beside it a small panel holds the way back."""
 
     def __init__(self, client: viser.ClientHandle, pitch: PitchView, right_panel_id: str,
-                 on_leave: Callable[[], None], on_toggle: Callable[[], None]):
+                 on_leave: Callable[[], None], on_toggle: Callable[[], None], on_watch: Callable[[int], None]):
         self.client = client
         self.pitch = pitch
         self.on = False
@@ -63,10 +64,17 @@ class ProjectorView:
         with self.way_back.add_tab(LEAVE_TAB):
             leave = gui.add_button(LEAVE_LABEL)
             leave.on_click(lambda _: on_leave())
+            # a match's: whose thinking the band shows (on_watch(0) for A, 1 for B)
+            self.thinking = gui.add_button_group(THINKING_LABEL, LETTERS, visible=False)
+            self.thinking.on_click(lambda event: on_watch(LETTERS.index(event.target.value)))
 
     def class_tab(self) -> viser.GuiTabHandle:
         """The band's tab the class round's table goes in (classroom mode)."""
         return self.band.add_tab("Class")
+
+    def knockout_tab(self) -> viser.GuiTabHandle:
+        """The band's tab the class knockout's bracket goes in (classroom mode)."""
+        return self.band.add_tab("Knockout")
 
     def toggle(self) -> None:
         self.on = not self.on
@@ -114,10 +122,13 @@ class ProjectorView:
         camera.position = (g.goal_depth / 2, centre, distance)
         camera.look_at = (g.goal_depth / 2, centre, 0.0)
 
-    def show(self, game: Game) -> None:
+    def show(self, game: Game | MatchGame) -> None:
+        match = isinstance(game, MatchGame)
+        if self.thinking.visible != match:
+            self.thinking.visible = match
         if not self.on:
             return
-        html = projector_html(game)
+        html = match_projector_html(game) if match else projector_html(game)
         if self.status.content != html:
             self.status.content = html
 
@@ -158,6 +169,31 @@ def projector_html(game: Game) -> str:
         f'color:{style.ERROR if refused else style.FIRED}">{escape(world)}</div></div>'
     )
 
+
+def match_projector_html(match: MatchGame) -> str:
+    """The score with both names in their colours, the half and the tick; then whose thinking, the action it chose
+    and what it then did (or half time, full time)."""
+    s, inference = match.state, match.inference()
+    selected = inference.selected
+    action = (f"{escape(match.vocabulary.display(selected.action))} "
+              f"{escape(parameters_text(match.vocabulary, selected.parameters))}"
+              if selected is not None else "no rule fired: hunts")
+    outcome = match.outcome_text()
+    pause = match.break_sentence()
+    who = LETTERS[match.watched]
+    second = pause if pause else f"{who} thinks: {action}" + (f" · then: {outcome}" if outcome else "")
+    colour = style.ERROR if pause or match.outcome_refused() else style.SELECTED
+    big = style.PROJECTOR_FONT_SIZE
+    return (
+        f'<div class="projector-status projector-match" data-tick="{s.tick}" data-half="{s.half}" '
+        f'data-watched="{who}" style="{style.FONT}; color:{style.INK}; font-size:{big}px; line-height:1.25">'
+        f'<div style="{ONE_LINE}">{match.score_html(big)} <span class="projector-tick">· {match.clock()}</span></div>'
+        f'<div class="projector-world" title="{escape(second)}" style="{ONE_LINE}; font-weight:600; '
+        f'color:{colour}">{escape(second)}</div></div>'
+    )
+
+
+THINKING_LABEL = "Show the thinking of"
 
 # Each of the band's two lines stays one line: a longer sentence wrapped, the band grew over the pitch's lines
 # (the camera leaves PROJECTOR_BAND px for it); what does not fit ends in "..." and shows whole on hover.

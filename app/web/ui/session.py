@@ -21,16 +21,21 @@ from soccer_lab.app.web.access import LOCAL, ScopedRuns, ScopedStore, Visitor
 from soccer_lab.app.web.pitch_link import LINK_PARAMETER, LinkError, PitchLink, decode_link
 from soccer_lab.app.rule_inspection import SIMPLIFY_PLAYS, checked_cost, rule_usage, simplification
 from soccer_lab.app.web.ui import style
+from soccer_lab.app.web.ui.number_field import FieldError
+from soccer_lab.app.web.ui.panels.svg import escape
 from soccer_lab.app.web.ui.context import UiContext
 from soccer_lab.app.web.ui.game import Game
 from soccer_lab.app.web.ui.layout import Layout
+from soccer_lab.app.web.ui.match_game import COLOURS, LETTERS, MatchGame, hex_colour
 from soccer_lab.app.web.ui.panels.breeding import BreedingPanel
 from soccer_lab.app.web.ui.panels.classroom import ClassPanel
 from soccer_lab.app.web.ui.panels.editor import EditorPanel
 from soccer_lab.app.web.ui.panels.evolve import EvolvePanel
 from soccer_lab.app.web.ui.panels.inference import InferencePanel
+from soccer_lab.app.web.ui.panels.knockout import KnockoutPanel
 from soccer_lab.app.web.ui.panels.library import LibraryPanel
 from soccer_lab.app.web.ui.panels.lineage import LineagePanel
+from soccer_lab.app.web.ui.panels.match import MatchPanel
 from soccer_lab.app.web.ui.panels.play import PlayControls
 from soccer_lab.app.web.ui.panels.policy_view import PolicyPanel
 from soccer_lab.app.web.ui.panels.population import PopulationPanel
@@ -42,6 +47,7 @@ from soccer_lab.app.web.ui.projector import ProjectorView
 from soccer_lab.fuzzy.parser import RuleSyntaxError, parse_rulebase
 from soccer_lab.fuzzy.printer import format_rulebase
 from soccer_lab.fuzzy.rule import Rulebase
+from soccer_lab.fuzzy.vocabulary import Vocabulary
 from soccer_lab.soccer.config import GameConfig
 
 if TYPE_CHECKING:
@@ -87,7 +93,7 @@ class Session:
         self.skills: str | None = None  # the skill set chosen on this tab (None: the app's)
         self.pitch_run: int | None = None  # the run the pitch's player came from (None: a saved rulebase, ...)
         self._ticks_per_second = 1.0 / context.game.world.tick_seconds  # at 1x speed
-        self.game = self.first_game(context)
+        self.game: Game | MatchGame = self.first_game(context)  # a MatchGame while a match is watched
         self.link_problem: str | None = None  # why the link the tab was opened with was not played
         self.opened_link = self._open_link(link) if link is not None else None
         self._show_pitch()
@@ -120,6 +126,8 @@ class Session:
         """A link to this pitch as it is now (rules, seed, game rules, speed, tick, paused)."""
         with self.lock:
             game = self.game
+            if isinstance(game, MatchGame):
+                return MATCH_NOT_LINKED
             link = PitchLink.of(format_rulebase(game.rulebase, self.context.vocabulary), game.name, game.seed,
                                 int(game.state.tick), float(self.controls.speed.value), not self.playing,
                                 game.config, self.context.game)
@@ -153,15 +161,17 @@ class Session:
         """The score, the tick counter and the play controls: all a tab needs to play."""
         gui = self.client.gui
         self.projector = ProjectorView(self.client, self.pitch, self.layout.right_panel_id,
-                                       on_leave=self.toggle_projector, on_toggle=self._render)
+                                       on_leave=self.toggle_projector, on_toggle=self._render,
+                                       on_watch=self.show_thinking_of)
         # Tabs and buttons without icons: viser reads each icon from a 2 MB zip file the first time it
         # is used, seconds that the first visitor after a start would wait for.
         self._tabs = gui.add_tab_group()
-        with self._tabs.add_tab("Play"):
+        self._play_tab = self._tabs.add_tab("Play")
+        with self._play_tab:
             self.controls = PlayControls(
                 gui, on_play=self.set_playing, on_step=self.step_once, on_new_start=self.new_start,
                 on_reset_view=self.projector.fit_camera, on_skills=self.set_skills,
-                on_projector=self.toggle_projector,
+                on_projector=self.toggle_projector, on_thinking=self.show_thinking_of,
                 skills=self.game.config.skills, make_link=self.pitch_link, notice=self.link_problem,
             )
             if self.opened_link is not None:
@@ -172,10 +182,14 @@ class Session:
     def _build_panels(self) -> None:
         """Every other panel, once the game plays."""
         gui, context, tabs = self.client.gui, self.context, self._tabs
+        with self._play_tab, gui.add_folder("Match: two players"):
+            self.match_panel = MatchPanel(gui, self.store, context.vocabulary,
+                                          current=lambda: (self.game.rulebase, self.game.name),
+                                          on_watch=self.watch_picked, tournament=self.tournament)
         with tabs.add_tab("Rules"):
             self.editor = EditorPanel(
                 gui, context.vocabulary, self.store, (self.game.rulebase, self.game.name),
-                on_apply=self.load_rulebase, on_example=self.play_player, on_saved=lambda: self.library.refresh(),
+                on_apply=self.load_rulebase, on_example=self.play_player, on_saved=self._saved,
                 simplify=self.simplify, best_of=self.best_of_pitch,
             )
         with tabs.add_tab("Evolve"):
@@ -194,10 +208,16 @@ class Session:
                 self.classroom = ClassPanel(gui, self.tournament, self.visitor, context.vocabulary,
                                             current=lambda: (self.game.rulebase, self.game.name),
                                             on_watch=self.watch_entry)
+                self.knockout = KnockoutPanel(gui, self.tournament, self.visitor, context.vocabulary,
+                                              on_watch=self.watch_match)
             with self.projector.class_tab():  # the round's table and "Watch this game" in the projector view too
                 self.projector_class = ClassPanel(gui, self.tournament, self.visitor, context.vocabulary,
                                                   current=lambda: (self.game.rulebase, self.game.name),
                                                   on_watch=self.watch_entry)
+            with self.projector.knockout_tab():  # the bracket in large type, any match watched from there too
+                self.projector_knockout = KnockoutPanel(gui, self.tournament, self.visitor, context.vocabulary,
+                                                        on_watch=self.watch_match, controls=False,
+                                                        large=True)
         # The panels themselves (docked, sized, the right one's tabs) are the server's: see layout.py.
         with self.layout.right_tab("Inference"):
             self.inference = InferencePanel(gui, context.vocabulary, on_change=self.refresh,
@@ -226,6 +246,53 @@ class Session:
         with self.lock:
             self.projector.toggle()
 
+    def watch_match(self, a: Rulebase, b: Rulebase, names: tuple[str, str], seed: int, config: GameConfig,
+                    vocabulary: Vocabulary) -> None:
+        """Play the match of A against B on this tab's pitch, from `seed`'s start, in `config`'s game (per half)
+        and `vocabulary` (e.g. Vocabulary.with_opponent()): two halves, the sides swapped at half time, the same
+        match `play_matches(a, b, [seed], config, vocabulary)` counts. The Play tab shows the score, the half
+        and the tick, and the thinking switch (A / B) for the Inference panel; it plays at once. The entry point
+        for any panel that lets a user watch a match (a class knockout's)."""
+        self.pitch_run = None
+        with self.lock:
+            self.game = MatchGame(self.context, (a, b), names, seed, config, vocabulary)
+            self.playing = True
+            self._tick_budget = 0.0
+            if self.projector is not None:  # the Play tab is built (a call before it waits for nothing)
+                self.controls.seed.value = seed
+                self.controls.show_skills(config.skills)
+            self._show_watched()
+
+    def watch_picked(self, a: Rulebase, b: Rulebase, names: tuple[str, str]) -> None:
+        """The Match folder's two players, from the Seed field's start (the pitch's seed if it is not a number),
+        in the app's game with this tab's skill set."""
+        try:
+            seed = int(self.controls.seed.value)
+        except FieldError:
+            seed = self.game.seed
+        config = self.context.game.model_copy(update={"skills": self.skills or self.context.game.skills})
+        self.watch_match(a, b, names, seed, config, self.context.vocabulary)
+
+    def show_thinking_of(self, player: int) -> None:
+        """In a match, the Inference panel, the membership degrees, the policy map and the rules editor show
+        A's (0) or B's (1) thinking."""
+        with self.lock:
+            if not isinstance(self.game, MatchGame):
+                return
+            self.game.watch(player)
+            self._show_watched()
+
+    def _show_watched(self) -> None:
+        if self.ready.is_set():
+            self._show_rulebase(self.game.rulebase, self.game.name)
+        elif self.projector is not None:
+            self._render()
+
+    def _saved(self) -> None:
+        """A rulebase was saved: the lists that offer saved rulebases offer it."""
+        self.library.refresh()
+        self.match_panel.refresh()
+
     def set_playing(self, playing: bool) -> None:
         with self.lock:
             self.playing = playing
@@ -235,6 +302,8 @@ class Session:
         with self.lock:
             if self.game.done:
                 self.game.restart(self.game.seed)
+            if isinstance(self.game, MatchGame):
+                self.game.skip_half_time()
             self.game.step()
             self._render()
 
@@ -248,15 +317,24 @@ class Session:
         for the rulebases it puts on the pitch next."""
         with self.lock:
             self.skills = skills
-            config = self.game.config.model_copy(update={"skills": skills})
-            self.game = Game(self.context, self.game.rulebase, self.game.name, self.game.seed, config)
+            game = self.game
+            config = game.config.model_copy(update={"skills": skills})
+            if isinstance(game, MatchGame):  # the same match from its start, with the new skills
+                self.game = MatchGame(self.context, game.players, game.names, game.seed, config, game.vocabulary)
+                self.game.watch(game.watched)
+            else:
+                self.game = Game(self.context, game.rulebase, game.name, game.seed, config)
             self.controls.show_skills(skills)
             self._render()
 
     def load_rulebase(self, rulebase: Rulebase, name: str, *, restart: bool = False) -> None:
         """Put `rulebase` on the pitch in the same game's rules (the game goes on from where it is unless
-        `restart`): the editor's rules."""
+        `restart`): the editor's rules. In a match, they play alone from the match's start."""
         with self.lock:
+            if isinstance(self.game, MatchGame):
+                self.game = Game(self.context, rulebase, name, self.game.seed, self.game.config)
+                self._show_rulebase(rulebase, name)
+                return
             self.game.set_rulebase(rulebase, name)
             if restart:
                 self.game.restart(self.game.seed)
@@ -271,7 +349,7 @@ class Session:
             config = self.run_game(run_id)
         self.pitch_run = run_id
         with self.lock:
-            if config == self.game.config:
+            if isinstance(self.game, Game) and config == self.game.config:
                 self.game.set_rulebase(rulebase, name)
                 self.game.restart(self.game.seed)
             else:
@@ -294,6 +372,7 @@ class Session:
         self.library.refresh()
         self.lineage.refresh()
         self.breeding.refresh()
+        self.match_panel.refresh()
 
     def best_of_pitch(self, rulebase: Rulebase) -> dict | None:
         """The figures of the run's best `rulebase` is, when the pitch's player came from that run and is its
@@ -379,9 +458,12 @@ class Session:
 
     def _close_panels(self) -> None:
         self.evolve.close()
+        self.match_panel.close()
         if self.tournament is not None:
             self.classroom.close()
             self.projector_class.close()
+            self.knockout.close()
+            self.projector_knockout.close()
 
     def join(self, timeout: float) -> bool:
         """Wait for the loop to end after close(); whether it has."""
@@ -474,12 +556,26 @@ class Session:
         game = self.game
         # One batch: the pitch, its label, the panels and the status line arrive together and show one tick
         # (in two, the panels showed a tick the pitch had not drawn yet: "dash 100" beside "Dribble: kick 8").
+        match = isinstance(game, MatchGame)
         with self.client.atomic():
             self.controls.show_status(game.status_html())
+            self.controls.show_match(match)
             self.projector.show(game)
             if self.ready.is_set():
                 self.inference.show(game.inputs(), game.rule_texts, game.inference(), game.outcome_text(),
-                                    game.outcome_refused(), tick=int(game.state.tick))
+                                    game.outcome_refused(), tick=int(game.state.tick),
+                                    whose=thinking_html(game) if match else "")
                 self.projector.show_population(self.population.grid.content)
                 self.policy.show_current(game.inputs())
             self.pitch.show(game.frame())
+
+
+MATCH_NOT_LINKED = "A link opens one player's game: a match has no link yet (its players and seed are in the Play tab)."
+
+
+def thinking_html(match: MatchGame) -> str:
+    """The Inference panel's first line in a match: whose thinking it shows, in that player's colour."""
+    p = match.watched
+    return (f'<div class="inference-whose" data-watched="{LETTERS[p]}" style="{style.FONT}; '
+            f'font-size:{style.FONT_SIZE + 1}px; font-weight:700; color:{hex_colour(COLOURS[p])}">'
+            f"Thinking of {LETTERS[p]}: {escape(match.names[p])}</div>")

@@ -31,6 +31,7 @@ GRASS = (46, 125, 50)
 GRASS_STRIPE = (56, 142, 60)
 LINE = (245, 245, 245)
 PLAYER = (25, 118, 210)
+OPPONENT = (211, 47, 47)  # a match's second player (B), beside the first (A) in PLAYER's blue
 PLAYER_FACING = (255, 255, 255)
 BALL = (255, 193, 7)
 BALL_TRAIL = (255, 224, 130)

@@ -12,9 +12,11 @@ from soccer_lab.app.web.access import Visitor
 from soccer_lab.app.web.api.class_models import (ClassOut, EntryOut, EntrySubmit, JoinRequest, RoundOut, RoundStart,
                                                  RoundStarted, SettingsChange, StudentOut, TeacherRequest, VisitorOut)
 from soccer_lab.app.web.api.errors import error_response
+from soccer_lab.app.web.api.guard import RATE_KEY_STATE
 from soccer_lab.app.web.api.models import ErrorBody
 from soccer_lab.app.web.api.routes.dependencies import RecordId, RunsDependency, StoreDependency, VisitorDependency
-from soccer_lab.app.web.classroom.admission import Classroom, JoinRefused, set_cookie_headers
+from soccer_lab.app.web.classroom.admission import (WRONG_GUESS_COST, Classroom, JoinRefused, WrongSecret,
+                                                set_cookie_headers)
 from soccer_lab.app.web.classroom.qr import qr_svg
 from soccer_lab.app.web.classroom.settings import ClassSettings
 from soccer_lab.app.web.classroom.tournament import Tournament, round_csv
@@ -45,6 +47,8 @@ def _admitted(cookies: dict[str, str], body: dict) -> JSONResponse:
 def join(body: JoinRequest, request: Request) -> JSONResponse:
     try:
         student, cookies = _classroom(request).join(body.code, body.name, request.headers.get("cookie"))
+    except WrongSecret as exc:
+        return _guessed(request, exc)
     except JoinRefused as exc:
         return error_response(400, str(exc))
     return _admitted(cookies, {"name": student.name, "teacher": False})
@@ -55,9 +59,16 @@ def join(body: JoinRequest, request: Request) -> JSONResponse:
 def teacher(body: TeacherRequest, request: Request) -> JSONResponse:
     try:
         cookies = _classroom(request).teacher_login(body.token)
-    except JoinRefused as exc:
-        return error_response(400, str(exc))
+    except WrongSecret as exc:
+        return _guessed(request, exc)
     return _admitted(cookies, {"name": "teacher", "teacher": True})
+
+
+def _guessed(request: Request, refused: WrongSecret) -> JSONResponse:
+    """A wrong code or token: its guess charged to the visitor's rate (the guard took one request of it)."""
+    if (key := getattr(request.state, RATE_KEY_STATE, None)) is not None:
+        _classroom(request).rate.charge(key, WRONG_GUESS_COST - 1)
+    return error_response(400, str(refused))
 
 
 @router.get("", summary="The class: its address, join code, who you are, its settings, the tournament's state")

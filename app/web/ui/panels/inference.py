@@ -30,6 +30,7 @@ class InferencePanel:
         self.vocabulary = vocabulary
         self.reaches = kick_reach(vocabulary, world)
         self.usage: Usage | None = None
+        self.whose = gui.add_html("")  # in a match: whose thinking this is
         self.decision = gui.add_html("")
         with gui.add_folder("Rules and their strengths"):
             self.only_fired = gui.add_checkbox("Only rules that fired", False)
@@ -48,9 +49,11 @@ class InferencePanel:
         self._shown: dict[str, str] = {}
 
     def show(self, inputs: Mapping[str, float | None], rule_texts: Sequence[str], inference: Inference,
-             outcome: str | None = None, refused: bool = False, tick: int | None = None) -> None:
+             outcome: str | None = None, refused: bool = False, tick: int | None = None,
+             whose: str = "") -> None:
         """`outcome`: what the player then did (a sentence, None before its first decision); `refused`: the
-        skill could not do what the action asks."""
+        skill could not do what the action asks; `whose`: in a match, a line of HTML naming the player shown."""
+        self._set(self.whose, "whose", whose)
         self._set(self.decision, "decision", decision_html(self.vocabulary, inference, outcome, refused, tick))
         self._set(self.rules, "rules", rules_html(rule_texts, inference, self.only_fired.value, self.usage))
         self._set(self.outputs, "outputs", outputs_html(self.vocabulary, inference))

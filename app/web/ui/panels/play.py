@@ -10,7 +10,7 @@ import viser
 from soccer_lab.app.web.ui import style
 from soccer_lab.app.web.ui.number_field import FieldError, NumberField
 from soccer_lab.app.web.ui.panels.svg import escape
-from soccer_lab.app.web.ui.projector import TOGGLE_LABEL
+from soccer_lab.app.web.ui.projector import THINKING_LABEL, TOGGLE_LABEL
 from soccer_lab.ga.config import SEED_BOUND
 from soccer_lab.soccer.config import SKILL_SET_NAMES
 from soccer_lab.soccer.outcome import skill_set_sentence
@@ -27,6 +27,7 @@ class PlayControls:
         on_reset_view: Callable[[], None],
         on_skills: Callable[[str], None],
         on_projector: Callable[[], None],
+        on_thinking: Callable[[int], None],
         skills: str,
         make_link: Callable[[], str] | None = None,
         notice: str | None = None,
@@ -34,6 +35,10 @@ class PlayControls:
         if notice:  # e.g. why the link this tab was opened with was not played: one line, as text
             gui.add_html(f'<div class="link-notice" style="{style.FONT}; color:{style.ERROR}">{escape(notice)}</div>')
         self.status = gui.add_html("")
+        # in a match: whose rules, inputs and decision the Inference panel and the policy map show
+        self.thinking = gui.add_button_group(THINKING_LABEL, ("A", "B"), visible=False,
+                                             hint="Whose rules, membership degrees and decision the panels show")
+        self.thinking.on_click(lambda event: on_thinking(("A", "B").index(event.target.value)))
         buttons = gui.add_button_group("Game", ("Play", "Pause", "Step one tick"))
         self.speed = gui.add_slider(
             "Speed (× real time)", min=style.SPEED_RANGE[0], max=style.SPEED_RANGE[1], step=0.25,
@@ -96,6 +101,11 @@ class PlayControls:
             f'<div class="skills-note" data-skills="{escape(skills)}" style="{style.FONT}; '
             f'font-size:{style.SMALL_FONT_SIZE + 1}px; color:{style.INK}; margin:-4px 0 6px">'
             f"<b>{escape(skills)}</b>: {escape(skill_set_sentence(skills))}.</div>")
+
+    def show_match(self, match: bool) -> None:
+        """The thinking switch shows while a match is on the pitch."""
+        if self.thinking.visible != match:
+            self.thinking.visible = match
 
     def show_status(self, html: str) -> None:
         if self.status.content != html:
