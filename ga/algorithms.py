@@ -7,6 +7,13 @@ statistics (after the behaviour seeds' games, when the run counts behaviours), c
 callbacks. Everything random comes from one Generator seeded by config.seed and saved in every
 checkpoint, so a resumed run continues bit for bit.
 
+Co-evolution (`hall`, ga/hall_of_fame.py): before each generation is evaluated, the opponents it plays
+are drawn from the hall of fame with the same Generator, and the evaluator is asked for one against them
+(`evaluate.against(rulebases)`); after it, the generation's best joins the hall. The hall is part of the
+state, so a resumed co-evolution run continues bit for bit too. Callbacks with an `on_opponents(generation,
+members)` method hear whom the generation is scored against (the hall of fame members drawn: each with its
+chromosome and label), before it is evaluated.
+
 `stop` is obeyed within a generation too (ga/evaluation.py plays it in chunks and checks between them,
 the behaviour seeds' games included): the generation in progress is abandoned and the run ends as it was
 after the last finished generation, which is what its checkpoint holds, so a resumed run plays the
@@ -32,6 +39,7 @@ from soccer_lab.ga.config import SEED_BOUND, GAConfig
 from soccer_lab.ga.diversity import BehaviourProbe, behaviour_seeds
 from soccer_lab.ga.evaluation import Evaluation, EvaluationStopped, Evaluator
 from soccer_lab.ga.genes import GeneSpace
+from soccer_lab.ga.hall_of_fame import HallOfFame
 from soccer_lab.ga.individual import Individual
 from soccer_lab.ga.initialisation import random_population
 from soccer_lab.ga.provenance import RANDOM_DRAW
@@ -46,15 +54,19 @@ Callback = Any
 
 def evolve(config: GAConfig, evaluate: Evaluator, vocabulary: Vocabulary, *, callbacks: Iterable[Callback] = (),
            checkpoint: str | Path | None = None, stop: threading.Event | None = None,
-           initial_population: Sequence[np.ndarray] | None = None) -> RunResult:
+           initial_population: Sequence[np.ndarray] | None = None, hall: HallOfFame | None = None) -> RunResult:
     """Run the messy-coded GA over rules in `vocabulary` (the one `evaluate` plays them in); `stop`
     ends it within the generation in progress (which is abandoned). `initial_population` (population_size
     chromosomes over the same vocabulary, e.g. a population evolved in another game) is generation 0 instead
-    of random ones."""
+    of random ones. `hall`: co-evolve against this hall of fame (its founder the first opponent); `evaluate`
+    then has `against(rulebases)`."""
     if initial_population is not None and len(initial_population) != config.population_size:
         raise ValueError(f"an initial population of {len(initial_population)} for a population size of "
                          f"{config.population_size}")
-    return _run(_fresh_state(GA, config, vocabulary), evaluate, callbacks, checkpoint, stop, initial_population)
+    if hall is not None and not hasattr(evaluate, "against"):
+        raise ValueError("co-evolution needs an evaluator that plays against opponents (with `against`)")
+    state = replace(_fresh_state(GA, config, vocabulary), hall=hall)
+    return _run(state, evaluate, callbacks, checkpoint, stop, initial_population)
 
 
 def random_search(config: GAConfig, evaluate: Evaluator, vocabulary: Vocabulary, *,
@@ -88,6 +100,7 @@ def _run(state: RunState, evaluate: Evaluator, callbacks: Iterable[Callback], ch
     callbacks = list(callbacks)
     listeners = [getattr(callback, "on_generation", callback) for callback in callbacks]
     watchers = [callback.on_progress for callback in callbacks if hasattr(callback, "on_progress")]
+    hearing_opponents = [callback.on_opponents for callback in callbacks if hasattr(callback, "on_opponents")]
 
     def progress(done: int, total: int) -> None:
         for watcher in watchers:
@@ -101,13 +114,19 @@ def _run(state: RunState, evaluate: Evaluator, callbacks: Iterable[Callback], ch
                 population = [Individual(np.array(chromosome, copy=True)) for chromosome in initial_population]
             else:
                 population = _next_population(state, codec.space, rng)
+            hall = state.hall
+            if hall is not None:
+                hall, opponents = hall.draw(rng)
+                evaluation.use(evaluate.against([codec.decode(member.chromosome) for member in opponents]))
+                for hear in hearing_opponents:
+                    hear(len(state.history), opponents)
             try:
                 population = _evaluated(population, evaluation, codec, rng)
                 behaviours = probe(population, evaluation) if probe is not None else NOT_MEASURED
             except EvaluationStopped:
                 reason = STOPPED  # the state (and rng) stay as after the last finished generation
                 break
-            state = _recorded(state, population, rng, time.perf_counter() - started, behaviours)
+            state = _recorded(replace(state, hall=hall), population, rng, time.perf_counter() - started, behaviours)
             if checkpoint is not None:
                 save_checkpoint(checkpoint, state)
             for listener in listeners:
@@ -167,7 +186,8 @@ def _recorded(state: RunState, population: list[Individual], rng: np.random.Gene
                              behaviours)
     contender = min(population, key=lambda individual: individual.fitness)  # first of equals
     best = contender if state.best is None or contender.fitness < state.best.fitness else state.best
+    hall = state.hall.with_best(contender.chromosome, len(state.history)) if state.hall is not None else None
     return RunState(state.algorithm, state.config, state.vocabulary, population, rng.bit_generator.state,
-                    [*state.history, stats], best)
+                    [*state.history, stats], best, hall)
 
 

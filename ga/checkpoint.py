@@ -12,6 +12,7 @@ from pydantic import ValidationError
 
 from soccer_lab.fuzzy.vocabulary import Vocabulary, VocabularyError
 from soccer_lab.ga.config import GAConfig
+from soccer_lab.ga.hall_of_fame import HallOfFame
 from soccer_lab.ga.individual import Individual
 from soccer_lab.ga.state import ALGORITHMS, RunState
 from soccer_lab.ga.statistics import GenerationStats
@@ -37,6 +38,7 @@ def save_checkpoint(path: str | Path, state: RunState) -> None:
         "history": [stats.to_dict() for stats in state.history],
         "best": state.best.to_dict() if state.best else None,
         "population": [individual.to_dict() for individual in state.population],
+        **({"hall_of_fame": state.hall.to_dict()} if state.hall is not None else {}),
     }
     handle, temporary = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
     try:
@@ -76,4 +78,5 @@ def _state(document: dict[str, Any]) -> RunState:
         rng_state=document["rng_state"],
         history=[GenerationStats.from_dict(s) for s in document["history"]],
         best=Individual.from_dict(document["best"]) if document["best"] else None,
+        hall=HallOfFame.from_dict(document["hall_of_fame"]) if document.get("hall_of_fame") else None,
     )

@@ -74,3 +74,19 @@ class GAConfig(BaseModel):
         if self.selection != "elitist":
             return 0
         return max(1, round(self.elite_fraction * self.population_size))
+
+
+MAX_HALL_SIZE = 100
+MAX_HALL_SAMPLE = 20  # each is a match per evaluation: the cost grows with it
+
+
+class CoevolutionConfig(BaseModel):
+    """Co-evolution against a hall of fame of earlier bests (ga/hall_of_fame.py): how many bests it keeps
+    (its founder, generation 0's opponent, besides) and how many of its members each generation is scored
+    against."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+    hall_size: int = Field(10, ge=1, le=MAX_HALL_SIZE, description="generation bests the hall of fame keeps")
+    hall_sample: int = Field(3, ge=1, le=MAX_HALL_SAMPLE,
+                             description="hall members each generation is scored against (a match each)")

@@ -81,6 +81,11 @@ class Evaluation:
         self.chunk_size = max(1, int(chunk_size or getattr(evaluate, "chunk_size", None) or CHUNK_SIZE))
         self._pool: ProcessPoolExecutor | None = None
 
+    def use(self, evaluate: Evaluator) -> None:
+        """Score with `evaluate` from now on (co-evolution: the generation's opponents), in chunks of its size."""
+        self.evaluate = evaluate
+        self.chunk_size = max(1, int(getattr(evaluate, "chunk_size", None) or CHUNK_SIZE))
+
     def __enter__(self) -> "Evaluation":
         # What exists when a run starts (modules, compiled kernels, the app's state) is frozen for the run, so
         # the cyclic garbage collector's full collections skip it (one walked 140,000 objects: 2% of a trial's

@@ -46,14 +46,29 @@ class Place(NamedTuple):
 
 
 # ---- the record of a generation ---------------------------------------------------------------
-def generation_record(generation: int, population: Sequence[Individual]) -> dict[str, Any]:
+def generation_record(generation: int, population: Sequence[Individual],
+                      opponents: Sequence[str] | None = None) -> dict[str, Any]:
     """One generation as the run folder's lineage.jsonl and the store keep it. A chromosome is written as
-    hex: its int8 gene fields row by row, GENE_WIDTH bytes a gene (ga/genes.py)."""
-    return {"generation": generation, "individuals": [
+    hex: its int8 gene fields row by row, GENE_WIDTH bytes a gene (ga/genes.py). `opponents`: whom the
+    generation was scored against (co-evolution's hall of fame members), last, after the individuals."""
+    record = {"generation": generation, "individuals": [
         {"chromosome": individual.chromosome.tobytes().hex(), "evaluations": individual.evaluations,
          "fitness_sum": individual.fitness_sum, "goals": individual.goals, "first_seed": individual.first_seed,
          "birth": None if individual.birth is None else individual.birth.to_dict()}
         for individual in population]}
+    if opponents is not None:
+        record["opponents"] = list(opponents)
+    return record
+
+
+OPPONENTS_AT_END = re.compile(r',\s*"opponents":\s*(\[[^\]]*\])\s*\}\s*$')
+
+
+def record_opponents(text: str) -> list[str] | None:
+    """Whom a record's generation was scored against (None: a fixed evaluation, or not recorded), read from
+    the end of its text without parsing the individuals."""
+    found = OPPONENTS_AT_END.search(text)
+    return [str(label) for label in json.loads(found.group(1))] if found else None
 
 
 def read_generation_record(record: dict[str, Any]) -> tuple[int, "RecordedPopulation"]:

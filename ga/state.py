@@ -9,6 +9,7 @@ from soccer_lab.ga.config import GAConfig
 
 if TYPE_CHECKING:  # annotations only: the algorithm names above are read where numpy is not wanted (CLI help)
     from soccer_lab.fuzzy.vocabulary import Vocabulary
+    from soccer_lab.ga.hall_of_fame import HallOfFame
     from soccer_lab.ga.individual import Individual
     from soccer_lab.ga.statistics import GenerationStats
 
@@ -25,6 +26,7 @@ class RunState:
     rng_state: dict[str, Any]  # the run's Generator, after the last generation's draws
     history: list[GenerationStats]
     best: Individual | None  # best running mean seen so far (kept when a later mean is only equal)
+    hall: HallOfFame | None = None  # co-evolution's opponents (ga/hall_of_fame.py); None: a fixed evaluation
 
     @property
     def evaluations(self) -> int:

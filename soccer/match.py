@@ -43,6 +43,9 @@ from soccer_lab.soccer.world import PitchOutline, World, vectors_address
 
 OPPONENT = "OPPONENT"  # the object an opponent-seeing vocabulary names (fuzzy/data/opponent_vocabulary.json)
 HALVES = 2
+# "Kiddie soccer" (both players chasing the ball): a tick counts as crowded when both players are within this
+# many metres of the ball (the vocabulary's Near peaks at 4 m and ends at 8 m)
+CROWD_DISTANCE = 5.0
 
 
 class OpponentLayout(NamedTuple):
@@ -82,6 +85,7 @@ class HalfState(NamedTuple):
     last_players: np.ndarray  # float64[n, 4]: left x, y, right x, y when they last decided
     last_ball: np.ndarray  # float64[n, 2]
     streams: np.ndarray  # uint64[n]: the half's splitmix64 stream (its match's seed)
+    crowded: np.ndarray  # int64[n]: ticks both players were within CROWD_DISTANCE of the ball
 
 
 class PlayerState(NamedTuple):
@@ -106,6 +110,12 @@ class HalfResult:
     min_ball_goal_distance: tuple[float, float]
     ticks: int
     end_reason: str
+    crowded: int = 0  # ticks both players were within CROWD_DISTANCE of the ball
+
+    @property
+    def crowd_share(self) -> float:
+        """The share of the half's ticks both players were near the ball (0 for a half of no tick)."""
+        return self.crowded / self.ticks if self.ticks else 0.0
 
 
 # ---- kernel ----------------------------------------------------------------------------------
@@ -139,6 +149,11 @@ def scored(last_x, last_y, x, y, c):
 def rebound(body, factor):
     body[2] *= factor
     body[3] *= factor
+
+
+@numba.njit(cache=True, inline="always")
+def _near(x, y, bx, by):
+    return (x - bx) * (x - bx) + (y - by) * (y - by) <= CROWD_DISTANCE * CROWD_DISTANCE
 
 
 @numba.njit(cache=True, inline="always")
@@ -182,6 +197,8 @@ def close_half(h, positions, bodies, offset, halves, players, constants, rules):
         x, y = (lx, ly) if side == 0 else (rx, ry)
         dx, dy = x - last_players[h, 2 * side], y - last_players[h, 2 * side + 1]
         idle[p] = 0 if kicked[p] or math.sqrt(dx * dx + dy * dy) > rules.idle_distance else idle[p] + 1
+    if _near(lx, ly, bx, by) and _near(rx, ry, bx, by):
+        halves.crowded[h] += 1
     if scorer >= 0:
         goals[scorer] += 1
         bx = 0.0
@@ -374,7 +391,7 @@ class MatchBatch:
         self.state = HalfState(
             done=np.zeros(n, dtype=np.bool_), ticks=np.zeros(n, dtype=np.int64), end_reason=np.zeros(n, dtype=np.int64),
             last_players=np.concatenate([left, right], axis=1), last_ball=np.stack([np.zeros(n), ball_y], axis=1),
-            streams=streams)
+            streams=streams, crowded=np.zeros(n, dtype=np.int64))
         hl = self.constants.half_length
         self.players = PlayerState(
             facing=np.zeros(2 * n),  # every player starts facing the goal it attacks
@@ -425,7 +442,8 @@ class MatchBatch:
         return HalfResult(goals=(int(p.goals[left]), int(p.goals[right])),
                           kicks=(int(p.kicks[left]), int(p.kicks[right])),
                           min_ball_goal_distance=(float(p.min_distance[left]), float(p.min_distance[right])),
-                          ticks=int(s.ticks[h]), end_reason=END_REASONS[s.end_reason[h]])
+                          ticks=int(s.ticks[h]), end_reason=END_REASONS[s.end_reason[h]],
+                          crowded=int(s.crowded[h]))
 
     def results(self) -> list[HalfResult]:
         return [self.result(h) for h in range(self.halves)]
@@ -519,3 +537,97 @@ class MatchEvaluator:
                           goals=scored / k if k > 1 else scored, kicks=kicks / k if k > 1 else kicks,
                           ticks=sum(h.ticks for h in halves) / k if k > 1 else sum(h.ticks for h in halves),
                           min_ball_goal_distance=distance, end_reason=halves[0].end_reason)
+
+
+@dataclass(frozen=True)
+class HallEvaluator:
+    """The GA's evaluator against several opponents (co-evolution: the opponents drawn from a hall of fame,
+    ga/hall_of_fame.py, set each generation with `against`): each rulebase plays one match against each
+    opponent (k with games_per_evaluation = k), from seeds derived from its own, all in one batch. Its
+    fitness is the mean over the opponents of `match_fitness` against each (so each opponent weighs the same:
+    a big win against a weak one does not hide a loss against a strong one); goals and kicks its own, a mean
+    per match; ticks a mean per match; the closest approach the minimum; end_reason the first half's."""
+
+    opponents: tuple[Rulebase, ...] = ()
+    config: GameConfig = GameConfig()
+    vocabulary: Vocabulary = SOCCER_VOCABULARY
+
+    def against(self, opponents: Sequence[Rulebase]) -> "HallEvaluator":
+        return HallEvaluator(tuple(opponents), self.config, self.vocabulary)
+
+    @property
+    def chunk_size(self) -> int:
+        """Rulebases per chunk of a generation: as many halves as a chunk of games has games."""
+        matches = max(1, len(self.opponents)) * self.config.games_per_evaluation
+        return max(1, CHUNK_GAMES // (HALVES * matches))
+
+    def __call__(self, rulebases: Sequence[Rulebase], seeds: Sequence[int]) -> list[GameResult]:
+        if len(rulebases) != len(seeds):
+            raise ValueError(f"{len(rulebases)} rulebases but {len(seeds)} seeds: need one seed per rulebase")
+        if not self.opponents:
+            raise ValueError("a hall of fame evaluator needs at least one opponent (see `against`)")
+        k = self.config.games_per_evaluation
+        pairs, match_seeds = [], []
+        for rulebase, seed in zip(rulebases, seeds):
+            derived = game_seeds(int(seed), k * len(self.opponents))
+            for j, opponent in enumerate(self.opponents):
+                for match_seed in derived[j * k:(j + 1) * k]:
+                    pairs += [(rulebase, opponent), (opponent, rulebase)]
+                    match_seeds += [match_seed] * HALVES
+        halves = MatchBatch(pairs, match_seeds, self.config, self.vocabulary).run() if pairs else []
+        per_player = HALVES * k * len(self.opponents)
+        return [self._result(halves[i * per_player:(i + 1) * per_player]) for i in range(len(rulebases))]
+
+    def _result(self, halves: list[HalfResult]) -> GameResult:
+        """The player's result over its halves, HALVES * k against each opponent in turn (the player on the
+        left in even halves, on the right in odd ones)."""
+        per_opponent = len(halves) // len(self.opponents)
+        fitnesses = []
+        for j in range(len(self.opponents)):
+            mine = halves[j * per_opponent:(j + 1) * per_opponent]
+            scored = sum(h.goals[i % 2] for i, h in enumerate(mine))
+            conceded = sum(h.goals[1 - i % 2] for i, h in enumerate(mine))
+            kicks = sum(h.kicks[i % 2] for i, h in enumerate(mine))
+            distance = min(h.min_ball_goal_distance[i % 2] for i, h in enumerate(mine))
+            fitnesses.append(match_fitness(scored - conceded, kicks, distance, self.config.world.pitch_length))
+        matches = len(halves) // HALVES
+        return GameResult(fitness=sum(fitnesses) / len(fitnesses),
+                          goals=sum(h.goals[i % 2] for i, h in enumerate(halves)) / matches,
+                          kicks=sum(h.kicks[i % 2] for i, h in enumerate(halves)) / matches,
+                          ticks=sum(h.ticks for h in halves) / matches,
+                          min_ball_goal_distance=min(h.min_ball_goal_distance[i % 2] for i, h in enumerate(halves)),
+                          end_reason=halves[0].end_reason)
+
+
+# ---- one half traced, for a recording's replay --------------------------------------------------------
+@dataclass(frozen=True)
+class MatchTrace:
+    """One half tick by tick in the pitch's frame (the left player's), as each tick began: each player's
+    position and facing (degrees), the ball, each side's goals so far."""
+
+    left: np.ndarray  # float[T, 3]: x, y, facing
+    right: np.ndarray  # float[T, 3]
+    ball: np.ndarray  # float[T, 2]
+    goals: np.ndarray  # int[T, 2]: left's, right's
+
+    def __len__(self) -> int:
+        return len(self.ball)
+
+
+def traced_half(left: Rulebase, right: Rulebase, seed: int, config: GameConfig,
+                vocabulary: Vocabulary) -> tuple[HalfResult, MatchTrace]:
+    """The first half of the match from `seed` (`left` on the left), played alone (so as in any batch) and
+    traced tick by tick."""
+    batch = MatchBatch([(left, right)], [seed], config, vocabulary)
+    rows = []
+    while not batch.finished:
+        left_body, _, ball_body, _, right_body, _ = batch.world.objects(0)
+        ox, oy = batch.world.pitches.offsets[0]
+        facing = batch.players.facing
+        rows.append((left_body.position.x - ox, left_body.position.y - oy, facing[0],
+                     right_body.position.x - ox, right_body.position.y - oy, (facing[1] + 180.0) % 360.0,
+                     ball_body.position.x - ox, ball_body.position.y - oy, batch.players.goals[0],
+                     batch.players.goals[1]))
+        batch.step()
+    table = np.array(rows, dtype=float).reshape(-1, 10)
+    return batch.result(0), MatchTrace(table[:, 0:3], table[:, 3:6], table[:, 6:8], table[:, 8:10].astype(np.int64))

@@ -62,8 +62,9 @@ def evolve(population_size: int | None = None, generations: int | None = None, s
     `options`: any other GA option (max_length, crossover, selection, mutation_rate, target_fitness,
     workers, ...; soccer_lab.ga.config.GAConfig) or game option (max_ticks, skills, fitness, games_per_evaluation, ...;
     soccer_lab.soccer.config.GameConfig), or `opponent` (a Rulebase or a rulebase file: evolve against that fixed
-    player, each evaluation a match against it; docs/research/matches.md). `out`: the run folder (None: a new
-    temporary folder, in `.folder`).
+    player, each evaluation a match against it; docs/research/matches.md), or `coevolve` (True, or a dict with
+    hall_size and hall_sample: co-evolve against a hall of fame of earlier bests founded by `opponent` or the
+    built-in demo). `out`: the run folder (None: a new temporary folder, in `.folder`).
     `on_generation(statistics)` hears each finished generation's statistics. Bad options raise a
     ValueError (TypeError for a name no option has); a folder already holding a run, RunFolderError.
 
@@ -157,6 +158,8 @@ def _settings(algorithm: str, options: dict[str, Any]) -> "RunSettings":
     from soccer_lab.soccer.config import GameConfig
 
     opponent = options.pop("opponent", None)
+    coevolve = options.pop("coevolve", None)
+    coevolve = {} if coevolve is True else coevolve or None  # True: the hall of fame's defaults
     ga, game, unknown = {}, {}, []
     for name, value in options.items():
         field = RENAMED.get(name, name)
@@ -170,7 +173,8 @@ def _settings(algorithm: str, options: dict[str, Any]) -> "RunSettings":
         raise TypeError(f"unknown option{'s' if len(unknown) > 1 else ''} {', '.join(unknown)}: expected a GA "
                         f"option ({', '.join(_ga_names())}) or a game option ({', '.join(GameConfig.model_fields)})")
     ga.setdefault("workers", default_workers())
-    return RunSettings.build(ga=ga, game=game, algorithm=algorithm, opponent=_opponent_text(opponent))
+    return RunSettings.build(ga=ga, game=game, algorithm=algorithm, opponent=_opponent_text(opponent),
+                             coevolve=coevolve)
 
 
 def _opponent_text(opponent: Any) -> str | None:

@@ -20,7 +20,7 @@ from soccer_lab.app.cli.play import (ENV_PANEL, GAME_PANEL, CountTouchesOption, 
 from soccer_lab.app.runs.environments import RCSS, RCSS_WORKERS, SIMPLE, checked_workers, default_workers
 from soccer_lab.app.experiment.executors import LOCAL, RAY
 from soccer_lab.app.words import plural
-from soccer_lab.ga.config import GAConfig
+from soccer_lab.ga.config import CoevolutionConfig, GAConfig
 from soccer_lab.soccer.config import GameConfig
 
 if TYPE_CHECKING:  # the run's machinery (numpy, numba, rerun) is imported when a run starts, not for --help
@@ -87,6 +87,19 @@ Opponent = Annotated[Optional[Path], typer.Option(
     "--opponent", metavar="FILE", help="Evolve against this fixed player (a rulebase file): each evaluation is a "
     "match against it, two halves with the sides swapped, scored by the chapter's composite carried over to goal "
     "difference (docs/research/matches.md). SimpleSoccer only.", show_default=False, rich_help_panel=GAME_PANEL)]
+Coevolve = Annotated[bool, typer.Option(
+    "--coevolve", help="Co-evolve: score each player over matches against members of a hall of fame of earlier "
+    "generations' bests (generation 0 plays the --opponent, else the built-in demo, which stays in the hall). "
+    "SimpleSoccer only.", rich_help_panel=GAME_PANEL)]
+HallSize = Annotated[Optional[int], typer.Option(
+    "--hall-size", metavar="K", help=option_help(CoevolutionConfig, "hall_size", "With --coevolve: the last K "
+                                                 "distinct generation bests the hall keeps, beside its founder."),
+    show_default=False, rich_help_panel=GAME_PANEL)]
+HallSample = Annotated[Optional[int], typer.Option(
+    "--hall-sample", metavar="M", help=option_help(CoevolutionConfig, "hall_sample", "With --coevolve: hall members "
+                                                   "each generation is scored against, a match each (drawn with the "
+                                                   "run's seed)."),
+    show_default=False, rich_help_panel=GAME_PANEL)]
 Resume = Annotated[Optional[Path], typer.Option(
     "--resume", help="Continue the killed run in this folder (with its own settings; an rcss run may be given "
     "other servers: --server's, or --rcssserver and --servers).", show_default=False,
@@ -106,12 +119,15 @@ def evolve_command(
     noise: NoiseOption = None, skills: SkillsOption = None, count_touches: CountTouchesOption = None,
     env: EnvOption = None, server: ServerOption = None,
     rcssserver: RcssserverOption = None, servers: ServersOption = None, executor: Executor = None,
-    address: Address = None, opponent: Opponent = None, out: Out = None, resume_dir: Resume = None,
+    address: Address = None, opponent: Opponent = None, coevolve: Coevolve = False, hall_size: HallSize = None,
+    hall_sample: HallSample = None, out: Out = None, resume_dir: Resume = None,
 ) -> None:
     """Evolve a goal-scoring rulebase with the messy-coded GA (defaults: the chapter's Table 2)."""
     options = dict(locals())  # first: the options are the function's locals
     from soccer_lab.ga.state import GA
 
+    if not options["coevolve"]:
+        options["coevolve"] = None  # not given (a flag's False), so --resume does not refuse it
     if resume_dir is not None:
         # The servers may change: a resumed rcss run can use other servers (or ports) than before.
         given = [f"--{name.replace('_', '-')}" for name, value in options.items()
@@ -180,11 +196,13 @@ def _settings(algorithm: str, options: dict[str, Any]) -> "RunSettings":
     for name in ("out", "resume_dir"):
         options.pop(name, None)
     opponent = _opponent_text(options.pop("opponent", None), env)
+    coevolve = _coevolution(options.pop("coevolve", None), options.pop("hall_size", None),
+                            options.pop("hall_sample", None), env)
     options["max_generations"] = options.pop("generations")
     if env == SIMPLE:
         if options["workers"] is None:
             options["workers"] = default_workers()
-        where = {"game": game_config(**game_options, **simple_options), "opponent": opponent}
+        where = {"game": game_config(**game_options, **simple_options), "opponent": opponent, "coevolve": coevolve}
     else:
         if options["workers"] is not None:
             try:
@@ -201,6 +219,19 @@ def _settings(algorithm: str, options: dict[str, Any]) -> "RunSettings":
     from soccer_lab.app.runs.run import RunSettings
 
     return RunSettings(ga, algorithm=algorithm, **where)
+
+
+def _coevolution(coevolve: bool | None, hall_size: int | None, hall_sample: int | None,
+                 env: str) -> CoevolutionConfig | None:
+    """--coevolve's hall of fame (None: not co-evolving); --hall-size and --hall-sample need it."""
+    if not coevolve:
+        given = [name for name, value in (("--hall-size", hall_size), ("--hall-sample", hall_sample)) if value is not None]
+        if given:
+            fail(f"{', '.join(given)}: with --coevolve only")
+        return None
+    if env != SIMPLE:
+        fail(f"--coevolve: matches are played in SimpleSoccer, not with --env {RCSS}")
+    return config_from_options(CoevolutionConfig, {"hall_size": hall_size, "hall_sample": hall_sample})
 
 
 def _opponent_text(path: Path | None, env: str) -> str | None:
@@ -353,12 +384,29 @@ def _summary(run: "Run", result: "RunResult") -> None:
     typer.echo(f"outputs in {folder.path}: {', '.join(p.name for p in _outputs(folder))}")
 
 
+def _match_replay_line(run: "Run") -> str:
+    """Where a match run's best player's first match is (its first half in the recording), and how to play it."""
+    game = run.best_game
+    if run.settings.coevolve is not None:
+        founder = "the --opponent" if run.settings.opponent else "soccer/data/examples/demo.rules"
+        line = (f"each evaluation was matches against the hall of fame (lineage.jsonl names each generation's "
+                f"opponents): soccer-lab match {run.folder.best_rules} {founder} plays the best against the first")
+    else:
+        line = (f"each evaluation was a match against the opponent: soccer-lab match {run.folder.best_rules} "
+                "OPPONENT.rules plays the best against it")
+    if game is None:
+        return line + "\nthe best player's first match cannot be replayed (whom it played was not heard: the run was resumed)"
+    trace = game.trace
+    return line + (f"\nreplay of the first half of the best player's first match (seed {game.seed}) in the recording: "
+                   f"{int(trace.goals[-1][0])}-{int(trace.goals[-1][1])}, {plural(game.result.kicks, 'kick')}, "
+                   f"{plural(game.result.ticks, 'tick')}")
+
+
 def _replay_line(run: "Run") -> str:
     game, rcss = run.best_game, run.settings.env == RCSS
     played = "trial" if rcss else "game"
-    if run.settings.opponent:
-        return ("each evaluation was a match against the opponent (the recording shows no match yet): "
-                f"soccer-lab match {run.folder.best_rules} OPPONENT.rules plays the best against it")
+    if run.settings.coevolve is not None or run.settings.opponent:
+        return _match_replay_line(run)
     if game is None:
         why = ("it was not traced in this process: the run was resumed" if rcss
                else "its seed was not kept by the run it comes from")

@@ -157,13 +157,13 @@ QUESTIONS: tuple[Question, ...] = (
 )
 
 
-def assess_questions(table: StatisticsTable, bests: BestsTable,
-                     presets: list[Preset]) -> list[tuple[Question, Assessment]]:
+def assess_questions(table: StatisticsTable, bests: BestsTable, presets: list[Preset],
+                     questions: tuple[Question, ...] = QUESTIONS) -> list[tuple[Question, Assessment]]:
     """The questions of the presets run; "too small to judge" below the chapter's size, "not run"
     without bests (trials from before they were kept)."""
     by_name = {p.name: p for p in presets}
     results = []
-    for question in QUESTIONS:
+    for question in questions:
         preset = by_name.get(question.preset)
         if preset is None:
             continue

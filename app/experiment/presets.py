@@ -24,6 +24,12 @@ each evaluation on 1 or on 5 games at equal games played (the 1-game run gets 5x
 `restarts` (6.4.4, after Luke) sets 4 independent runs of 25 generations against one of 100 at equal
 evaluations. The chapter's later control (elitist selection) is theirs, but for `games-per-evaluation`,
 whose question the chapter raised about its Table 2 trials.
+
+`matches` (SPEC 4.7; the chapter's background: Luke's co-evolved teams) plays matches: Table 2 evolved
+alone (the `initial` preset's trials), Table 2 co-evolved against a hall of fame of earlier bests founded by
+the built-in demo (COEVOLUTION: each evaluation a match against each of 3 members drawn from the last 10
+distinct bests and the demo), and the same seeing the opponent (the opponent vocabulary). Its questions and
+their tests are app/experiment/matches.py's.
 """
 
 from __future__ import annotations
@@ -35,7 +41,7 @@ from typing import TYPE_CHECKING, Any
 
 from pydantic import BaseModel, ConfigDict, Field
 
-from soccer_lab.ga.config import MAX_POPULATION, SEED_BOUND, GAConfig, RouletteWeighting
+from soccer_lab.ga.config import MAX_POPULATION, SEED_BOUND, CoevolutionConfig, GAConfig, RouletteWeighting
 from soccer_lab.ga.state import GA, RANDOM_SEARCH
 from soccer_lab.soccer.config import GameConfig, SkillSet
 
@@ -68,6 +74,9 @@ BEYOND_CROSSOVERS = ("one-point", "two-point", "uniform")
 RULE_PRESSURE_LENGTHS = (25, 64, 128)  # the chapter's smallest maximum (rules reach their bound), Table 2's, twice it
 GAMES_PER_EVALUATION = (1, 5)  # the chapter, 5.2: "the average of five games"
 RESTARTS = 4  # runs of Table 2's 25 generations, against one of LONG_GENERATIONS (Luke's "many shorter experiments")
+MATCHES = "matches"
+COEVOLUTION = CoevolutionConfig(hall_size=10, hall_sample=3)  # the matches preset's hall of fame
+ALONE, COEVOLVED, SEEING = "alone", "co-evolved", "co-evolved, seeing the opponent"  # its settings
 RCSS_TRIAL = "rcss_trial"  # a manifest's rcssserver trial length and noise (ExperimentOptions.identity)
 DEFAULT_REPLAYS = 100  # fresh starts each trial's best is re-played on: its true quality
 
@@ -179,6 +188,8 @@ class Setting:
     trial: TrialConfig | None = None  # rcssserver trials; None: SimpleSoccer games (the options' game)
     games_per_evaluation: int = 1  # SimpleSoccer games averaged into one evaluation
     restarts: int = 1  # independent runs of `ga` in one trial; its best is the best of their bests
+    coevolve: CoevolutionConfig | None = None  # co-evolved against a hall of fame founded by the built-in demo
+    see_opponent: bool = False  # its players perceive the opponent (the opponent vocabulary)
 
     @property
     def key(self) -> str:
@@ -191,12 +202,15 @@ class Setting:
         # only when set, so the chapter's settings keep the keys (and trial files) they always had
         identity += [{"games_per_evaluation": self.games_per_evaluation}] if self.games_per_evaluation != 1 else []
         identity += [{"restarts": self.restarts}] if self.restarts != 1 else []
+        identity += [{"coevolve": self.coevolve.model_dump()}] if self.coevolve is not None else []
+        identity += [{"see_opponent": True}] if self.see_opponent else []
         digest = hashlib.sha256(json.dumps(identity, sort_keys=True).encode()).hexdigest()
         where = "-rcss" if self.trial is not None else ""
         runs = f"x{self.restarts}" if self.restarts != 1 else ""
         games = f"-k{self.games_per_evaluation}" if self.games_per_evaluation != 1 else ""
-        return (f"{self.algorithm}{where}-p{self.ga.population_size}-g{self.ga.max_generations}{runs}{games}-"
-                f"{digest[:10]}")
+        matches = ("-coevolved" + ("-seeing" if self.see_opponent else "")) if self.coevolve is not None else ""
+        return (f"{self.algorithm}{where}-p{self.ga.population_size}-g{self.ga.max_generations}{runs}{games}"
+                f"{matches}-{digest[:10]}")
 
     @property
     def evaluations(self) -> int:
@@ -204,8 +218,10 @@ class Setting:
 
     @property
     def games(self) -> int:
-        """Games a trial plays in its runs (its best's replays aside): what it costs."""
-        return self.evaluations * self.games_per_evaluation
+        """Games a trial plays in its runs (its best's replays aside): what it costs. A co-evolution evaluation is
+        a match (two halves of two players) against each opponent drawn: about four games each."""
+        matches = 4 * self.coevolve.hall_sample if self.coevolve is not None else 1
+        return self.evaluations * self.games_per_evaluation * matches
 
 
 @dataclass(frozen=True)
@@ -274,6 +290,10 @@ def _preset_settings(name: str, options: ExperimentOptions) -> tuple[Setting, ..
                              _config(options, {}, max_generations=options.scaled_generations(
                                  CHAPTER_GENERATIONS * most // games)), games_per_evaluation=games)
                      for games in GAMES_PER_EVALUATION)
+    if name == MATCHES:
+        table_2 = _config(options, {})
+        return (Setting(ALONE, GA, table_2), Setting(COEVOLVED, GA, table_2, coevolve=COEVOLUTION),
+                Setting(SEEING, GA, table_2, coevolve=COEVOLUTION, see_opponent=True))
     if name == "restarts":  # equal evaluations: RESTARTS x G generations against one run of RESTARTS x G
         short = _config(options, LATER_CONTROL, max_generations=options.scaled_generations(CHAPTER_GENERATIONS))
         long = _long_setting(options)
@@ -312,10 +332,15 @@ PRESET_TABLE: dict[str, tuple[str, str, int, bool, tuple[str, ...]]] = {
                              False, ("mean_fitness", "best_fitness")),
     "restarts": ("Restarts against one long run (equal evaluations)", "runs", DEFAULT_TRIALS, False,
                  ("mean_fitness", "best_so_far")),
+    MATCHES: ("Matches: evolved alone, co-evolved, co-evolved seeing the opponent", "evolved", DEFAULT_TRIALS, False,
+              ("mean_fitness", "best_fitness")),
 }
 BEYOND_NAMES: tuple[str, ...] = ("uniform-crossover", "rule-pressure", "games-per-evaluation", "restarts")
-PRESET_NAMES: tuple[str, ...] = tuple(name for name in PRESET_TABLE if name not in (ROBOCUP, *BEYOND_NAMES))  # `all`
-CHOICES: tuple[str, ...] = (*PRESET_NAMES, ROBOCUP, *BEYOND_NAMES, ALL, ALL_PLUS)
+# presets whose questions the report answers "beyond the chapter": its future work, and the matches study (SPEC
+# 4.7), a study of its own that `all-plus` leaves out
+ANSWERED_NAMES: tuple[str, ...] = (*BEYOND_NAMES, MATCHES)
+PRESET_NAMES: tuple[str, ...] = tuple(name for name in PRESET_TABLE if name not in (ROBOCUP, *ANSWERED_NAMES))  # `all`
+CHOICES: tuple[str, ...] = (*PRESET_NAMES, ROBOCUP, *ANSWERED_NAMES, ALL, ALL_PLUS)
 
 
 def preset(name: str, options: ExperimentOptions) -> Preset:
@@ -330,8 +355,8 @@ def preset(name: str, options: ExperimentOptions) -> Preset:
 
 
 def presets(name: str, options: ExperimentOptions) -> list[Preset]:
-    """`all` expands to every SimpleSoccer preset of the chapter, in its order; `all-plus` adds the ones
-    beyond it."""
+    """`all` expands to every SimpleSoccer preset of the chapter, in its order; `all-plus` adds the chapter's
+    future work (not `matches`, a study of its own)."""
     names = {ALL: PRESET_NAMES, ALL_PLUS: (*PRESET_NAMES, *BEYOND_NAMES)}.get(name, (name,))
     return [preset(n, options) for n in names]
 

@@ -33,9 +33,9 @@ from typing import Callable
 import numpy as np
 from scipy import stats
 
-from soccer_lab.app.experiment.beyond import BEYOND_INTRODUCTION, assess_questions
+from soccer_lab.app.experiment.beyond import BEYOND_INTRODUCTION, QUESTIONS, assess_questions
 from soccer_lab.app.experiment.figures import Figure, write_figures
-from soccer_lab.app.experiment.presets import BEYOND_NAMES, ROBOCUP, Preset
+from soccer_lab.app.experiment.presets import ANSWERED_NAMES, MATCHES, ROBOCUP, Preset
 from soccer_lab.app.experiment.table import BestsTable, StatisticsTable
 from soccer_lab.app.experiment.verdicts import (ALPHA, AGREES, DISAGREES, INCONCLUSIVE, MIN_TRIALS, NOT_RUN, POWER,
                                                 TOO_SMALL, VERDICTS, Assessment, _best_so_far, _detectable_text, _final,
@@ -499,7 +499,7 @@ def assess_findings(table: StatisticsTable, presets: list[Preset]) -> list[tuple
     findings are left out (`experiment all` is the whole SimpleSoccer study, `experiment robocup` the
     RoboCup trials). Presets beyond the chapter alone have no findings of it."""
     by_name = {p.name: p for p in presets}
-    studies = {_study(p.name) for p in presets if p.name not in BEYOND_NAMES}
+    studies = {_study(p.name) for p in presets if p.name not in ANSWERED_NAMES}
     present = set(table.presets())
     results = []
     for finding in FINDINGS:
@@ -553,8 +553,15 @@ def write_report(table: StatisticsTable, presets: list[Preset], folder: Path,
     bests = bests or BestsTable([])
     present = [p for p in presets if p.name in table.presets()]
     figures = {p.name: write_figures(table, p, folder, bests) for p in present}
+    questions = QUESTIONS
+    for preset in (p for p in present if p.name == MATCHES):  # its questions are answered by matches played now
+        from soccer_lab.app.experiment.matches import matches_questions, write_matches_figures
+
+        asked, study = matches_questions(folder, preset, bests)
+        figures[preset.name] += write_matches_figures(study, folder)
+        questions += asked
     report = Report(assess_findings(table, presets), [f for p in present for f in figures[p.name]],
-                    assess_questions(table, bests, present))
+                    assess_questions(table, bests, present, questions))
     blocks = _blocks(table, bests, present, figures, report)
     (folder / REPORT_MD).write_text(_markdown(blocks))
     (folder / REPORT_HTML).write_text(_html(blocks, folder))
@@ -592,8 +599,8 @@ def _blocks(table: StatisticsTable, bests: BestsTable, presets: list[Preset], fi
                     ("p", run_size(table, bests, presets)),
                     ("p", _verdict_summary(report, counts)),
                     ("p", METHOD)]
-    chapter = [p for p in presets if p.name not in BEYOND_NAMES]
-    beyond = [p for p in presets if p.name in BEYOND_NAMES]
+    chapter = [p for p in presets if p.name not in ANSWERED_NAMES]
+    beyond = [p for p in presets if p.name in ANSWERED_NAMES]
     for preset in chapter:
         blocks.append(("h2", f"{preset.title} ({preset.name})"))
         blocks += _preset_blocks(table, bests, preset, figures[preset.name])
@@ -609,10 +616,15 @@ def _blocks(table: StatisticsTable, bests: BestsTable, presets: list[Preset], fi
         blocks += [("h2", "Beyond the chapter"), ("p", BEYOND_INTRODUCTION)]
         for preset in beyond:
             blocks.append(("h3", f"{preset.title} ({preset.name})"))
+            if preset.name == MATCHES:
+                from soccer_lab.app.experiment.matches import MATCHES_INTRODUCTION
+
+                blocks.append(("p", MATCHES_INTRODUCTION))
             blocks += _preset_blocks(table, bests, preset, figures[preset.name])
             answers = [(q, a) for q, a in report.answers if q.preset == preset.name]
             blocks.append(("table", ["chapter", "question", "answer here", "measured here", "test"],
-                           [[q.where, q.question, a.shown, a.measured, a.test] for q, a in answers]))
+                           [[q.where, q.question, a.shown + (f": {a.reason}" if a.reason else ""), a.measured,
+                             a.test] for q, a in answers]))
     skipped = [f for f, a in report.findings if a.verdict == NOT_RUN]
     if skipped:
         blocks.append(("h2", "Findings not assessed (their preset was not run)"))

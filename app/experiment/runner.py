@@ -13,8 +13,8 @@ skipped, the load average before and after): a resumed experiment's wall time is
 Resuming is running again into the same folder: finished trial files are read, not recomputed. The
 folder's manifest.json records the options that fix the trials' results; another experiment with
 the same options (say `all` after `selection`) reuses the trials they share. A trial on rcssserver
-(hours at the chapter's size) also checkpoints its GA after every generation into
-trials/<setting key>-<trial>.checkpoint and continues from there.
+(hours at the chapter's size), and a co-evolved trial of the matches preset, also checkpoints its GA after
+every generation into trials/<setting key>-<trial>.checkpoint and continues from there.
 """
 
 from __future__ import annotations
@@ -28,12 +28,12 @@ from datetime import datetime, timezone
 from pathlib import Path
 from typing import Any, Iterable, Protocol
 
-import numpy as np
 
 from soccer_lab.app.experiment.presets import (RCSS_TRIAL, ROBOCUP, ExperimentOptions, Preset, Setting, presets,
                                                trial_seed)
 from soccer_lab.app.experiment.table import ALGORITHM, PRESET, SEED, SETTING, TRIAL, BestsTable, StatisticsTable
-from soccer_lab.ga.config import SEED_BOUND, GAConfig
+from soccer_lab.app.experiment.trial_result import TrialResult, best_record, crowd_file, derived_seeds
+from soccer_lab.ga.config import GAConfig
 from soccer_lab.ga.evaluation import Evaluator
 from soccer_lab.ga.state import GA
 from soccer_lab.soccer.config import GameConfig
@@ -80,18 +80,6 @@ class TrialSpec:
         return derived_seeds(self.seed, REPLAY_KEY, self.replays)
 
 
-def derived_seeds(seed: int, key: int, count: int) -> list[int]:
-    """`count` seeds drawn from (seed, key): apart from every seed the run itself draws."""
-    state = np.random.SeedSequence(seed, spawn_key=(key,)).generate_state(count, np.uint64)
-    return [int(value) % SEED_BOUND for value in state]
-
-
-@dataclass(frozen=True)
-class TrialResult:
-    rows: list[dict[str, Any]]  # statistics per generation (restarts one after another)
-    best: dict[str, Any]  # the best player, the fitness the GA saw and its replays (trials/*.best.json)
-
-
 def run_trial(spec: TrialSpec, evaluate: Evaluator | None = None) -> TrialResult:
     """One whole GA (or random search) run, or one per restart; then its best re-played. Runs in a
     worker process or Ray task with SimpleSoccer games, or with `evaluate` (trials on rcssservers) in
@@ -99,6 +87,11 @@ def run_trial(spec: TrialSpec, evaluate: Evaluator | None = None) -> TrialResult
     from soccer_lab.ga.algorithms import evolve, random_search, resume
     from soccer_lab.soccer.config import SOCCER_VOCABULARY
     from soccer_lab.soccer.evaluate import SimpleSoccerEvaluator
+
+    if spec.setting.coevolve is not None:  # the matches preset's co-evolved trials
+        from soccer_lab.app.experiment.matches import run_coevolution_trial
+
+        return run_coevolution_trial(spec)
 
     evaluate = evaluate or SimpleSoccerEvaluator(spec.game, SOCCER_VOCABULARY)
     if spec.checkpoint is not None and spec.checkpoint.is_file():
@@ -123,24 +116,6 @@ def _one_after_another(histories: list[list[dict[str, Any]]]) -> list[dict[str, 
                   "evaluations": before["evaluations"] + row["evaluations"],
                   "wall_time": before["wall_time"] + row["wall_time"]} for row in history]
     return rows
-
-
-def best_record(result: Any, rows: list[dict[str, Any]], replay: Evaluator, seeds: list[int]) -> dict[str, Any]:
-    """The trial's best: what the GA saw, its replays (app/runs/true_quality.py) and its rules, as a rulebase
-    file every tool opens (trials/*.best.json: the rulebase JSON with the trial's figures beside it)."""
-    from soccer_lab.app.rulebase_files import rulebase_json
-    from soccer_lab.app.runs.true_quality import replayed_quality
-    from soccer_lab.fuzzy.printer import format_rulebase
-
-    best = result.best
-    quality = replayed_quality(result.best_rulebase, replay, seeds)
-    return {**json.loads(rulebase_json(result.best_rulebase, result.vocabulary)),
-            "generation": next(row["generation"] for row in rows if row["best"] <= best.fitness),
-            "fitness_seen": best.fitness, "evaluations_seen": best.evaluations, "replays": quality.starts,
-            "replay_fitness": quality.fitness, "replay_fitness_std": quality.fitness_std,
-            "replay_goals": quality.goals, "replay_scoring": quality.scoring,
-            "chromosome": best.chromosome.tolist(),
-            "rule_text": format_rulebase(result.best_rulebase, result.vocabulary)}
 
 
 @dataclass(frozen=True)
@@ -209,6 +184,7 @@ class TrialFolder:
             writer.writerows(rows)
         temporary.replace(self.statistics(spec))  # the file exists only once whole: it marks the trial done
         self.checkpoint(spec).unlink(missing_ok=True)
+        crowd_file(self.checkpoint(spec)).unlink(missing_ok=True)
 
     def read(self, spec: TrialSpec) -> list[dict[str, str]]:
         with self.statistics(spec).open(newline="") as handle:
@@ -278,8 +254,9 @@ def run_trials_in(experiments: Iterable[tuple[Plan, Path]], executor: Any,
         for spec in experiment.specs:
             specs.append(spec)
             if not trials.finished(spec):
-                on_servers = spec.setting.trial is not None  # checkpointed after every generation
-                pending.append(replace(spec, checkpoint=trials.checkpoint(spec)) if on_servers else spec)
+                # long trials (on rcssserver, co-evolved) are checkpointed after every generation
+                long = spec.setting.trial is not None or spec.setting.coevolve is not None
+                pending.append(replace(spec, checkpoint=trials.checkpoint(spec)) if long else spec)
                 folders[spec.name, spec.seed] = trials  # a trial's seed differs between replicates
                 order[spec.name, spec.seed] = index
     pending.sort(key=lambda spec: (order[spec.name, spec.seed], -spec.setting.games))

@@ -33,6 +33,9 @@ def tree_text(view: FamilyTreeView) -> str:
     for row in view.rows():
         for ancestor in row:
             lines.append(_ancestor_line(view, ancestor))
+    if view.opponents:
+        lines += ["", "Scored against (co-evolution: the hall of fame members each generation played):"]
+        lines += [f"  gen {g:>3}: {', '.join(labels)}" for g, labels in sorted(view.opponents.items(), reverse=True)]
     lines += ["", "Rules, each with the ancestor it came from:"]
     for rule in view.rules:
         lines.append(f"{rule.number:>3} [{rule.letter}] {rule.text}")

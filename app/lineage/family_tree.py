@@ -22,7 +22,7 @@ from soccer_lab.ga.genes import FIELD_NAMES, KIND, GeneSpace
 from soccer_lab.ga.individual import Individual
 from soccer_lab.ga.lineage import (CUT, DRAWN, EARLIER, MUTATED, Ancestor, FamilyTree, Lineage, LineageError,
                                    NotRecorded, Place, RecordedPopulation, RuleOrigin, best_place,
-                                   generation_best_index)
+                                   generation_best_index, record_opponents)
 from soccer_lab.ga.notation import CompactNotation
 from soccer_lab.ga.provenance import COPY, Birth, Mutation, Splice
 
@@ -35,13 +35,15 @@ MAX_GENERATIONS_BACK = 1000  # the most generations one tree follows (each costs
 
 class RunLineage:
     """`population_of(g)`: generation g's recorded population (LookupError when none); `bests`: (generation,
-    best fitness) of every finished generation."""
+    best fitness) of every finished generation; `opponents_of(g)`: whom generation g was scored against
+    (co-evolution's hall of fame members; None for a fixed evaluation or when not recorded)."""
 
     def __init__(self, population_of: Callable[[int], Sequence[Individual]], bests: Sequence[tuple[int, float]],
-                 vocabulary: Vocabulary):
+                 vocabulary: Vocabulary, opponents_of: Callable[[int], list[str] | None] = lambda g: None):
         self.bests = list(bests)
         self.lineage = Lineage(population_of, 1 + max((g for g, _ in self.bests), default=-1))
         self.vocabulary = vocabulary
+        self.opponents_of = opponents_of
 
     @classmethod
     def from_folder(cls, path: str | Path) -> "RunLineage":
@@ -59,7 +61,8 @@ class RunLineage:
             vocabulary = state.vocabulary
         except CheckpointError:
             pass  # the records alone are enough; the rules read in the default vocabulary
-        return cls(lambda g: RecordedPopulation.from_text(lines[g]), _bests(folder, lines), vocabulary)
+        return cls(lambda g: RecordedPopulation.from_text(lines[g]), _bests(folder, lines), vocabulary,
+                   lambda g: record_opponents(lines[g]) if g in lines else None)
 
     @classmethod
     def from_store(cls, store: Any, run_id: int, vocabulary: Vocabulary) -> "RunLineage":
@@ -72,8 +75,14 @@ class RunLineage:
             except NotFound:
                 raise LookupError(generation) from None
 
+        def opponents_of(generation: int) -> list[str] | None:
+            try:
+                return record_opponents(store.lineage_text(run_id, generation))
+            except NotFound:
+                return None
+
         bests = [(row["generation"], row["best"]) for row in store.statistics(run_id)]
-        return cls(population_of, bests, vocabulary)
+        return cls(population_of, bests, vocabulary, opponents_of)
 
     # ---- which player ---------------------------------------------------------------------------
     def place(self, generation: int | None = None, index: int | None = None) -> Place:
@@ -98,7 +107,9 @@ class RunLineage:
             best = best_place(self.bests, self.lineage.population)
         except NotRecorded:
             best = None  # the best so far is in a generation played before lineage was recorded
-        return FamilyTreeView(tree, self.vocabulary, best)
+        opponents = {g: labels for g in range(tree.oldest, place.generation + 1)
+                     if (labels := self.opponents_of(g)) is not None}
+        return FamilyTreeView(tree, self.vocabulary, best, opponents)
 
 
 def _bests(folder: RunFolder, lines: dict[int, str]) -> list[tuple[int, float]]:
@@ -142,8 +153,10 @@ class RuleView:
 class FamilyTreeView:
     """A FamilyTree described for people (see the module's docstring)."""
 
-    def __init__(self, tree: FamilyTree, vocabulary: Vocabulary, best: Place | None = None):
+    def __init__(self, tree: FamilyTree, vocabulary: Vocabulary, best: Place | None = None,
+                 opponents: dict[int, list[str]] | None = None):
         self.tree = tree
+        self.opponents = opponents or {}  # generation -> whom it was scored against (co-evolution)
         self.vocabulary = vocabulary
         self.best = best  # the run's best so far, named when it is in the tree
         self.notation = CompactNotation(vocabulary)
@@ -295,6 +308,7 @@ def tree_data(view: FamilyTreeView) -> dict[str, Any]:
              "letter": r.letter, "colour": r.colour, "how": r.how, "summary": r.summary, "mutated": list(r.mutated)}
             for r in view.rules],
         "chromosome": [{"compact": g.compact, "origin": g.origin, "mutated": g.mutated} for g in view.genes()],
+        "opponents": [{"generation": g, "opponents": labels} for g, labels in sorted(view.opponents.items())],
     }
 
 

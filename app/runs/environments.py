@@ -22,7 +22,9 @@ if TYPE_CHECKING:
     from soccer_lab.app.runs.rcss_cluster import RayCluster
     from soccer_lab.fuzzy.rule import Rulebase
     from soccer_lab.fuzzy.vocabulary import Vocabulary
+    from soccer_lab.ga.config import CoevolutionConfig
     from soccer_lab.ga.evaluation import Evaluator
+    from soccer_lab.ga.hall_of_fame import HallOfFame
     from soccer_lab.soccer.engine import GameResult, GameTrace
     from soccer_lab.soccer.rcss.trial import TrialConfig
 
@@ -104,6 +106,20 @@ def checked_opponent(env: str, opponent: str | None) -> str | None:
     return format_rulebase(opponent_rulebase(opponent), SOCCER_VOCABULARY)
 
 
+def founder_rulebase(opponent: str | None) -> "Rulebase":
+    """A co-evolution run's first opponent: the given player, else the built-in demo."""
+    if opponent:
+        return opponent_rulebase(opponent)
+    from soccer_lab.soccer.config import SOCCER_VOCABULARY
+    from soccer_lab.soccer.examples import example
+
+    return example("demo").rulebase(SOCCER_VOCABULARY)
+
+
+def founder_label(opponent: str | None) -> str:
+    return "the opponent given (run.json)" if opponent else "the built-in demo"
+
+
 def default_workers() -> int:
     """Worker processes of a SimpleSoccer run when not told (the CLI and the UI alike): every core, within
     GAConfig's limit."""
@@ -131,15 +147,37 @@ def checked_behaviour_seeds(env: str, seeds: int) -> int:
 @dataclass(frozen=True)
 class SimpleSoccerGames:
     """Evaluations are SimpleSoccer games, played in this process or in the GA's worker processes; with an
-    `opponent` (its rule text), matches against that fixed player (soccer/match.py, MatchEvaluator)."""
+    `opponent` (its rule text), matches against that fixed player (soccer/match.py, MatchEvaluator); with
+    `coevolve`, matches against a hall of fame of earlier bests founded by the opponent, or the built-in demo
+    (ga/hall_of_fame.py, HallEvaluator)."""
 
     game: GameConfig = GameConfig()
     opponent: str | None = None
+    coevolve: "CoevolutionConfig | None" = None
     env: ClassVar[str] = SIMPLE
     failures: ClassVar[tuple[type[Exception], ...]] = ()  # nothing outside this process can fail
 
     def settings(self) -> dict[str, Any]:
-        return {"game": self.game.model_dump(), **({"opponent": self.opponent} if self.opponent else {})}
+        return {"game": self.game.model_dump(), **({"opponent": self.opponent} if self.opponent else {}),
+                **({"coevolve": self.coevolve.model_dump()} if self.coevolve is not None else {})}
+
+    def hall(self, vocabulary: "Vocabulary") -> "HallOfFame | None":
+        """A new co-evolution run's hall of fame, holding its founder (None: not co-evolving)."""
+        if self.coevolve is None:
+            return None
+        from soccer_lab.ga.codec import ChromosomeCodec
+        from soccer_lab.ga.hall_of_fame import founded_hall
+
+        founder = ChromosomeCodec(vocabulary).encode(founder_rulebase(self.opponent))
+        return founded_hall(founder, founder_label(self.opponent), self.coevolve.hall_size, self.coevolve.hall_sample)
+
+    @property
+    def fixed_opponent(self) -> "Rulebase | None":
+        """Whom the run's players are re-played against for their true quality: the fixed opponent, or a
+        co-evolution run's founder; None for single-player games."""
+        if self.coevolve is not None:
+            return founder_rulebase(self.opponent)
+        return opponent_rulebase(self.opponent) if self.opponent else None
 
     @property
     def world(self) -> WorldConfig:
@@ -150,24 +188,47 @@ class SimpleSoccerGames:
     def evaluator(self, announce: Announce | None = None) -> Iterator["Evaluator"]:
         from soccer_lab.soccer.evaluate import SimpleSoccerEvaluator
 
-        if self.opponent:
+        if self.coevolve is not None:
+            from soccer_lab.soccer.match import HallEvaluator
+
+            yield HallEvaluator(config=self.game)
+        elif self.opponent:
             from soccer_lab.soccer.match import MatchEvaluator
 
             yield MatchEvaluator(opponent_rulebase(self.opponent), self.game)
         else:
             yield SimpleSoccerEvaluator(self.game)
 
-    def replay(self, rulebase: "Rulebase", seed: int, vocabulary: "Vocabulary") -> Replay | None:
+    def replay(self, rulebase: "Rulebase", seed: int, vocabulary: "Vocabulary",
+               opponents: Sequence["Rulebase"] = ()) -> Replay | None:
         """The first game of the evaluation played from `seed` (its first of k games): a game depends only on
-        rulebase and seed, so this is the very game the GA scored. None against an opponent: the GA scored
-        a match, which the recording cannot show yet."""
-        if self.opponent:
-            return None
+        rulebase and seed, so this is the very game the GA scored. Against an opponent, the first half of the
+        evaluation's first match (against the first of the hall's `opponents` drawn, co-evolving; None without
+        them), the player on the left: the very half the GA scored."""
+        if self.opponent or self.coevolve is not None:
+            return self._match_replay(rulebase, seed, vocabulary, opponents)
         from soccer_lab.soccer.engine import play_game
         from soccer_lab.soccer.evaluate import game_seeds
 
         first_game = game_seeds(seed, self.game.games_per_evaluation)[0]
         return Replay(first_game, *play_game(rulebase, first_game, self.game, trace=True, vocabulary=vocabulary))
+
+    def _match_replay(self, rulebase: "Rulebase", seed: int, vocabulary: "Vocabulary",
+                      opponents: Sequence["Rulebase"]) -> Replay | None:
+        from soccer_lab.soccer.engine import GameResult
+        from soccer_lab.soccer.evaluate import game_seeds
+        from soccer_lab.soccer.match import match_fitness, traced_half
+
+        if self.coevolve is None:
+            opponents = [opponent_rulebase(self.opponent)]
+        if not opponents:
+            return None  # co-evolving, and whom it played is not known here
+        first_match = game_seeds(seed, self.game.games_per_evaluation * (len(opponents) if self.coevolve else 1))[0]
+        half, trace = traced_half(rulebase, opponents[0], first_match, self.game, vocabulary)
+        fitness = match_fitness(half.goals[0] - half.goals[1], half.kicks[0], half.min_ball_goal_distance[0],
+                                self.game.world.pitch_length)
+        return Replay(first_match, GameResult(fitness, half.goals[0], half.kicks[0], half.ticks,
+                                              half.min_ball_goal_distance[0], half.end_reason), trace)
 
 
 @dataclass(frozen=True)

@@ -21,7 +21,7 @@ import logging
 import shutil
 import threading
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, Callable, Sequence
 
@@ -117,10 +117,14 @@ class StoreWriter:
         self.run_id = run_id
         self.codec = codec
         self.notify = notify
+        self.opponents: list[str] | None = None  # whom the generation under way is scored against (co-evolution)
+
+    def on_opponents(self, generation: int, members: list[Any]) -> None:
+        self.opponents = [member.label for member in members]
 
     def on_generation(self, stats: Any, population: list[Individual]) -> None:
         self._record(stats.to_dict(), generation_best(population), sample_players(population, self.codec),
-                     lineage_line(stats.generation, population))
+                     lineage_line(stats.generation, population, self.opponents))
 
     def restore(self, history: list[dict[str, Any]], best: Individual | None, lineage: dict[int, str]) -> None:
         """On resume: the generations the checkpoint holds but the store missed (the app ended
@@ -242,6 +246,8 @@ class RunManager:
         trial: TrialConfig | dict[str, Any] | None = None,
         start_servers: int | None = None,
         owner: int | None = None,
+        opponent: str | None = None,
+        coevolve: Any = None,
     ) -> RunRecord:
         """Start a new run of `algorithm` ("ga" or "random-search"), named `name` or, when None, by its
         settings. `ga`/`game`/`trial`: a GAConfig/GameConfig/TrialConfig or a dict of their fields (missing
@@ -249,8 +255,11 @@ class RunManager:
         (HOST:PORT, servers the user runs) or on `start_servers` (default 1) servers the run starts
         itself. Invalid values raise ValueError before anything is saved; a server another run plays on, or
         no rcssserver to start, raises RunStateError. `owner`: the student starting it (classroom mode), whose
-        run is bounded by `student_bounds` and who runs one at a time."""
-        settings = RunSettings.build(self._seeded(ga), game, env, servers, trial, algorithm, start_servers)
+        run is bounded by `student_bounds` and who runs one at a time. `opponent` (rule text): every evaluation a
+        match against that player; `coevolve` (CoevolutionConfig or its fields): matches against a hall of fame
+        founded by the opponent or the built-in demo."""
+        settings = RunSettings.build(self._seeded(ga), game, env, servers, trial, algorithm, start_servers,
+                                     opponent, coevolve)
         with self._lock:
             settings = self._placed(self._with_executable(self._check_student(owner, settings)))
             queued = self._must_queue()
@@ -493,8 +502,7 @@ class RunManager:
         """Games played elsewhere (game processes, Ray): the run is one worker, its chunks sent one at a time."""
         if self.remote_games is None or settings.env != SIMPLE or settings.ga.workers == 1:
             return settings
-        return RunSettings(settings.ga.model_copy(update={"workers": 1}), settings.game, settings.env,
-                           settings.servers, settings.trial, settings.algorithm, settings.start_servers)
+        return replace(settings, ga=settings.ga.model_copy(update={"workers": 1}))
 
     def _check_servers_free(self, settings: RunSettings) -> None:
         wanted = {parse_server(server) for server in settings.servers}

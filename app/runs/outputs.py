@@ -205,9 +205,9 @@ class LineageFile:
         self.path = path
         self.path.write_text("".join(line + "\n" for line in lines))
 
-    def append(self, generation: int, population: Sequence[Individual]) -> None:
+    def append(self, generation: int, population: Sequence[Individual], opponents: Sequence[str] | None = None) -> None:
         with self.path.open("a") as handle:
-            handle.write(lineage_line(generation, population) + "\n")
+            handle.write(lineage_line(generation, population, opponents) + "\n")
 
     @staticmethod
     def read(path: Path) -> dict[int, str]:
@@ -226,8 +226,8 @@ class LineageFile:
         return records
 
 
-def lineage_line(generation: int, population: Sequence[Individual]) -> str:
-    return json.dumps(generation_record(generation, population), separators=(",", ":"))
+def lineage_line(generation: int, population: Sequence[Individual], opponents: Sequence[str] | None = None) -> str:
+    return json.dumps(generation_record(generation, population, opponents), separators=(",", ":"))
 
 
 class StatisticsFile:
@@ -276,12 +276,16 @@ class RunOutputs:
         self.lineage = LineageFile(folder.lineage, lineage)
         self.best: Individual | None = None
         self.best_quality: TrueQuality | None = None
+        self.opponents: list[str] | None = None  # whom the generation under way is scored against (co-evolution)
         if best is not None:
             self._keep_best(best, _found_in(folder.best_record(), best))
 
+    def on_opponents(self, generation: int, members: list[Any]) -> None:
+        self.opponents = [member.label for member in members]
+
     def on_generation(self, stats: Any, population: list[Individual]) -> None:
         self.statistics.append(stats.to_dict())
-        self.lineage.append(stats.generation, population)
+        self.lineage.append(stats.generation, population, self.opponents)
         contender = generation_best(population)
         self.generation_bests.append(stats.generation, contender)
         if self.best is None or contender.fitness < self.best.fitness:

@@ -100,6 +100,7 @@ PITCH_COLOUR = (230, 230, 230)
 GRASS_COLOUR = (40, 110, 60)  # the replay views' background
 GOAL_COLOUR = (255, 215, 0)
 PLAYER_COLOUR = (30, 120, 255)
+OPPONENT_COLOUR = (230, 81, 0)  # a match's other player (the opponent, on the right in the replayed half)
 BALL_COLOUR = (255, 255, 255)
 VIEW_CONE_COLOUR = (30, 120, 255, 90)
 LINE_RADIUS = 0.12
@@ -308,9 +309,14 @@ class RunRecorder:
         joins the blueprint (sent when the tabs double, and when the recording closes)."""
         if self.world is None:
             raise ValueError("this recording has no world to draw replays in")
-        log_replay(self.stream, trace, self.world, entity=replay_entity(generation), generation=generation,
-                   pitch=False)
-        self.replays.append((generation, f"generation {generation} ({plural(result.goals, 'goal')})"))
+        if hasattr(trace, "right"):  # a match's half (soccer/match.py MatchTrace): the player and its opponent
+            log_match_replay(self.stream, trace, self.world, entity=replay_entity(generation), generation=generation)
+            title = f"generation {generation} (a match's first half, {int(trace.goals[-1][0])}-{int(trace.goals[-1][1])})"
+        else:
+            log_replay(self.stream, trace, self.world, entity=replay_entity(generation), generation=generation,
+                       pitch=False)
+            title = f"generation {generation} ({plural(result.goals, 'goal')})"
+        self.replays.append((generation, title))
         if len(self.replays) & (len(self.replays) - 1) == 0:  # 1, 2, 4, 8 ... tabs: see _blueprint_sent
             self._send_blueprint()
         self.stream.flush()
@@ -352,6 +358,32 @@ def goal_outline(world: WorldConfig) -> np.ndarray:
     x, half = world.pitch_length / 2, world.goal_width / 2
     depth = x + world.goal_depth
     return np.array([[x, -half], [depth, -half], [depth, half], [x, half]])
+
+
+def log_match_replay(stream: rr.RecordingStream, trace: Any, world: WorldConfig, *, entity: str,
+                     generation: int) -> None:
+    """A match's half (soccer_lab.soccer.match MatchTrace) on the tick timeline under `entity`: the player (blue,
+    attacking +x) and its opponent, their facings, the ball and the player's goals, as columns."""
+    stream.reset_time()
+    ticks = len(trace)
+    if ticks == 0:
+        return
+    timeline = [rr.TimeColumn(TICK_TIMELINE, sequence=np.arange(ticks)),
+                rr.TimeColumn(GENERATION_TIMELINE, sequence=np.full(ticks, generation))]
+
+    def send(path: str, columns: Any) -> None:
+        stream.send_columns(f"{entity}/{path}", indexes=timeline, columns=columns)
+
+    for name, body, colour in (("player", trace.left, PLAYER_COLOUR), ("opponent", trace.right, OPPONENT_COLOUR)):
+        facing = np.radians(body[:, 2])
+        send(name, rr.Points2D.columns(positions=body[:, :2], radii=np.full(ticks, rr.Radius.ui_points(
+            PLAYER_MARKER_POINTS)), colors=np.tile(colour, (ticks, 1))))
+        send(f"{name}/facing", rr.Arrows2D.columns(
+            origins=body[:, :2], vectors=FACING_LENGTH * np.column_stack([np.cos(facing), np.sin(facing)]),
+            colors=np.tile(colour, (ticks, 1))))
+    send("ball", rr.Points2D.columns(positions=trace.ball, radii=np.full(ticks, rr.Radius.ui_points(BALL_MARKER_POINTS)),
+                                     colors=np.tile(BALL_COLOUR, (ticks, 1))))
+    send("score/goals", rr.Scalars.columns(scalars=trace.goals[:, 0].astype(float)))
 
 
 def view_cone(x: float, y: float, facing: float, half_angle: float) -> np.ndarray:

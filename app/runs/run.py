@@ -19,8 +19,7 @@ from pydantic import ValidationError
 
 from soccer_lab.app.runs.environments import (RCSS, SIMPLE, Announce, Environment, RcssTrials, Replay,
                                               SimpleSoccerGames, checked_behaviour_seeds, checked_env, checked_opponent,
-                                              checked_servers, checked_start_servers, checked_workers,
-                                              opponent_rulebase)
+                                              checked_servers, checked_start_servers, checked_workers)
 from soccer_lab.app.runs.recording import RunRecorder
 from soccer_lab.app.runs.outputs import (GenerationBestsFile, LineageFile, Replayer, RunFolder, RunFolderError,
                                          RunOutputs, generation_best, lineage_line)
@@ -30,7 +29,7 @@ from soccer_lab.fuzzy.vocabulary import Vocabulary
 from soccer_lab.ga.algorithms import Callback, evolve, random_search, resume
 from soccer_lab.ga.checkpoint import load_checkpoint
 from soccer_lab.ga.codec import ChromosomeCodec
-from soccer_lab.ga.config import GAConfig
+from soccer_lab.ga.config import CoevolutionConfig, GAConfig
 from soccer_lab.ga.evaluation import Evaluator
 from soccer_lab.ga.individual import Individual
 from soccer_lab.ga.result import RunResult
@@ -61,6 +60,8 @@ class RunSettings:
     rcssserver: str | None = field(default=None, compare=False)
     cluster: "RayCluster | None" = field(default=None, compare=False)  # servers on a Ray cluster's nodes
     opponent: str | None = None  # SimpleSoccer only: rule text of the fixed player each evaluation is a match against
+    # SimpleSoccer only: co-evolve against a hall of fame of earlier bests, founded by `opponent` or the built-in demo
+    coevolve: CoevolutionConfig | None = None
 
     @classmethod
     def build(
@@ -73,6 +74,7 @@ class RunSettings:
         algorithm: str = GA,
         start_servers: int | None = None,
         opponent: str | None = None,
+        coevolve: CoevolutionConfig | dict[str, Any] | None = None,
     ) -> "RunSettings":
         """Validated settings (an rcss run given no servers starts one); ValueError naming
         each bad parameter (pydantic's ValidationError, a ValueError, for bad GA parameters: the caller
@@ -88,6 +90,14 @@ class RunSettings:
             trial = trial if isinstance(trial, TrialConfig) else TrialConfig(**(trial or {}))
         except ValidationError as exc:
             raise ValueError(f"invalid trial parameters: {describe_problems(exc.errors())}") from None
+        try:
+            coevolve = coevolve if coevolve is None or isinstance(coevolve, CoevolutionConfig) else \
+                CoevolutionConfig(**coevolve)
+        except (TypeError, ValidationError) as exc:
+            problems = describe_problems(exc.errors()) if isinstance(exc, ValidationError) else str(exc)
+            raise ValueError(f"invalid co-evolution parameters: {problems}") from None
+        if coevolve is not None and (env != SIMPLE or algorithm != GA):
+            raise ValueError("coevolve: co-evolution is a GA run in SimpleSoccer")
         for where, check in (("env", lambda: checked_env(env)), ("servers", lambda: checked_servers(env, servers)),
                              ("start_servers", lambda: checked_start_servers(env, servers, start_servers)),
                              ("ga.workers", lambda: checked_workers(env, ga.workers)),
@@ -98,7 +108,8 @@ class RunSettings:
             except ValueError as exc:
                 raise ValueError(f"{where}: {exc}") from None
         return cls(ga, game, env, tuple(checked_servers(env, servers)), trial, algorithm,
-                   checked_start_servers(env, servers, start_servers), opponent=checked_opponent(env, opponent))
+                   checked_start_servers(env, servers, start_servers), opponent=checked_opponent(env, opponent),
+                   coevolve=coevolve)
 
     @classmethod
     def from_dict(cls, data: dict[str, Any]) -> "RunSettings":
@@ -106,7 +117,7 @@ class RunSettings:
         from before algorithm was stored the GA."""
         return cls.build(data.get("ga"), data.get("game"), data.get("env", SIMPLE), data.get("servers"),
                          data.get("trial"), data.get("algorithm", GA), data.get("start_servers") or None,
-                         data.get("opponent"))
+                         data.get("opponent"), data.get("coevolve"))
 
     def to_dict(self) -> dict[str, Any]:
         return {"algorithm": self.algorithm, "ga": self.ga.model_dump(), "env": self.env,
@@ -116,7 +127,7 @@ class RunSettings:
     def environment(self) -> Environment:
         if self.env == RCSS:
             return RcssTrials(self.servers, self.trial, self.start_servers, self.rcssserver, self.cluster)
-        return SimpleSoccerGames(self.game, self.opponent)
+        return SimpleSoccerGames(self.game, self.opponent, self.coevolve)
 
     @property
     def pitch_game(self) -> GameConfig:
@@ -225,8 +236,10 @@ class Run:
                 result = resume(self.folder.checkpoint, evaluate, callbacks=everything, stop=stop)
             else:
                 algorithm = evolve if self.settings.algorithm == GA else random_search
+                hall = environment.hall(vocabulary) if isinstance(environment, SimpleSoccerGames) else None
+                extra = {"hall": hall} if hall is not None else {}
                 result = algorithm(self.settings.ga, evaluate, vocabulary, callbacks=everything,
-                                   checkpoint=self.folder.checkpoint, stop=stop)
+                                   checkpoint=self.folder.checkpoint, stop=stop, **extra)
             if result.best is not None:  # None: stopped before its first generation finished
                 outputs.write_best(result.best_rulebase)
                 self.best_game = replays.game_of(result.best)
@@ -244,9 +257,7 @@ class Run:
         opponent, one match each), in one batch (none on rcssserver: there N trials would cost minutes)."""
         if self.settings.env != SIMPLE:
             return None
-        opponent = self.settings.opponent
-        return simple_soccer_replayer(self.settings.game, vocabulary,
-                                      opponent=opponent_rulebase(opponent) if opponent else None)
+        return simple_soccer_replayer(self.settings.game, vocabulary, opponent=self.settings.environment.fixed_opponent)
 
     def lineage_lines(self, state: RunState | None) -> dict[int, str]:
         """lineage.jsonl's line of each finished generation: those the file holds for the generations the
@@ -256,7 +267,8 @@ class Run:
             return {}
         finished = len(state.history)
         lines = {g: line for g, line in LineageFile.read(self.folder.lineage).items() if g < finished}
-        lines.setdefault(finished - 1, lineage_line(finished - 1, state.population))
+        drawn = [member.label for member in state.hall.drawn] if state.hall is not None else None
+        lines.setdefault(finished - 1, lineage_line(finished - 1, state.population, drawn))
         return dict(sorted(lines.items()))
 
     def _generation_bests(self, state: RunState | None) -> list[tuple[int, Individual]]:
@@ -289,6 +301,10 @@ class GenerationReplays:
         self.codec = ChromosomeCodec(vocabulary)
         self.games: dict[tuple[bytes, int], Replay] = {}
         self.first_trials: dict[tuple[bytes, int], Replay] = {}  # traced first evaluations of the living
+        self.opponents: list[Any] = []  # co-evolution: the generation's opponents (the hall members drawn)
+
+    def on_opponents(self, generation: int, members: list[Any]) -> None:
+        self.opponents = [self.codec.decode(member.chromosome) for member in members]
 
     def on_generation(self, stats: Any, population: list[Individual]) -> None:
         self._keep_first_trials(population)
@@ -329,4 +345,11 @@ class GenerationReplays:
 
     def _played_again(self, individual: Individual) -> Replay | None:
         rulebase = self.codec.decode(individual.chromosome)
-        return self.environment.replay(rulebase, individual.first_seed, self.vocabulary) if len(rulebase) else None
+        if not len(rulebase):
+            return None
+        if isinstance(self.environment, SimpleSoccerGames) and self.environment.coevolve is not None:
+            # its first evaluation's opponents are known only when it was this generation's (a resumed run's
+            # earlier generations were played before the hall members were heard)
+            opponents = self.opponents if individual.evaluations == 1 else []
+            return self.environment.replay(rulebase, individual.first_seed, self.vocabulary, opponents)
+        return self.environment.replay(rulebase, individual.first_seed, self.vocabulary)

@@ -180,3 +180,35 @@ def test_rules_that_do_not_name_the_opponent_play_the_same_in_both_vocabularies(
     seeds = [0, 1, 2]
     assert play_matches(STRIKER, DEMO, seeds, SHORT, Vocabulary.with_opponent()) == play_matches(
         STRIKER, DEMO, seeds, SHORT, V)
+
+
+def test_crowded_ticks_count_when_both_players_are_near_the_ball_and_only_then():
+    from soccer_lab.soccer.match import CROWD_DISTANCE
+
+    batch = MatchBatch([(STILL, STILL), (STILL, STILL)], [1, 2], GameConfig(max_ticks=10, idle_ticks=1000), V)
+    place(batch, 0, left=(-1.0, 0.0), right=(1.0, 0.0), ball=(0.0, CROWD_DISTANCE / 2))  # both near
+    place(batch, 1, left=(-1.0, 0.0), right=(30.0, 0.0), ball=(0.0, CROWD_DISTANCE / 2))  # only the left
+    crowded, apart = batch.run()
+    assert crowded.crowded == crowded.ticks == 10 and crowded.crowd_share == 1.0
+    assert apart.crowded == 0 and apart.crowd_share == 0.0
+
+
+def test_the_hall_evaluator_scores_each_opponent_alike_alone_or_in_a_population():
+    from soccer_lab.soccer.evaluate import game_seeds
+    from soccer_lab.soccer.match import HallEvaluator, match_fitness
+
+    evaluate = HallEvaluator(config=SHORT).against([DEMO, HUNTER])
+    players, seeds = [STRIKER, DRIBBLER, DEMO], [21, 22, 23]
+    together = evaluate(players, seeds)
+    assert together == [evaluate([player], [seed])[0] for player, seed in zip(players, seeds)]
+    for player, seed, result in zip(players, seeds, together):
+        fitnesses = []
+        for opponent, match_seed in zip([DEMO, HUNTER], game_seeds(seed, 2)):
+            played = play_matches(player, opponent, [match_seed], SHORT, V)[0]
+            kicks = played.halves[0].kicks[0] + played.halves[1].kicks[1]
+            distance = min(played.halves[0].min_ball_goal_distance[0], played.halves[1].min_ball_goal_distance[1])
+            fitnesses.append(match_fitness(played.goals[0] - played.goals[1], kicks, distance,
+                                           SHORT.world.pitch_length))
+        assert result.fitness == pytest.approx(sum(fitnesses) / 2)  # the mean over the opponents
+    with pytest.raises(ValueError, match="opponent"):
+        HallEvaluator(config=SHORT)([STRIKER], [1])

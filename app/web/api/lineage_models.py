@@ -56,6 +56,11 @@ class GeneOut(BaseModel):
     mutated: str | None
 
 
+class GenerationOpponentsOut(BaseModel):
+    generation: int
+    opponents: list[str]  # the hall of fame members it played, e.g. "the built-in demo", "best of generation 3"
+
+
 class FamilyTreeOut(BaseModel):
     """A player and the ancestors whose genes it carries, newest generation first."""
 
@@ -66,6 +71,7 @@ class FamilyTreeOut(BaseModel):
     ancestors: list[AncestorOut]
     rules: list[RuleOriginOut]
     chromosome: list[GeneOut]
+    opponents: list[GenerationOpponentsOut] = []  # co-evolution: whom each generation of the tree was scored against
 
 
 class IndividualOut(BaseModel):

@@ -12,7 +12,7 @@ from soccer_lab.app.runs.environments import SIMPLE, EnvName
 from soccer_lab.app.rule_inspection import DEFAULT_USAGE_GAMES, MAX_GAMES
 from soccer_lab.app.runs.run import AlgorithmName
 from soccer_lab.app.store import NAME_MAX_LENGTH, BestIndividual, RulebaseRecord, RunRecord
-from soccer_lab.ga.config import GAConfig
+from soccer_lab.ga.config import CoevolutionConfig, GAConfig
 from soccer_lab.ga.state import GA
 from soccer_lab.soccer.config import GameConfig
 from soccer_lab.soccer.rcss.servers import MAX_SERVERS
@@ -323,12 +323,17 @@ class RunStart(Strict):
     servers: list[Annotated[str, Field(max_length=300)]] = Field([], max_length=64)
     start_servers: int | None = Field(None, ge=1, le=MAX_SERVERS)
     trial: TrialConfig = TrialConfig()
+    opponent: RuleText | None = Field(None, description="rule text of a fixed player every evaluation is a match "
+                                      "against (SimpleSoccer); with coevolve, the hall of fame's founder")
+    coevolve: CoevolutionConfig | None = Field(None, description="co-evolve against a hall of fame of earlier "
+                                               "bests, founded by the opponent or the built-in demo")
 
     @model_validator(mode="after")
     def playable(self) -> "RunStart":
         from soccer_lab.app.runs.run import RunSettings  # the one place the rules for env, servers and workers live
 
-        RunSettings.build(self.ga, self.game, self.env, self.servers, self.trial, self.algorithm, self.start_servers)
+        RunSettings.build(self.ga, self.game, self.env, self.servers, self.trial, self.algorithm, self.start_servers,
+                          self.opponent, self.coevolve)
         return self
 
 

@@ -9,6 +9,8 @@ run at a time each. docs/reference/limits.md lists every bound and why.
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 from pydantic import BaseModel, ConfigDict, Field
 
 from soccer_lab.app.runs.environments import SIMPLE
@@ -44,16 +46,19 @@ class ClassSettings(BaseModel):
         if settings.env != SIMPLE:
             raise RunStateError("a student's run plays SimpleSoccer (rcssserver runs are the teacher's)")
         ga, game = settings.ga, settings.game
-        # at most: every evaluation's games, and each new chromosome's behaviour games (ga/diversity.py)
-        games = ga.population_size * ga.max_generations * (game.games_per_evaluation + ga.behaviour_seeds)
+        # at most: every evaluation's games, and each new chromosome's behaviour games (ga/diversity.py); a match
+        # is two halves, and a co-evolution evaluation a match against each opponent drawn
+        matches = (2 * settings.coevolve.hall_sample if settings.coevolve is not None
+                   else 2 if settings.opponent else 1)
+        games = ga.population_size * ga.max_generations * (matches * game.games_per_evaluation + ga.behaviour_seeds)
         if games > self.max_run_games:
             behaviour = f" + {ga.behaviour_seeds} behaviour seeds" if ga.behaviour_seeds else ""
+            halves = f"{matches} match halves x " if matches > 1 else ""
             raise RunStateError(
                 f"this run would play up to {games:,} games (population {ga.population_size} x {ga.max_generations} "
-                f"generations x ({game.games_per_evaluation} games per evaluation{behaviour})); a student's run "
-                f"plays at most {self.max_run_games:,}: make it smaller")
+                f"generations x ({halves}{game.games_per_evaluation} games per evaluation{behaviour})); a student's "
+                f"run plays at most {self.max_run_games:,}: make it smaller")
         if game.max_ticks > self.max_run_ticks:
             raise RunStateError(f"max_ticks {game.max_ticks} is over the class's {self.max_run_ticks} for a "
                                 "student's run")
-        return RunSettings(ga.model_copy(update={"workers": 1}), game, settings.env, settings.servers,
-                           settings.trial, settings.algorithm, settings.start_servers)
+        return replace(settings, ga=ga.model_copy(update={"workers": 1}))

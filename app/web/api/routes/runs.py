@@ -40,7 +40,8 @@ def _out(record: RunRecord, store: ScopedStore, request: Request) -> RunOut:
              "recorded in its config); in classroom mode, when every core is busy, it is queued (status queued)")
 def start(body: RunStart, runs: RunsDependency, store: StoreDependency, request: Request) -> RunOut:
     return _out(runs.start(body.name, body.ga, body.game, algorithm=body.algorithm, env=body.env,
-                           servers=body.servers, trial=body.trial, start_servers=body.start_servers), store, request)
+                           servers=body.servers, trial=body.trial, start_servers=body.start_servers,
+                           opponent=body.opponent, coevolve=body.coevolve), store, request)
 
 
 @router.get("", summary="List runs")

@@ -1,5 +1,7 @@
-"""Evolve panel: every GA parameter (the chapter's defaults), start, stop, generation progress, live best
-and mean fitness, and the best player so far loadable onto the pitch while evolution goes on."""
+"""Evolve panel: every GA parameter (the chapter's defaults), whom players are scored against (alone, as
+in the chapter; matches against a fixed player; co-evolution against a hall of fame), start, stop,
+generation progress, live best and mean fitness, and the best player so far loadable onto the pitch while
+evolution goes on."""
 
 from __future__ import annotations
 
@@ -22,13 +24,15 @@ from soccer_lab.app.web.ui.panels.svg import escape
 from soccer_lab.app.web.ui.panels.viewer_link import run_viewer_link
 from soccer_lab.app.web.validation import describe_problem, dotted
 from soccer_lab.fuzzy.rule import Rulebase
-from soccer_lab.ga.config import SEED_BOUND, GAConfig
+from soccer_lab.ga.config import SEED_BOUND, CoevolutionConfig, GAConfig
 from soccer_lab.ga.state import GA, RANDOM_SEARCH
 from soccer_lab.soccer.config import GameConfig
+from soccer_lab.soccer.examples import DEMO, ORDER, example
 from soccer_lab.soccer.rcss.servers import MAX_SERVERS
 
 ALGORITHMS = {"GA": GA, "Random search": RANDOM_SEARCH}  # what the teacher picks -> the run's algorithm
 SIMPLESOCCER, RCSSSERVER = "SimpleSoccer", "rcssserver"  # where evaluations play (rcss: servers the run starts)
+ALONE, FIXED, COEVOLVE = "Alone (the chapter's)", "A fixed player", "Co-evolve (hall of fame)"  # whom it plays
 LABELS = {  # what a teacher reads next to each field; fields missing here show their own name
     "population_size": "Population size",
     "max_generations": "Generations (max)",
@@ -106,6 +110,18 @@ class EvolvePanel:
         self.servers = NumberField(gui, "rcssservers", 1, minimum=1, maximum=MAX_SERVERS, integer=True,
                                    hint="Servers the run starts, trials spread over them")
         self.servers.visible = False  # only for runs on rcssserver
+        self.opponent = gui.add_dropdown("Opponent", (ALONE, FIXED, COEVOLVE), initial_value=ALONE,
+                                         hint="Alone: the chapter's games. Otherwise every evaluation is matches: "
+                                              "against one player, or against earlier generations' bests")
+        self.opponent_player = gui.add_dropdown("Opponent player", ORDER, initial_value=DEMO,
+                                                hint="An example player; co-evolving, generation 0's opponent, "
+                                                     "kept in the hall of fame")
+        hall = CoevolutionConfig.model_fields
+        self.hall_size = NumberField.for_field(gui, "Hall of fame size", hall["hall_size"],
+                                               hint=hall["hall_size"].description)
+        self.hall_sample = NumberField.for_field(gui, "Opponents per generation", hall["hall_sample"],
+                                                 hint=hall["hall_sample"].description)
+        self._show_opponent_fields()
         self.name = gui.add_text("Run name (empty: from the settings)", initial_value="")
         self.game_inputs: dict[str, viser.GuiInputHandle | NumberField] = {}
         with gui.add_folder("GA parameters (chapter's Table 2)", expand_by_default=False):
@@ -142,10 +158,33 @@ class EvolvePanel:
         @self.where.on_update
         def _(_: viser.GuiEvent) -> None:
             self.servers.visible = self.where.value == RCSSSERVER
+            self._show_opponent_fields()
+
+        @self.opponent.on_update
+        def _(_: viser.GuiEvent) -> None:
+            self._show_opponent_fields()
 
         @self.load_best.on_click
         def _(_: viser.GuiEvent) -> None:
             self.load_best_so_far()
+
+    def _show_opponent_fields(self) -> None:
+        """Matches are played in SimpleSoccer: the opponent's fields show for the choice that uses them."""
+        simple = self.where.value == SIMPLESOCCER
+        self.opponent.visible = simple
+        self.opponent_player.visible = simple and self.opponent.value != ALONE
+        self.hall_size.visible = self.hall_sample.visible = simple and self.opponent.value == COEVOLVE
+
+    def opponent_settings(self) -> dict[str, Any]:
+        """The run's opponent and co-evolution settings for the choice shown ({} when it plays alone);
+        FieldError for a hall field that holds no usable number."""
+        if self.where.value != SIMPLESOCCER or self.opponent.value == ALONE:
+            return {}
+        chosen = self.opponent_player.value
+        if self.opponent.value == FIXED:
+            return {"opponent": example(chosen).text}
+        coevolve = {"hall_size": int(self.hall_size.value), "hall_sample": int(self.hall_sample.value)}
+        return {"coevolve": coevolve, **({"opponent": example(chosen).text} if chosen != DEMO else {})}
 
     @staticmethod
     def _input(gui: viser.GuiApi, name: str, field: Any) -> viser.GuiInputHandle | NumberField:
@@ -184,7 +223,7 @@ class EvolvePanel:
     # ---- actions ----------------------------------------------------------------------------
     def start(self) -> None:
         try:
-            ga, game, where = self.config(), self.game_config(), {}
+            ga, game, where = self.config(), self.game_config(), self.opponent_settings()
             if self.where.value == RCSSSERVER:  # the GA evaluates in this process, trials over the servers
                 where = {"env": RCSS, "start_servers": int(self.servers.value), "trial": {"skills": game["skills"]}}
                 ga, game = {**ga, "workers": RCSS_WORKERS}, None  # the server has its own noise and kick count

@@ -179,10 +179,19 @@ def lineage_html(view: FamilyTreeView, run_id: int) -> str:
         f'<div style="font-weight:700">Run #{run_id}: {escape(view.title())}</div>'
         f'<div style="color:{style.MUTED}">Born: {escape(view.birth_text(view.tree.ancestors[chosen]))}</div>'
         f'<div style="{heading}">Its ancestors (those whose genes it carries), back to generation '
-        f"{view.tree.oldest}</div>{tree_svg(view, max_row_nodes=TREE_COLUMNS)}"
+        f"{view.tree.oldest}</div>{tree_svg(view, max_row_nodes=TREE_COLUMNS)}{_opponents_html(view, heading)}"
         f'<div style="{heading}">Its rules, each marked with the ancestor it came from</div>'
         f'<ol style="padding-left:0; list-style:none; margin:0">{rules}</ol>'
         f'<div style="{heading}">Its chromosome in compact notation (Figs. 6, 7), coloured by origin; '
         f'underlined red: mutated at its birth</div><div style="line-height:1.7">{genes}</div>'
         f'<div style="margin-top:6px; font-size:{style.SMALL_FONT_SIZE + 1}px">{legend}</div></div>'
     )
+
+
+def _opponents_html(view: FamilyTreeView, heading: str) -> str:
+    """Co-evolution: whom each generation of the tree was scored against (the hall of fame members it drew)."""
+    if not view.opponents:
+        return ""
+    lines = "".join(f'<div class="lineage-opponents" data-generation="{g}">gen {g}: {escape(", ".join(labels))}</div>'
+                    for g, labels in sorted(view.opponents.items(), reverse=True))
+    return f'<div style="{heading}">Scored against (co-evolution: the hall of fame members each generation played)</div>{lines}'
