@@ -88,7 +88,7 @@ def serve(options: ServeOptions, echo: Callable[[str], None] = print) -> None:
     from soccer_lab.app.web.api.ui_page import UI_PATH
     from soccer_lab.app.web.origins import SiteAddresses
     from soccer_lab.app.web.rerun_viewer import RerunViewerError, viewer_files, viewer_home
-    from soccer_lab.app.runs.manager import MAX_CONCURRENT_RUNS, RunManager
+    from soccer_lab.app.runs.manager import MAX_CONCURRENT_RUNS, SHUTDOWN_WAIT_SECONDS, RunManager
     from soccer_lab.app.store import Store
     from soccer_lab.app.web.ui import PortBusyError, start_ui
     from soccer_lab.fuzzy.vocabulary import Vocabulary
@@ -199,6 +199,8 @@ def serve(options: ServeOptions, echo: Callable[[str], None] = print) -> None:
         Server(config, on_exit=runs.interrupt_all, on_listening=announce).run()
     finally:
         runs.shutdown()
+        if tournament is not None:
+            tournament.close(SHUTDOWN_WAIT_SECONDS)
         if games is not None:
             games.__exit__(None, None, None)
         if ui is not None:

@@ -75,6 +75,7 @@ class Class:
         for client in self.clients:
             client.__exit__(None, None, None)
         self.runs.shutdown()
+        self.tournament.close(60)
         self.store.close()
 
 

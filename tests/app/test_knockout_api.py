@@ -168,6 +168,19 @@ def test_a_knockout_survives_a_restart_and_one_left_playing_is_marked_interrupte
         room.runs.store = room.store
 
 
+def test_a_knockout_stops_when_the_app_ends_and_writes_nothing_after(room):
+    """Found as a warning: a knockout's thread wrote to the store after it closed. Closing the tournament (as
+    serve does before closing the store) stops a knockout after the tie being played, marked interrupted."""
+    teacher = enter(room, 4)
+    room.tournament.knockout.close(timeout=60)  # the app ends as the teacher presses Start
+    started = teacher.post("/api/class/knockouts", json={"best_of": 1, "seed": 3, "max_ticks": SHORT})
+    assert started.status_code == 202
+    room.tournament.close(timeout=60)
+    ended = room.store.get_knockout(started.json()["id"])
+    assert ended.status == KnockoutStatus.INTERRUPTED and ended.ties == []
+    assert not room.tournament.knockout.playing
+
+
 def test_the_csv_has_one_row_per_match_and_names_a_spreadsheet_shows_as_text(room):
     teacher = enter(room, 3)
     knockout = wait_for_knockout(teacher, teacher.post("/api/class/knockouts", json={

@@ -61,6 +61,7 @@ class Knockout:
         self._notify = notify
         self._lock = threading.Lock()
         self._playing: threading.Thread | None = None
+        self._closing = threading.Event()  # the app is ending: stop after the tie being played
         self.interrupted_at_start = store.mark_knockouts_interrupted()
 
     @property
@@ -95,6 +96,12 @@ class Knockout:
         if playing is not None:
             playing.join(timeout)
 
+    def close(self, timeout: float) -> None:
+        """The app is ending: a knockout being played stops after its current tie, marked interrupted, so
+        nothing writes to the store once it closes; waits at most `timeout` s."""
+        self._closing.set()
+        self.wait(timeout)
+
     def knockouts(self) -> list[KnockoutRecord]:
         return self.store.list_knockouts()
 
@@ -110,7 +117,7 @@ class Knockout:
             with ProcessPoolExecutor(1, mp_context=context, initializer=start_worker,
                                      initargs=(os.getpid(),)) as worker:
                 pairing = next_pairing(record)
-                while pairing is not None:
+                while pairing is not None and not self._closing.is_set():
                     arguments = (record.draw, record.seed, record.best_of, game, self.vocabulary, *pairing)
                     bye = pairing[3] is None  # nothing to play: decided here
                     tie = play_tie(*arguments) if bye else worker.submit(play_tie, *arguments).result()
@@ -118,7 +125,8 @@ class Knockout:
                     record = self.store.get_knockout(record.id)
                     self._notify(record)
                     pairing = next_pairing(record)
-            record = self.store.end_knockout(record.id, KnockoutStatus.FINISHED)
+            ended = KnockoutStatus.FINISHED if pairing is None else KnockoutStatus.INTERRUPTED
+            record = self.store.end_knockout(record.id, ended)
         except Exception as exc:  # the app goes on; the teacher hears why
             log.exception("class knockout failed")
             record = self.store.end_knockout(record.id, KnockoutStatus.FAILED, f"the knockout failed: {exc}")

@@ -152,6 +152,12 @@ class Tournament:
         if playing is not None:
             playing.join(timeout)
 
+    def close(self, timeout: float) -> None:
+        """The app is ending: the round being played and the knockout end before the store closes (at most
+        `timeout` s each)."""
+        self.knockout.close(timeout)
+        self.wait(timeout)
+
     def _play_round(self, entries: list[EntryRecord], starts: int, seed: int, game: GameConfig) -> None:
         try:
             results = play_round_apart(entries, starts, seed, game, self.vocabulary)
