@@ -116,7 +116,8 @@ def matches(expected: list[str], actual: str) -> bool:
 def scratch(tmp_path) -> Path:
     """A folder that looks like the repository's (its files are there) but keeps what the commands write."""
     for entry in REPOSITORY.iterdir():
-        if not entry.name.startswith("."):
+        # not the folders commands write into (git ignores them): a run of the checkout's must not be in the way
+        if not entry.name.startswith(".") and entry.name not in ("runs", "experiments"):
             (tmp_path / entry.name).symlink_to(entry)
     return tmp_path
 
