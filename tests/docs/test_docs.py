@@ -168,3 +168,12 @@ def test_python_examples_print_what_they_show(document, scratch, monkeypatch):
     report: list[str] = []
     runner.run(test, out=report.append)
     assert runner.failures == 0, "".join(report)
+
+
+def test_no_page_speaks_of_the_projects_issues():
+    """A reader of the docs has never seen the project's issue tracker: a page says what and why, not which issue
+    asked for it (issue 37 found "the issue this answers" on the replicates page)."""
+    spoken = [f"{document.relative_to(REPOSITORY)}: {line.strip()[:80]}" for document in DOCUMENTS
+              for line in document.read_text(encoding="utf-8").splitlines()
+              if re.search(r"\b(?:the )?issues? (?:\d+|this answers)\b", line, re.IGNORECASE)]
+    assert spoken == []
