@@ -66,13 +66,30 @@ def matches_record(folder: Path, command: str) -> dict:
             "answers": answers}
 
 
+def replicates_record(folder: Path, command: str) -> dict:
+    """The answers of a `--seeds`/`--replicates` run of the preset (its verdicts.csv): per seed, and robust."""
+    import csv
+
+    rows = list(csv.DictReader((folder / "verdicts.csv").open(encoding="utf-8")))
+    seeds = [int(column.removeprefix("seed ")) for column in rows[0] if column.startswith("seed ")] if rows else []
+    return {"command": command, "folder": folder.name, "seeds": seeds,
+            "answers": [{"where": row["chapter"], "question": row["claim"],
+                         "by_seed": [row[f"seed {seed}"] for seed in seeds], "robust": row["robust"]}
+                        for row in rows if row["preset"] == "matches"]}
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("folder", type=Path)
     parser.add_argument("--record", action="store_true", help=f"write docs/results/research/{RESULTS_FILE}")
     parser.add_argument("--command", default="", help="the command that ran the study, as the page shows it")
+    parser.add_argument("--replicates", type=Path, metavar="FOLDER",
+                        help="also record the answers at more seeds: the folder of `experiment matches --seeds ...`")
+    parser.add_argument("--replicates-command", default="", help="the command that ran the replicates")
     args = parser.parse_args()
     record = matches_record(args.folder, args.command)
+    if args.replicates is not None:
+        record["replicates"] = replicates_record(args.replicates, args.replicates_command)
     done = sum(p["finished"] for p in record["progress"])
     print(f"{done} of {sum(p['trials'] for p in record['progress'])} trials finished; "
           + ("complete" if record["complete"] else "not finished"))

@@ -1,4 +1,4 @@
-"""Matches (SPEC 4.7): two players and one ball on one pitch, each attacking the other's goal, batched
+"""Matches (docs/research/matches.md): two players and one ball on one pitch, each attacking the other's goal, batched
 in one pymunk Space as games are (soccer/engine.py, whose steps this reuses; docs/research/matches.md).
 
 Sides follow rcssserver: the left player attacks +x, the right player -x. Each player lives in its own

@@ -1,4 +1,4 @@
-"""The matches study (`soccer-lab experiment matches`, SPEC 4.7): players evolved alone (the chapter's setting),
+"""The matches study (`soccer-lab experiment matches`, docs/research/matches.md): players evolved alone (the chapter's setting),
 co-evolved against a hall of fame of earlier bests, and co-evolved seeing the opponent, put on one pitch.
 
 Its trials (app/experiment/presets.py): `alone` is Table 2 as the `initial` preset runs it; the co-evolved
@@ -44,7 +44,7 @@ from soccer_lab.app.experiment.verdicts import ALPHA, NOT_RUN, POWER, RANK_EFFIC
 from soccer_lab.soccer.match import CROWD_DISTANCE
 
 MATCHES_INTRODUCTION = (
-    "Not the chapter's future work but its background's next step (SPEC 4.7): players evolved alone (Table 2, the "
+    "Not the chapter's future work but its background's next step (Luke's co-evolved teams): players evolved alone (Table 2, the "
     "chapter's setting), co-evolved against a hall of fame of earlier bests founded by the built-in demo, and "
     "co-evolved seeing the opponent, put on one pitch. A co-evolved run's fitness is over matches against its hall, "
     "not comparable with a run's alone; its best is re-played against the demo. The questions are answered by "
@@ -410,7 +410,7 @@ def matches_questions(folder: Path, preset: Preset, bests: BestsTable) -> tuple[
 
     study = matches_study(folder, preset, bests)
     answers = matches_answers(study)
-    return tuple(Question(MATCHES, f"SPEC 4.7 ({letter})", text, lambda *_, a=answers[letter]: a)
+    return tuple(Question(MATCHES, f"background ({letter})", text, lambda *_, a=answers[letter]: a)
                  for letter, text in QUESTION_TEXTS), study
 
 

@@ -25,7 +25,7 @@ each evaluation on 1 or on 5 games at equal games played (the 1-game run gets 5x
 evaluations. The chapter's later control (elitist selection) is theirs, but for `games-per-evaluation`,
 whose question the chapter raised about its Table 2 trials.
 
-`matches` (SPEC 4.7; the chapter's background: Luke's co-evolved teams) plays matches: Table 2 evolved
+`matches` (docs/research/matches.md; the chapter's background: Luke's co-evolved teams) plays matches: Table 2 evolved
 alone (the `initial` preset's trials), Table 2 co-evolved against a hall of fame of earlier bests founded by
 the built-in demo (COEVOLUTION: each evaluation a match against each of 3 members drawn from the last 10
 distinct bests and the demo), and the same seeing the opponent (the opponent vocabulary). Its questions and
@@ -336,8 +336,8 @@ PRESET_TABLE: dict[str, tuple[str, str, int, bool, tuple[str, ...]]] = {
               ("mean_fitness", "best_fitness")),
 }
 BEYOND_NAMES: tuple[str, ...] = ("uniform-crossover", "rule-pressure", "games-per-evaluation", "restarts")
-# presets whose questions the report answers "beyond the chapter": its future work, and the matches study (SPEC
-# 4.7), a study of its own that `all-plus` leaves out
+# presets whose questions the report answers "beyond the chapter": its future work, and the matches study, a
+# study of its own that `all-plus` leaves out
 ANSWERED_NAMES: tuple[str, ...] = (*BEYOND_NAMES, MATCHES)
 PRESET_NAMES: tuple[str, ...] = tuple(name for name in PRESET_TABLE if name not in (ROBOCUP, *ANSWERED_NAMES))  # `all`
 CHOICES: tuple[str, ...] = (*PRESET_NAMES, ROBOCUP, *ANSWERED_NAMES, ALL, ALL_PLUS)

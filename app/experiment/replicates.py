@@ -181,7 +181,8 @@ def _intro(report: ReplicatesReport, header: str) -> list[str]:
     links = ", ".join(f"seed-{seed}/{REPORT_MD}" for seed in report.seeds)
     return [header,
             f"{len(report.seeds)} replicates, experiment seeds {', '.join(map(str, report.seeds))}. A verdict is "
-            f"robust only when every replicate gives it; otherwise it {VARIES}. Findings: {counts}.",
+            f"robust only when every replicate gives it; otherwise it {VARIES}."
+            + (f" Findings: {counts}." if counts else ""),
             f"Each replicate's own report (figures, settings, measured values and tests): {links}."]
 
 
@@ -198,7 +199,7 @@ def _tables(report: ReplicatesReport) -> list[tuple[str, list[str], list[list[st
 
 
 def _markdown(report: ReplicatesReport, header: str) -> str:
-    lines = [f"# soccer-lab: the chapter's experiments at {len(report.seeds)} seeds", ""]
+    lines = [f"# soccer-lab: the experiments at {len(report.seeds)} seeds", ""]
     for paragraph in _intro(report, header):
         lines += [paragraph, ""]
     for title, columns, rows in _tables(report):
@@ -214,7 +215,7 @@ def _html(report: ReplicatesReport, header: str, folder: Path) -> str:
 
     parts = ["<!doctype html><html><head><meta charset='utf-8'><title>soccer-lab replicates</title>",
              f"<style>{STYLE}</style></head><body>",
-             f"<h1>soccer-lab: the chapter's experiments at {len(report.seeds)} seeds</h1>"]
+             f"<h1>soccer-lab: the experiments at {len(report.seeds)} seeds</h1>"]
     parts += [f"<p>{html.escape(paragraph)}</p>" for paragraph in _intro(report, header)]
     for title, columns, rows in _tables(report):
         parts.append(f"<h2>{html.escape(title)}</h2><table><tr>"

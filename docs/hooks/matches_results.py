@@ -65,6 +65,13 @@ def answers_section(study: dict) -> str:
     text = [table(["question", "answer", "measured", "test"],
                   [[f"{a['where']} {a['question']}", a["answer"], a["measured"], a["test"]] for a in study["answers"]])]
     text += [f"![{caption}](../images/research/{name})" for name, caption in FIGURES]
+    replicates = study.get("replicates")
+    if replicates and replicates["answers"]:
+        seeds = replicates["seeds"]
+        text.append(f"The same study at experiment seeds {', '.join(map(str, seeds))} (`{replicates['command']}`, "
+                    f"folder `{replicates['folder']}`): an answer is robust when every seed gives it.\n\n"
+                    + table(["question", *(f"seed {seed}" for seed in seeds), "robust answer"],
+                            [[a["where"], *a["by_seed"], a["robust"]] for a in replicates["answers"]]))
     return "\n\n".join(text)
 
 

@@ -1,4 +1,4 @@
-"""Matches on a real rcssserver (SPEC 4.7): SimpleSoccer's match (soccer/match.py) played by two of our clients on
+"""Matches on a real rcssserver (docs/research/matches.md, "On rcssserver"): SimpleSoccer's match (soccer/match.py) played by two of our clients on
 one server, one per side, set up by the trainer as trials are (soccer/rcss/trial.py; docs/research/matches.md,
 "On rcssserver").
 

@@ -46,7 +46,7 @@ def tiny_run(tmp_path_factory):
 def test_a_shrunk_matches_run_records_the_crowd_share_and_answers_its_four_questions(tiny_run):
     outcome, folder = tiny_run
     answers = [(q.where, a) for q, a in outcome.report.answers if q.preset == MATCHES]
-    assert [where for where, _ in answers] == [f"SPEC 4.7 ({letter})" for letter in "abcd"]
+    assert [where for where, _ in answers] == [f"background ({letter})" for letter in "abcd"]
     assert all(a.verdict == TOO_SMALL and a.measured != "-" for _, a in answers)  # measured, not judged
     spec = next(s for s in plan(MATCHES, TINY).specs if s.setting.label == SEEING)
     record = json.loads((folder / TRIALS_FOLDER / f"{spec.name}.best.json").read_text())
@@ -167,12 +167,24 @@ def test_the_study_is_recorded_for_the_docs_with_how_far_it_got_and_its_answers(
     hook = load(root / "docs" / "hooks" / "matches_results.py", "matches_results_hook")
     _, folder = tiny_run
     record = script.matches_record(folder, "soccer-lab experiment matches --trials 2")
-    assert record["complete"] and [a["where"] for a in record["answers"]] == [f"SPEC 4.7 ({x})" for x in "abcd"]
+    assert record["complete"] and [a["where"] for a in record["answers"]] == [f"background ({x})" for x in "abcd"]
     assert set(record["crowd_share"]) == {COEVOLVED, SEEING}
     results = tmp_path / "matches.json"
     results.write_text(json.dumps(record))
     page = hook.render(f"{hook.RUN}\n\n{hook.ANSWERS}\n", results)
     assert "Finished." in page and "Kiddie soccer so far" in page and "Does seeing the opponent help" in page
+    # the answers at more seeds (a --seeds run's verdicts.csv), per seed and robust
+    replicates = tmp_path / "replicates"
+    replicates.mkdir()
+    (replicates / "verdicts.csv").write_text(
+        "preset,chapter,claim,seed 1,seed 2,summary,robust\n"
+        "matches,background (a),Does it?,no: the demo beats alone,no: the demo beats alone,2 of 2,no: the demo beats alone\n"
+        "matches,background (b),Does it?,no significant difference,co-evolved wins,1 of 2,varies with the seed\n")
+    record["replicates"] = script.replicates_record(replicates, "soccer-lab experiment matches --seeds 1,2")
+    assert record["replicates"]["seeds"] == [1, 2]
+    results.write_text(json.dumps(record))
+    page = hook.render(f"{hook.ANSWERS}\n", results)
+    assert "| background (b) | no significant difference | co-evolved wins | varies with the seed |" in page
     unfinished = tmp_path / "unfinished"
     shutil.copytree(folder, unfinished)
     next((unfinished / TRIALS_FOLDER).glob("*-coevolved-seeing-*-1.csv")).unlink()
