@@ -236,3 +236,19 @@ def test_a_knockout_that_fails_says_why_and_lets_the_next_start(room, monkeypatc
     room.tournament.knockout.wait(10)
     assert heard == [KnockoutStatus.PLAYING, KnockoutStatus.FAILED]
     assert teacher.post("/api/class/knockouts", json={"best_of": 1, "max_ticks": SHORT}).status_code == 202
+
+
+def test_a_class_of_thirty_sees_its_final_on_the_projector(room):
+    """Found at 1280 x 800 with 30 entries: the projector's bracket had five rounds, the first one's 16 ties
+    pushed the final off the screen. The projector shows the last three rounds and says where the others are."""
+    from soccer_lab.app.web.ui.panels.knockout import PROJECTOR_ROUNDS, bracket_html
+
+    draw = [{"draw": i, "name": f"Pupil {i}", "entry": i} for i in range(1, 31)]
+    record = room.store.create_knockout(7, 1, GameConfig().model_dump(), draw)
+    projected = bracket_html(record, 20, PROJECTOR_ROUNDS)
+    assert [r for r in ("Round 1", "Round 2", "Quarter-finals", "Semi-finals", "Final") if f">{r}</div>" in projected] \
+        == ["Quarter-finals", "Semi-finals", "Final"]
+    assert "Round 1 to Round 2 (24 ties): in the Class tab and the CSV" in projected
+    assert projected.count('class="knockout-tie"') == 4 + 2 + 1
+    whole = bracket_html(record, 14)
+    assert whole.count('class="knockout-tie"') == 16 + 8 + 4 + 2 + 1 and "knockout-earlier" not in whole

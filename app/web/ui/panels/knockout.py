@@ -26,6 +26,9 @@ from soccer_lab.soccer.config import GameConfig
 NO_MATCH = "(no match played yet)"
 ONE_LINE = "white-space:nowrap; overflow:hidden; text-overflow:ellipsis; min-width:0"
 PROJECTOR_BRACKET_FONT_SIZE = 20  # px: the bracket read from the back of the class (four rounds fit 1280 px)
+# The projector shows a bracket's last rounds, the ones a class cheers (a class of 30 has 5 rounds, and its first
+# round's 16 ties would push the final off the screen at 1280 x 800); the Class tab and the CSV have them all
+PROJECTOR_ROUNDS = 3
 # A tie not decided by matches won says so under it.
 DECIDED = {"goal difference": "level: on goal difference", "higher in the draw": "level: higher in the draw"}
 WatchMatch = Callable[[Rulebase, Rulebase, tuple[str, str], int, GameConfig, Vocabulary], None]
@@ -44,6 +47,7 @@ class KnockoutPanel:
         self.vocabulary = vocabulary
         self.on_watch = on_watch
         self.font_size = PROJECTOR_BRACKET_FONT_SIZE if large else style.FONT_SIZE
+        self.rounds_shown = PROJECTOR_ROUNDS if large else None
         self.record: KnockoutRecord | None = None
         self._matches: dict[str, tuple[int, int, int]] = {}  # the dropdown's labels: (round, tie, match)
         gui.add_markdown("**Knockout**")
@@ -116,7 +120,7 @@ class KnockoutPanel:
             self._say("")
             self._list_matches(None)
             return
-        self.bracket.content = bracket_html(record, self.font_size)
+        self.bracket.content = bracket_html(record, self.font_size, self.rounds_shown)
         self._say(status_line(record), error=record.status in (KnockoutStatus.FAILED, KnockoutStatus.INTERRUPTED))
         self._list_matches(record)
 
@@ -158,11 +162,19 @@ def status_line(record: KnockoutRecord) -> str:
     return f"Knockout {record.id} {record.status}: {record.error or 'no reason given'}"
 
 
-def bracket_html(record: KnockoutRecord, font_size: int) -> str:
+def bracket_html(record: KnockoutRecord, font_size: int, last_rounds: int | None = None) -> str:
     """The bracket: one column per round (they wrap in a narrow panel), each tie its two players with the matches
-    each won; the one who went through in bold."""
+    each won; the one who went through in bold. `last_rounds`: only the last so many rounds, a line saying where
+    the earlier ones are."""
     names = {place["draw"]: place["name"] for place in record.draw}
     rounds = bracket(record)
+    hidden = rounds[:-last_rounds] if last_rounds is not None and len(rounds) > last_rounds else []
+    earlier = ""
+    if hidden:
+        first, last = (round_name(ties[0]["round"], len(rounds)) for ties in (hidden[0], hidden[-1]))
+        span = first if len(hidden) == 1 else f"{first} to {last}"
+        earlier = (f'<div class="knockout-earlier" style="color:{style.MUTED}">{span} '
+                   f'({plural(sum(len(ties) for ties in hidden), "tie")}): in the Class tab and the CSV</div>')
     won = champion(record)
     winner = (f'<div class="knockout-champion" style="font-weight:700; color:{style.FIRED}; {ONE_LINE}" '
               f'title="{escape(won["name"])}">Winner: {escape(won["name"])}</div>' if won else "")
@@ -170,13 +182,13 @@ def bracket_html(record: KnockoutRecord, font_size: int) -> str:
         f'<div class="knockout-round" style="flex:1 1 9em; min-width:0">'
         f'<div style="font-weight:700; {ONE_LINE}">{round_name(ties[0]["round"], len(rounds))}</div>'
         + "".join(_tie_html(tie, names) for tie in ties) + "</div>"
-        for ties in rounds)
+        for ties in rounds[len(hidden):])
     return (
         f'<div class="knockout" data-knockout="{record.id}" data-status="{record.status}" style="{style.FONT}; '
         f'font-size:{font_size}px; color:{style.INK}; margin-bottom:8px; padding-right:10px">'
         f'<div style="color:{style.MUTED}">Knockout {record.id}: {plural(len(record.draw), "entry", "entries")}, '
         f"best of {record.best_of}, seed {record.seed}, {record.game.get('max_ticks')} ticks a half. "
-        f'<a href="/api/class/knockouts/{record.id}/matches.csv">CSV</a></div>{winner}'
+        f'<a href="/api/class/knockouts/{record.id}/matches.csv">CSV</a></div>{winner}{earlier}'
         f'<div style="display:flex; flex-wrap:wrap; gap:6px 10px; margin-top:4px">{columns}</div></div>')
 
 
