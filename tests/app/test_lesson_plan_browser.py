@@ -215,6 +215,9 @@ def test_the_lesson_plan_minutes_7_to_10_work_as_written(ui, browser):
         page.get_by_role("tab", name="Inference").click()
         field(page, "Usage games", "input").fill("3")
         field(page, "Usage games", "input").press("Tab")
+        # the server has the typed number before the button is pressed (CI's busy browser sent the click while
+        # the field's update was still on its way, and the usage was measured on the 20 games before it)
+        wait_until(lambda: session.inference.usage_games.value == 3)
         page.get_by_role("button", name="Measure rule usage").click()
         page.locator('.usage-caption[data-games="3"]').wait_for(timeout=120_000)
         assert page.locator(".rule .usage").count() == len(best)
@@ -222,6 +225,7 @@ def test_the_lesson_plan_minutes_7_to_10_work_as_written(ui, browser):
         page.get_by_role("tab", name="Rules").click()
         field(page, "Check on games", "input").fill("3")
         field(page, "Check on games", "input").press("Tab")
+        wait_until(lambda: session.editor.check_games.value == 3)
         page.get_by_role("button", name="Simplify").click()
         page.locator(".editor-message", has_text="Simplified").wait_for(timeout=120_000)
         wait_until(lambda: session.game.name == "simplified")
