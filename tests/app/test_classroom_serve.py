@@ -246,7 +246,9 @@ def test_a_class_in_the_browser(served, browser):
     expect(desk.locator("#class-you")).to_have_text("You are the teacher.")
     qr = desk.locator("#class-qr")
     expect(qr).to_be_visible()
-    assert qr.evaluate("image => image.naturalWidth") > 100  # the SVG drawn by the app, not a broken image
+    # the SVG drawn by the app, not a broken image (visible comes before loaded: wait for it to load)
+    desk.wait_for_function("() => document.querySelector('#class-qr').complete")
+    assert qr.evaluate("image => image.naturalWidth") > 100
     desk.screenshot(path=str(SCREENSHOTS / "classroom-home.png"))
 
     # A pupil: no teacher card; a wrong code says so in one line; the right one lands on the home page, the name
