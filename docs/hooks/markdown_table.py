@@ -17,3 +17,10 @@ def table(columns: list[str], rows: list[list[object]]) -> str:
 def load_average(average: list[float] | None) -> str:
     """The 1-, 5- and 15-minute load averages as "1.2/0.9/0.5" ("?" when not recorded)."""
     return "/".join(f"{x:g}" for x in average) if average else "?"
+
+
+def duration(seconds: float) -> str:
+    """A wall time as "1 h 05 min" or "4 min 07 s"."""
+    minutes, second = divmod(round(seconds), 60)
+    hours, minute = divmod(minutes, 60)
+    return f"{hours} h {minute:02d} min" if hours else f"{minute} min {second:02d} s"

@@ -14,7 +14,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from markdown_table import load_average, table
+from markdown_table import duration, load_average, table
 
 RESULTS = Path(__file__).resolve().parents[1] / "results" / "research" / "matches.json"
 RUN, ANSWERS = "<!-- generated: matches-run -->", "<!-- generated: matches-answers -->"
@@ -22,12 +22,6 @@ NOT_RECORDED = ("Not recorded yet: run the study, then `python scripts/matches_r
                 "--command \"...\"`.")
 FIGURES = (("matches-crowd_share.png", "Kiddie soccer: the crowd share by generation in the co-evolved runs"),
            ("matches-head_to_head.png", "Head to head: each trial's best, mean goal difference per match"))
-
-
-def _duration(seconds: float) -> str:
-    minutes, second = divmod(round(seconds), 60)
-    hours, minute = divmod(minutes, 60)
-    return f"{hours} h {minute:02d} min" if hours else f"{minute} min {second:02d} s"
 
 
 def run_section(study: dict) -> str:
@@ -41,7 +35,7 @@ def run_section(study: dict) -> str:
                       [[p["setting"], f"{p['finished']} of {p['trials']}"] for p in study["progress"]]))
     if study["runs"]:
         text.append(table(["started", "wall time", "trials run", "skipped", "load average before / after", "cores"],
-                          [[run["started"], _duration(run["seconds"]), run["ran"], run["skipped"],
+                          [[run["started"], duration(run["seconds"]), run["ran"], run["skipped"],
                             f"{load_average(run['load_average_before'])} / {load_average(run['load_average_after'])}",
                             run["cores"]] for run in study["runs"]]))
     else:

@@ -17,18 +17,12 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from markdown_table import load_average, table
+from markdown_table import duration, load_average, table
 
 RESULTS = Path(__file__).resolve().parents[1] / "results" / "research" / "study.json"
 RUN, VERDICTS, ANSWERS = (f"<!-- generated: research-{name} -->" for name in ("run", "verdicts", "answers"))
 NOT_RECORDED = ("Not recorded yet: run the study, then `python scripts/research_figures.py FOLDER --record "
                 "--command \"...\"`.")
-
-
-def _duration(seconds: float) -> str:
-    minutes, second = divmod(round(seconds), 60)
-    hours, minute = divmod(minutes, 60)
-    return f"{hours} h {minute:02d} min" if hours else f"{minute} min {second:02d} s"
 
 
 def run_section(study: dict) -> str:
@@ -47,10 +41,10 @@ def run_section(study: dict) -> str:
         text.append(table(["invocation", "started", "wall time", "trials run", "skipped",
                             "load average before / after", "cores"],
                            [[f"{run['preset']} seeds {','.join(map(str, run['seeds']))}", run["started"],
-                             _duration(run["seconds"]), run["ran"], run["skipped"],
+                             duration(run["seconds"]), run["ran"], run["skipped"],
                              f"{load_average(run['load_average_before'])} / {load_average(run['load_average_after'])}",
                              run["cores"]] for run in study["runs"]]))
-        text.append(f"Wall time, all invocations: {_duration(total)}. Load average: the 1-, 5- and 15-minute "
+        text.append(f"Wall time, all invocations: {duration(total)}. Load average: the 1-, 5- and 15-minute "
                     "figures; above the core count, trials waited for a core.")
     else:
         text.append("No invocation of this folder finished with its wall time logged (runs.jsonl) yet.")
