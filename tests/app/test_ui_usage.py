@@ -151,6 +151,33 @@ def test_a_tab_runs_one_usage_or_simplification_at_a_time(ui, page):
         with pytest.raises(ValueError, match="still measuring rule usage or simplifying"):
             session.simplify(session.game.rulebase, 2)
         session.measure_usage(2)
-        assert "still measuring" in session.editor.message.content and session.inference.usage is None
+        assert "still measuring" in session.inference.usage_note.content and session.inference.usage is None
     session.measure_usage(2)  # once it is done, the next one plays
-    assert session.inference.usage is not None
+    assert session.inference.usage is not None and session.inference.usage_note.content == ""
+
+
+def test_a_usage_of_rules_replaced_while_it_was_measured_says_so_beside_the_button(ui, page, monkeypatch):
+    """A pupil loading a player while its usage played got nothing at all: no bars, no line (the lesson walk
+    waited 120 s for a caption). The usage is still not shown (it counted other rules), and the line under the
+    button says why and what to do; errors are said there too, not in the Rules tab's editor."""
+    import soccer_lab.app.web.ui.session as session_module
+
+    session = session_of(ui)
+    measured = session_module.rule_usage
+
+    def load_a_player_meanwhile(*args, **kwargs):
+        usage = measured(*args, **kwargs)
+        session.load_rulebase(PLAYER, "loaded while measuring")
+        return usage
+
+    monkeypatch.setattr(session_module, "rule_usage", load_a_player_meanwhile)
+    session.measure_usage(2)
+    assert session.inference.usage is None
+    note = session.inference.usage_note.content
+    assert 'class="usage-note" data-error="true"' in note and "rules on the pitch changed" in note
+    assert "Usage" not in session.editor.message.content
+    page.get_by_role("tab", name="Inference").click()
+    page.locator(".usage-note", has_text="Press Measure rule usage again").wait_for()
+    monkeypatch.setattr(session_module, "rule_usage", measured)
+    session.measure_usage(2)
+    assert session.inference.usage is not None and session.inference.usage_note.content == ""

@@ -421,13 +421,15 @@ class Session:
             with self._inspection():
                 usage = rule_usage(rulebase, self.context.vocabulary, games, seed, config)
         except ValueError as exc:
-            with self.lock:
-                self.editor.show_error(f"Usage not measured: {exc}")
+            self.inference.say_usage(f"Usage not measured: {exc}", error=True)
             return
         with self.lock:
-            if self.game.rulebase is rulebase:
-                self.inference.show_usage(usage)
-                self._render()
+            if self.game.rulebase is not rulebase:  # it counted rules no longer on the pitch
+                self.inference.say_usage("Usage not shown: the rules on the pitch changed while it was measured. "
+                                         "Press Measure rule usage again.", error=True)
+                return
+            self.inference.show_usage(usage)
+            self._render()
 
     def simplify(self, rulebase: Rulebase, games: int):
         """The rules simplified: exact steps, then checked on `games` games from the pitch's seed."""

@@ -3,6 +3,7 @@ aggregate the output sets, defuzzify. The decision sits on top because it is wha
 
 from __future__ import annotations
 
+from html import escape
 from typing import TYPE_CHECKING, Callable, Mapping, Sequence
 
 import viser
@@ -13,6 +14,7 @@ from soccer_lab.app.web.ui.number_field import FieldError, NumberField
 from soccer_lab.app.web.ui.panels.membership import input_html, input_names, kick_reach, terms_html
 from soccer_lab.app.web.ui.panels.outputs import outputs_html
 from soccer_lab.app.web.ui.panels.rules import decision_html, rules_html
+from soccer_lab.app.words import plural
 from soccer_lab.fuzzy.engine import Inference
 from soccer_lab.fuzzy.vocabulary import Vocabulary
 from soccer_lab.soccer.config import WorldConfig
@@ -40,6 +42,7 @@ class InferencePanel:
             measure = gui.add_button("Measure rule usage",
                                      hint="Play these games from the pitch's seed and show how often each rule won")
             measure.on_click(lambda _: self._measure(on_usage))
+            self.usage_note = gui.add_html("")  # under the button pressed: measuring, or why no usage is shown
             self.rules = gui.add_html("")
         with gui.add_folder("Output sets (clipped, max, mean of maximum)"):
             self.outputs = gui.add_html("")
@@ -65,10 +68,19 @@ class InferencePanel:
             games = int(self.usage_games.value)
         except FieldError:  # the field says what it needs
             return
+        self.say_usage(f"Measuring rule usage on {plural(games, 'game')} ...")
         on_usage(games)
 
     def show_usage(self, usage: "Usage | None") -> None:
         self.usage = usage
+        self.say_usage("")  # the caption above the rules says what was measured
+
+    def say_usage(self, text: str, *, error: bool = False) -> None:
+        """A line under Measure rule usage: what it is doing, or why no usage is shown."""
+        colour = style.ERROR if error else style.INK
+        self.usage_note.content = text and (
+            f'<div class="usage-note" data-error="{str(error).lower()}" style="{style.FONT}; '
+            f'font-size:{style.FONT_SIZE}px; color:{colour}">{escape(text)}</div>')
 
     def _set(self, handle: viser.GuiHtmlHandle, key: str, content: str) -> None:
         # Only changed content goes over the websocket; at 30 fps most panels are unchanged most frames.
