@@ -11,7 +11,7 @@ import json
 from pathlib import Path
 from typing import Any
 
-from markdown_table import load_average, table
+from markdown_table import duration, load_average, table
 
 STUDY_MARKER = "<!-- generated: robocup-study -->"
 TRANSFER_MARKER = "<!-- generated: robocup-transfer -->"
@@ -22,11 +22,6 @@ NOT_RECORDED = ("Not recorded yet: run the study, then `python scripts/robocup_r
                 "(it writes docs/results/robocup/{name}.json).")
 NOT_MEASURED = ("Not measured yet: `nice -n 19 .venv/bin/python scripts/robocup_disagreement.py FOLDER` (it writes "
                 "docs/results/robocup/disagreement.json).")
-
-
-def _duration(seconds: float) -> str:
-    minutes = round(seconds / 60)
-    return f"{minutes // 60} h {minutes % 60:02d} min" if minutes >= 60 else f"{minutes} min"
 
 
 def _findings(rows: list[list[object]], header: list[str]) -> list[str]:
@@ -42,9 +37,9 @@ def study_markdown(record: dict[str, Any], page_depth: int = 1) -> str:
             f"skills `{record['skills']}`: {record['evaluations']:,} trials on rcssserver")
     finished = record["trials_finished"] == record["trials_planned"]
     lines = [f"**{'Run to the end' if finished else 'Run part-way'}:** {size}.", "",
-             f"**Wall time:** {_duration(record['wall_time_seconds'])} (the sum of the GA trials' own "
-             f"times, each {_duration(min(record['trial_wall_time_seconds']))} to "
-             f"{_duration(max(record['trial_wall_time_seconds']))}).", "",
+             f"**Wall time:** {duration(record['wall_time_seconds'])} (the sum of the GA trials' own "
+             f"times, each {duration(min(record['trial_wall_time_seconds']))} to "
+             f"{duration(max(record['trial_wall_time_seconds']))}).", "",
              f"Recorded {record['recorded']} from `{record['folder']}` (`{record['command']}`; load average "
              f"{load_average(record['load_average'])} when recorded).", ""]
     if not finished:
@@ -153,8 +148,8 @@ def disagreement_markdown(record: dict[str, Any], page_depth: int = 1) -> str:
     cycles = sum(c["cycles"] for c in conditions)
     lines += [f"Recorded {record['recorded']} with `{record['command']}`: {len(players)} players x {record['starts']} "
               f"seeded starts under each condition, on {record['servers']} fresh servers per condition with the "
-              f"server's noise on: {_duration(sum(c['seconds'] for c in conditions))} of replays"
-              + (f", after {_duration(found['seconds'])} finding the players" if "seconds" in found else "")
+              f"server's noise on: {duration(sum(c['seconds'] for c in conditions))} of replays"
+              + (f", after {duration(found['seconds'])} finding the players" if "seconds" in found else "")
               + f"; load average "
               f"{load_average(record['load_average_before'])} before, {load_average(record['load_average_after'])} after "
               f"({record['cores']} cores). Cycles the busy machine answered too late: {late:,} of {cycles:,}."
