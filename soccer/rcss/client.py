@@ -271,6 +271,19 @@ class TrainerClient:
     def done(self) -> None:
         self.endpoint.send("(done)")
 
+    def watch(self) -> None:
+        """Eye and ear on (sent with the next done): every object seen, the referee heard."""
+        self.command("(eye on)")
+        self.command("(ear on)")
+
+    def stop_watching(self) -> None:
+        """Ear and eye off before leaving, so the server does not free-run; a server already gone is no matter."""
+        try:
+            self.endpoint.send("(ear off)")
+            self.endpoint.send("(eye off)")
+        except RcssNoServerError:
+            pass
+
     def read_cycle(self) -> TrainerCycle:
         """Messages up to the newest (think) (as the player's); every pending command must have been
         acknowledged. The server acknowledges a command before the (think) that follows it: a (think)
@@ -356,8 +369,7 @@ class Session:
         except BaseException:
             self.close()
             raise
-        self.trainer.command("(eye on)")
-        self.trainer.command("(ear on)")
+        self.trainer.watch()
         self.last_player_cycle = first
         return first
 
@@ -382,11 +394,7 @@ class Session:
     def close(self) -> None:
         """Leave politely: ear and eye off first so the server does not free-run, then bye."""
         if self.trainer is not None:
-            try:
-                self.trainer.endpoint.send("(ear off)")
-                self.trainer.endpoint.send("(eye off)")
-            except RcssNoServerError:
-                pass
+            self.trainer.stop_watching()
         try:
             self.player.bye()
             if self.trainer is not None:

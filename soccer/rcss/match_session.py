@@ -56,8 +56,7 @@ class MatchSession:
         except BaseException:
             self.close()
             raise
-        self.trainer.command("(eye on)")
-        self.trainer.command("(ear on)")
+        self.trainer.watch()
         self._settle()
 
     def _settle(self) -> None:
@@ -99,9 +98,8 @@ class MatchSession:
                 pass
             player.close()
         if self.trainer is not None:
+            self.trainer.stop_watching()
             try:
-                self.trainer.endpoint.send("(ear off)")
-                self.trainer.endpoint.send("(eye off)")
                 self.trainer.done()
             except RcssNoServerError:
                 pass
