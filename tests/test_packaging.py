@@ -5,6 +5,8 @@ both import. The wheel is built from this checkout and installed into a folder o
 
 from __future__ import annotations
 
+import json
+import os
 import subprocess
 import sys
 import zipfile
@@ -12,7 +14,7 @@ from pathlib import PurePosixPath
 
 import pytest
 
-from tests.wheel_install import wheel_environment
+from tests.wheel_install import REPOSITORY, wheel_environment
 
 
 def test_the_wheel_holds_one_top_level_package_with_every_part_inside(installed_wheel):
@@ -63,3 +65,21 @@ def test_the_installed_command_plays_evolves_and_exports_from_the_wheel(installe
     where = subprocess.run([sys.executable, "-c", "import soccer_lab.app.cli as cli; print(cli.__file__)"],
                            env=environment, capture_output=True, text=True, timeout=120, cwd=tmp_path).stdout.strip()
     assert where.startswith(str(installed_wheel.folder)), where
+
+
+def test_the_editable_install_puts_no_generic_name_on_the_path(tmp_path):
+    """`pip install -e .` (the tests' own install) maps the folders into soccer_lab too: outside the checkout,
+    `import fuzzy` or `import app` finds nothing of ours (the probe: five generic names, `import app` meaning
+    whatever came first on the path)."""
+    script = ("import importlib.util, json\n"
+              "found = {name: importlib.util.find_spec(name) for name in ('app', 'fuzzy', 'ga', 'soccer', 'static')}\n"
+              "print(json.dumps({name: spec and spec.origin for name, spec in found.items()}))\n"
+              "import soccer_lab.fuzzy.engine, soccer_lab.app.cli; print(soccer_lab.fuzzy.engine.__file__)\n")
+    environment = {key: value for key, value in os.environ.items() if key != "PYTHONPATH"}
+    done = subprocess.run([sys.executable, "-c", script], env=environment, capture_output=True, text=True,
+                          timeout=120, cwd=tmp_path)
+    assert done.returncode == 0, done.stderr
+    generic, engine = done.stdout.splitlines()
+    ours = [name for name, origin in json.loads(generic).items() if origin and origin.startswith(str(REPOSITORY))]
+    assert not ours, ours
+    assert engine == str(REPOSITORY / "fuzzy" / "engine.py")

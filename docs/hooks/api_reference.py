@@ -76,7 +76,8 @@ def operation(path: str, method: str, spec: dict[str, Any]) -> list[str]:
 
 
 def schema(name: str, spec: dict[str, Any]) -> list[str]:
-    lines = [f"### {name} {{#{anchor(name)}}}", ""]
+    # an HTML anchor, not attr_list's `{#id}`: GitHub shows that as text and gives the heading an id of its own
+    lines = [f'<a id="{anchor(name)}"></a>', "", f"### {name}", ""]
     if spec.get("description"):
         lines += [cell(spec["description"]), ""]
     properties = spec.get("properties", {})

@@ -1,19 +1,20 @@
 """Every command the README and the research and inspection guides show in ```bash blocks runs when pasted
-after the README's set-up (the venv's bin on the PATH, as its set-up line's `source .venv/bin/activate`
-leaves it), in the order shown, shrunk where long: an evolution to a few small generations, an
+into an environment where soccer-lab is installed from its wheel (tests/wheel_install.py: what `pip install`
+gives, not the editable install, whose folders sit on the path by accident of the working directory), its
+`soccer-lab` first on the PATH as the README's `source .venv/bin/activate` leaves it, in the order shown, shrunk where long: an evolution to a few small generations, an
 experiment to two tiny trials per setting. Commands that need what a test machine lacks (a real
 rcssserver, a Ray cluster, a server left running) and synopsis lines (FILE, [options]) are not run."""
 
 from __future__ import annotations
 
-import os
 import re
 import shlex
 import subprocess
-import sys
 from pathlib import Path
 
 import pytest
+
+from tests.wheel_install import wheel_environment
 
 REPOSITORY = Path(__file__).resolve().parents[2]
 DOCUMENTS = ["README.md", "docs/research/index.md", "docs/research/matches.md", "docs/inspecting/index.md"]
@@ -61,12 +62,11 @@ def test_the_readme_set_up_puts_soccer_lab_on_the_path():
 
 
 @pytest.mark.parametrize("document", DOCUMENTS)
-def test_every_command_shown_runs_as_written(document, tmp_path):
+def test_every_command_shown_runs_as_written(document, tmp_path, installed_wheel):
     for entry in REPOSITORY.iterdir():  # the checkout's files, but what the commands write stays here
         if not entry.name.startswith(".") and entry.name not in ("runs", "experiments"):
             (tmp_path / entry.name).symlink_to(entry)
-    environment = dict(os.environ, PATH=f"{Path(sys.executable).parent}{os.pathsep}{os.environ.get('PATH', '')}",
-                       SOCCER_LAB_DATA=str(tmp_path / "data"))
+    environment = wheel_environment(installed_wheel, SOCCER_LAB_DATA=str(tmp_path / "data"))
     shown = commands(document)
     assert shown, f"{document} shows no command to run"
     for command in shown:
