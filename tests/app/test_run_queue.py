@@ -246,6 +246,29 @@ def test_game_processes_outlive_the_runs_that_use_them(store, tmp_path):
             runs.shutdown()
 
 
+LEAVE_AS_SERVE_DOES = """
+import operator, os, sys
+from soccer_lab.app.runs.games import ProcessGames
+games = ProcessGames(2).__enter__()
+assert games(operator.add)([0], [1]) == [0, 1]  # a chunk played in a game process
+games.__exit__(None, None, None)
+sys.stdout.flush(); sys.stderr.flush()
+os._exit(0)  # as serve ends (app/cli/serve.py _exit_now): no interpreter teardown after this
+"""
+
+
+def test_serve_s_game_processes_leave_no_semaphore_behind_when_serve_stops():
+    """serve --class's Ctrl+C ended "stopped" with Python's resource tracker warning "There appear to be 5 leaked
+    semaphore objects to clean up at shutdown": the game processes' pool was shut down without waiting, and serve
+    leaves with os._exit, so its queues' semaphores were never released."""
+    import subprocess
+    import sys
+
+    ended = subprocess.run([sys.executable, "-c", LEAVE_AS_SERVE_DOES], capture_output=True, text=True, timeout=120)
+    assert ended.returncode == 0, ended.stderr
+    assert "leaked" not in ended.stderr and ended.stderr.strip() == "", ended.stderr
+
+
 # ---- Thirty different players -------------------------------------------------------------------------
 def test_two_default_runs_breed_different_players(store, tmp_path):
     runs = RunManager(store, tmp_path)
