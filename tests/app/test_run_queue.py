@@ -363,11 +363,13 @@ def test_the_evolve_tab_shows_the_seed_it_drew_and_replays_it(gui, store, tmp_pa
 def test_the_evolve_tab_shows_a_queued_runs_place_and_stop_leaves_the_queue(gui, store, tmp_path):
     runs = RunManager(store, tmp_path, max_concurrent_runs=1, queue_runs=True)
     panel = evolve_panel(gui, runs, store)
+    panel.api_url = "http://127.0.0.1:8000"  # as serve gives it: the tab links runs to the rerun viewer
     try:
         running = runs.start(ga=LONG, game=SHORT_GAMES, owner=PUPILS[0])
         panel.start()
         assert store.get_run(panel.run_id).status is RunStatus.QUEUED
         assert f"Run #{panel.run_id} is queued: 1st in line of 1, starts in about" in panel.status.content
+        assert panel.viewer.content == ""  # its recording does not exist yet: the link opened the viewer on a 404
         panel.stop()
         assert store.get_run(panel.run_id).status is RunStatus.STOPPED
         assert f"Run #{panel.run_id} stopped" in panel.status.content
@@ -375,6 +377,7 @@ def test_the_evolve_tab_shows_a_queued_runs_place_and_stop_leaves_the_queue(gui,
         runs.stop(running.id)
         assert runs.wait(panel.run_id, timeout=120).status is RunStatus.FINISHED
         assert f"Run #{panel.run_id} finished" in panel.status.content
+        assert f"Open run #{panel.run_id} in the rerun viewer" in panel.viewer.content  # once it started
     finally:
         panel.close()
         runs.shutdown()
