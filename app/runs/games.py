@@ -83,9 +83,15 @@ class ProcessGames:
         return self
 
     def __exit__(self, *exc_info: object) -> None:
-        if self._pool is not None:
-            self._pool.shutdown(wait=False, cancel_futures=True)
-            self._pool = None
+        if self._pool is None:
+            return
+        pool, self._pool = self._pool, None
+        # serve leaves with os._exit (app/cli/serve.py): the pool must be gone before, or its queues' semaphores
+        # stay registered and Python's resource tracker warns of "leaked semaphore objects" after "stopped". A
+        # chunk still playing is an interrupted run's: its process is ended, not waited for.
+        for process in list((pool._processes or {}).values()):
+            process.terminate()
+        pool.shutdown(wait=True, cancel_futures=True)
 
     def cores(self) -> int:
         return self.workers

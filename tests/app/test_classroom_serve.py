@@ -25,6 +25,7 @@ import viser
 import websockets
 
 from tests.app.test_serve_bind import listening_addresses, wait_for
+from tests.app.test_ui_browser import field
 
 CODE = "K7PQ2M"
 CHROMIUM = "/usr/bin/chromium"
@@ -280,7 +281,11 @@ def test_a_class_in_the_browser(served, browser):
     # sees the table
     desk.goto(f"{served.url}/ui/")
     open_class_tab(desk)
+    # it held "GA best", a real-looking name that would have named the demo's entry: empty, its label says why
+    entry_name = field(desk, "Entry name (empty: the rules' name)", "input")
+    assert entry_name.input_value() == ""
     desk.get_by_role("button", name="Enter the rules on my pitch").click()
+    expect(desk.locator(".class-message")).to_contain_text("Entered as “demo (built in)”")
     expect(desk.locator(".class-entries")).to_contain_text("demo (built in)")
     expect(desk.locator(".class-entries")).to_contain_text("2 entries")
     desk.get_by_role("button", name="Start a round").click()

@@ -111,7 +111,9 @@ def test_the_lesson_plan_works_as_written(ui, browser):
 
         # Minute 6-7: a rule typed and applied changes the behaviour; a mistake is named by line and column and
         # applies nothing; **Undo** brings the previous rules back; the Chromosome box shows the genes.
-        assert "the editor names the line and column" in guide and "**Undo** brings" in guide
+        # (the page said Undo "brings the demo back": after minute 5-6 the striker was on the pitch, and it came back)
+        assert "the editor names the line and column" in guide
+        assert "**Undo** brings back the rules\nthat were on the pitch before your Apply (the striker" in guide
         page.get_by_role("tab", name="Rules").click()
         editor = field(page, "Rules", "textarea")
         editor.fill("if Ball is not VeryFar then Turn Right")

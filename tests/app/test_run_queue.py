@@ -246,6 +246,29 @@ def test_game_processes_outlive_the_runs_that_use_them(store, tmp_path):
             runs.shutdown()
 
 
+LEAVE_AS_SERVE_DOES = """
+import operator, os, sys
+from soccer_lab.app.runs.games import ProcessGames
+games = ProcessGames(2).__enter__()
+assert games(operator.add)([0], [1]) == [0, 1]  # a chunk played in a game process
+games.__exit__(None, None, None)
+sys.stdout.flush(); sys.stderr.flush()
+os._exit(0)  # as serve ends (app/cli/serve.py _exit_now): no interpreter teardown after this
+"""
+
+
+def test_serve_s_game_processes_leave_no_semaphore_behind_when_serve_stops():
+    """serve --class's Ctrl+C ended "stopped" with Python's resource tracker warning "There appear to be 5 leaked
+    semaphore objects to clean up at shutdown": the game processes' pool was shut down without waiting, and serve
+    leaves with os._exit, so its queues' semaphores were never released."""
+    import subprocess
+    import sys
+
+    ended = subprocess.run([sys.executable, "-c", LEAVE_AS_SERVE_DOES], capture_output=True, text=True, timeout=120)
+    assert ended.returncode == 0, ended.stderr
+    assert "leaked" not in ended.stderr and ended.stderr.strip() == "", ended.stderr
+
+
 # ---- Thirty different players -------------------------------------------------------------------------
 def test_two_default_runs_breed_different_players(store, tmp_path):
     runs = RunManager(store, tmp_path)
@@ -340,11 +363,13 @@ def test_the_evolve_tab_shows_the_seed_it_drew_and_replays_it(gui, store, tmp_pa
 def test_the_evolve_tab_shows_a_queued_runs_place_and_stop_leaves_the_queue(gui, store, tmp_path):
     runs = RunManager(store, tmp_path, max_concurrent_runs=1, queue_runs=True)
     panel = evolve_panel(gui, runs, store)
+    panel.api_url = "http://127.0.0.1:8000"  # as serve gives it: the tab links runs to the rerun viewer
     try:
         running = runs.start(ga=LONG, game=SHORT_GAMES, owner=PUPILS[0])
         panel.start()
         assert store.get_run(panel.run_id).status is RunStatus.QUEUED
         assert f"Run #{panel.run_id} is queued: 1st in line of 1, starts in about" in panel.status.content
+        assert panel.viewer.content == ""  # its recording does not exist yet: the link opened the viewer on a 404
         panel.stop()
         assert store.get_run(panel.run_id).status is RunStatus.STOPPED
         assert f"Run #{panel.run_id} stopped" in panel.status.content
@@ -352,6 +377,7 @@ def test_the_evolve_tab_shows_a_queued_runs_place_and_stop_leaves_the_queue(gui,
         runs.stop(running.id)
         assert runs.wait(panel.run_id, timeout=120).status is RunStatus.FINISHED
         assert f"Run #{panel.run_id} finished" in panel.status.content
+        assert f"Open run #{panel.run_id} in the rerun viewer" in panel.viewer.content  # once it started
     finally:
         panel.close()
         runs.shutdown()

@@ -51,3 +51,22 @@ def test_serve_prints_no_viser_banner_and_its_first_address_works(tmp_path):
     finally:
         serve.kill()
         serve.wait(30)
+
+
+def test_serve_s_ctrl_c_says_stopped_and_nothing_of_viser_s(tmp_path):
+    # Ctrl+C printed "(viser) Server stopped" above serve's own "stopped": viser's voice, which the teacher is
+    # never otherwise shown.
+    import signal
+
+    lines, _, _, serve = serve_first_lines(tmp_path)
+    try:
+        assert lines and lines[-1].strip().startswith(LAST_LINE), lines
+        time.sleep(1.0)  # past the address list: what serve says once it listens
+        serve.send_signal(signal.SIGINT)
+        rest = serve.communicate(timeout=120)[0]
+        assert serve.returncode == 0, rest
+        assert rest.strip() == "stopped", rest
+    finally:
+        if serve.poll() is None:
+            serve.kill()
+            serve.wait(30)

@@ -158,7 +158,8 @@ class UiHandle:
             session.close()
         for session in sessions:
             session.join(timeout=5.0)  # no frame may still be on its way when the server stops
-        self.server.stop()
+        with contextlib.redirect_stdout(io.StringIO()):  # viser's "(viser) Server stopped": serve says "stopped"
+            self.server.stop()
 
 
 def start_ui(

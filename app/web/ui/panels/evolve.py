@@ -244,7 +244,6 @@ class EvolvePanel:
         seed = record.config["ga"]["seed"]
         self.seed_line.content = self._status_html(
             f"Run #{record.id}'s seed: {seed} (type it in Run seed to breed the same players again)", kind="evolve-seed")
-        self.viewer.content = run_viewer_link(self.api_url, record.id, self.viewer_problem)
         self.on_runs_changed()
 
     def _show_started(self, run_id: int, status: RunStatus) -> None:
@@ -253,8 +252,10 @@ class EvolvePanel:
             self.status.content = self._status_html(
                 f"Run #{run_id} is queued: {place}. Every core is busy with the class's runs; Stop leaves the "
                 "queue.", kind="evolve-status evolve-queued")
+            self.viewer.content = ""  # no recording until it starts: the viewer would open on a 404
         else:
             self.status.content = self._status_html(f"Run #{run_id} started: evaluating generation 0 …")
+            self.viewer.content = run_viewer_link(self.api_url, run_id, self.viewer_problem)
 
     def stop(self) -> None:
         if self.run_id is None or not self.runs.is_pending(self.run_id):
