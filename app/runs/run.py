@@ -98,18 +98,18 @@ class RunSettings:
             raise ValueError(f"invalid co-evolution parameters: {problems}") from None
         if coevolve is not None and (env != SIMPLE or algorithm != GA):
             raise ValueError("coevolve: co-evolution is a GA run in SimpleSoccer")
+        checked = {}  # each checked once: the opponent's rules are parsed once
         for where, check in (("env", lambda: checked_env(env)), ("servers", lambda: checked_servers(env, servers)),
                              ("start_servers", lambda: checked_start_servers(env, servers, start_servers)),
                              ("ga.workers", lambda: checked_workers(env, ga.workers)),
                              ("ga.behaviour_seeds", lambda: checked_behaviour_seeds(env, ga.behaviour_seeds)),
                              ("opponent", lambda: checked_opponent(env, opponent))):
             try:
-                check()
+                checked[where] = check()
             except ValueError as exc:
                 raise ValueError(f"{where}: {exc}") from None
-        return cls(ga, game, env, tuple(checked_servers(env, servers)), trial, algorithm,
-                   checked_start_servers(env, servers, start_servers), opponent=checked_opponent(env, opponent),
-                   coevolve=coevolve)
+        return cls(ga, game, env, tuple(checked["servers"]), trial, algorithm, checked["start_servers"],
+                   opponent=checked["opponent"], coevolve=coevolve)
 
     @classmethod
     def from_dict(cls, data: dict[str, Any]) -> "RunSettings":

@@ -253,3 +253,55 @@ def test_the_class_settings_take_numbers_as_numbers(room):
     changed = teacher.put("/api/class/settings", json={"max_run_games": 100, "starts": 5})
     assert changed.status_code == 200 and room.classroom.settings.max_run_games == 100
     assert type(room.classroom.settings).__name__ == "ClassSettings"
+
+
+# ---- rule text parsed off the event loop ---------------------------------------------------------------------
+HEAVY_RULE = "if Ball is not At and Goal is not Near and Ball is Left then GoToBall VeryHigh"
+
+
+@pytest.fixture
+def parsed_on_the_loop(monkeypatch) -> list[int]:
+    """Rule lines parsed while an event loop runs in the parsing thread (the server's loop: every other
+    request waits for them); a route's thread has none."""
+    import asyncio
+
+    from soccer_lab.fuzzy import parser
+
+    on_the_loop: list[int] = []
+    rule = parser._LineParser.rule
+
+    def watched(self):
+        try:
+            asyncio.get_running_loop()
+            on_the_loop.append(1)
+        except RuntimeError:
+            pass
+        return rule(self)
+
+    monkeypatch.setattr(parser._LineParser, "rule", watched)
+    return on_the_loop
+
+
+@pytest.mark.parametrize("route, body", [
+    ("/api/runs", {"opponent": HEAVY_RULE, "ga": {"population_size": 2, "max_generations": 1, "workers": 1},
+                   "game": {"max_ticks": 10, "games_per_evaluation": 1}}),
+    ("/api/runs", {"opponent": HEAVY_RULE.replace("GoToBall", "Dance"), "ga": {"population_size": 2}}),
+    ("/api/rules/parse", {"text": HEAVY_RULE}),
+    ("/api/rules/evaluate", {"text": HEAVY_RULE, "inputs": {}}),
+    ("/api/rulebases", {"name": "heavy", "text": HEAVY_RULE}),
+])
+def test_rule_text_is_never_parsed_on_the_event_loop(client, parsed_on_the_loop, route, body):
+    """The probe after the body-shape fix: 200,000 characters of opponent rules in POST /api/runs were parsed
+    while its body was validated, on the event loop, holding every request 1.5 s; now in the route's thread."""
+    response = client.post(route, json=body)
+    assert response.status_code in (200, 201, 422), response.text
+    assert parsed_on_the_loop == [], route
+
+
+def test_a_bad_opponent_is_still_a_422_naming_it(client):
+    response = client.post("/api/runs", json={"opponent": "if Ball is Somewhere then Dance Wildly",
+                                              "ga": {"population_size": 2}})
+    assert response.status_code == 422 and "opponent: line 1, column 12" in response.json()["detail"], response.text
+    assert client.get("/api/runs").json() == []
+    rcss = client.post("/api/runs", json={"opponent": HEAVY_RULE, "env": "rcss", "ga": {"workers": 1}})
+    assert rcss.status_code == 422 and "opponent" in rcss.json()["detail"], rcss.text
