@@ -20,6 +20,8 @@ from pydantic import ValidationError
 from soccer_lab.app.runs.environments import (RCSS, SIMPLE, Announce, Environment, RcssTrials, Replay,
                                               SimpleSoccerGames, checked_behaviour_seeds, checked_env, checked_opponent,
                                               checked_servers, checked_start_servers, checked_workers)
+from soccer_lab.app.paths import DataFolderInUse
+from soccer_lab.app.runs.lease import RunLease
 from soccer_lab.app.runs.recording import RunRecorder
 from soccer_lab.app.runs.outputs import (GenerationBestsFile, LineageFile, Replayer, RunFolder, RunFolderError,
                                          RunOutputs, generation_best, lineage_line)
@@ -215,6 +217,25 @@ class Run:
         """Play the run to its end (or until `stop`, within the generation in progress); the GA's result.
         The environment's failures (a server gone...) and KeyboardInterrupt propagate; every finished
         generation is kept and the run can be continued."""
+        with self._lease():
+            return self._play(evaluate, callbacks, stop)
+
+    def refuse_if_played_elsewhere(self) -> None:
+        """RunFolderError (one line) when another process plays this run: a resume says so before it starts
+        anything (`play` takes the lease for good)."""
+        self._lease().release()
+
+    def _lease(self) -> RunLease:
+        """The run's lease, held while it plays: RunFolderError (one line) when another process plays it."""
+        try:
+            self.folder.path.mkdir(parents=True, exist_ok=True)
+            return RunLease(self.folder.path)
+        except DataFolderInUse as exc:
+            raise RunFolderError(str(exc)) from None
+        except OSError as exc:
+            raise RunFolderError(f"cannot create run folder {self.folder.path}: {exc.strerror or exc}") from exc
+
+    def _play(self, evaluate: Evaluator, callbacks: Iterable[Callback], stop: threading.Event | None) -> RunResult:
         if not self.folder.manifest.exists():
             RunFolder.create(self.folder.path, self.settings.to_dict())
         state = self.saved_state()
