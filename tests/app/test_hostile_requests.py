@@ -64,6 +64,9 @@ def test_a_flood_of_unknown_keys_is_refused_before_validation(client):
     (json.dumps({"text": "", "x": [[0] * 100] * 100}).encode(), "keys and values"),
     (json.dumps({"text": "x" * 500_000}).encode(), "characters"),
     (json.dumps({"text": "", "k" * 200: 1}).encode(), "a key of the body"),
+    # an integer past Python's 4,300 digits: json.loads refuses it with a plain ValueError, which was a 500
+    (b"1" * 900_000, "digits"),
+    (b'{"ga": {"population_size": 1' + b"0" * 5_000 + b"}}", "digits"),
 ])
 def test_a_body_too_large_in_shape_is_refused_with_the_usual_shape(client, body, says):
     response = client.post("/api/rules/parse", content=body, headers={"Content-Type": "application/json"})
