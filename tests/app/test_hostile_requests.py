@@ -308,3 +308,14 @@ def test_a_bad_opponent_is_still_a_422_naming_it(client):
     assert client.get("/api/runs").json() == []
     rcss = client.post("/api/runs", json={"opponent": HEAVY_RULE, "env": "rcss", "ga": {"workers": 1}})
     assert rcss.status_code == 422 and "opponent" in rcss.json()["detail"], rcss.text
+
+
+@pytest.mark.parametrize("method, path, status", [("get", "/api/no-such-route", 404), ("delete", "/api/vocabulary", 405),
+                                                  ("put", "/api/rules/parse", 405)])
+def test_an_unknown_path_or_method_is_answered_in_the_usual_shape(client, method, path, status):
+    """Starlette's own 404 and 405 were {"detail"} alone, where the API reference promises every error's shape."""
+    response = client.request(method, path, headers={"Content-Type": "application/json"})
+    assert response.status_code == status
+    assert set(response.json()) == {"detail", "errors", "error_count"}, response.text
+    if status == 405:
+        assert response.headers["allow"]
