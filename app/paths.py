@@ -44,27 +44,32 @@ class DataFolderLock:
     kernel releases it when the process ends, however it ends (SIGKILL included): a folder whose server was
     killed is usable at once. The file says who holds it, for the refusal's message."""
 
+    FILE = LOCK_FILE
+
     def __init__(self, folder: Path, address: str, command: str = "serve"):
-        self.path = Path(folder) / LOCK_FILE
+        self.path = Path(folder) / self.FILE
         self._fd = os.open(self.path, os.O_RDWR | os.O_CREAT, 0o644)  # not inherited by programs we start
         try:
             fcntl.flock(self._fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
         except BlockingIOError:
             holder = self._holder()
             os.close(self._fd)
-            raise DataFolderInUse(f"the data folder {Path(folder).resolve()} is in use by {holder}: stop it, or "
-                                  "choose another folder with --data-dir") from None
+            raise DataFolderInUse(self.refusal(Path(folder).resolve(), holder)) from None
         except OSError:
             os.close(self._fd)
             raise
         os.ftruncate(self._fd, 0)
         os.pwrite(self._fd, json.dumps({"pid": os.getpid(), "address": address, "command": command}).encode(), 0)
 
+    def refusal(self, folder: Path, holder: str) -> str:
+        return f"the data folder {folder} is in use by {holder}: stop it, or choose another folder with --data-dir"
+
     def _holder(self) -> str:
         """Who holds the lock, as its file says (a holder still writing it is named vaguely)."""
         try:
             info = json.loads(os.pread(self._fd, 4096, 0) or b"{}")
-            return f"soccer-lab {info['command']} (PID {int(info['pid'])}, {info['address']})"
+            where = f", {info['address']}" if info["address"] else ""
+            return f"soccer-lab {info['command']} (PID {int(info['pid'])}{where})"
         except (ValueError, KeyError, TypeError, OSError):
             return "another soccer-lab process"
 

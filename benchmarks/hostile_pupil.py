@@ -1,7 +1,9 @@
 """Issue 36's probe replayed: one pupil sends ten 1 MB JSON bodies of 90,000 unknown keys to /api/rules/parse
 at once. Does the teacher's GET /api/class still answer at once (target: <= 200 ms median, <= 1 s at most)?
 The same in plain mode (no rate limit: only the body's shape check, off the event loop, protects the others):
-GET /api/rulebases while one script sends the ten bodies.
+GET /api/rulebases while one script sends the ten bodies. Then, in plain mode, POST /api/runs of a tiny run against
+an opponent of 200,000 characters of rules, one at a time: its rules are parsed in the route's thread, not while
+the body is validated on the event loop (which held every request for the whole parse, twice over).
 
 A real `soccer-lab serve` (its own process, 127.0.0.1, an empty data folder) is started for each mode. The
 teacher (or the plain mode's user) asks every 50 ms from before the flood until a second after its last
@@ -36,6 +38,14 @@ CODE = "HOSTILE1"
 BODIES = 10
 KEYS = 90_000
 POLL_SECONDS = 0.05
+OPPONENT_RULE = "if Ball is not At and Goal is not Near and Ball is Left then GoToBall VeryHigh\n"
+
+
+def opponent_body() -> bytes:
+    """A tiny run (two games of ten ticks) against an opponent of about 200,000 characters of rules."""
+    rules = OPPONENT_RULE * (199_000 // len(OPPONENT_RULE))
+    return json.dumps({"opponent": rules, "ga": {"population_size": 2, "max_generations": 1, "workers": 1},
+                       "game": {"max_ticks": 10, "games_per_evaluation": 1}}).encode()
 
 
 def free_port() -> int:
@@ -81,17 +91,18 @@ class Serve:
         self.process.wait(30)
 
 
-def flood(url: str, cookies: httpx.Cookies | None, body: bytes, rounds: int) -> tuple[Counter, int]:
-    """ROUNDS rounds of BODIES bodies at once: (answers by status, the largest answer's bytes)."""
+def flood(url: str, cookies: httpx.Cookies | None, body: bytes, rounds: int, route: str = "/api/rules/parse",
+          at_once: int = BODIES) -> tuple[Counter, int]:
+    """ROUNDS rounds of `at_once` bodies at once: (answers by status, the largest answer's bytes)."""
     statuses, largest = Counter(), 0
 
     def send(_: int) -> httpx.Response:
         with httpx.Client(base_url=url, cookies=cookies, timeout=120) as client:
-            return client.post("/api/rules/parse", content=body, headers={"Content-Type": "application/json"})
+            return client.post(route, content=body, headers={"Content-Type": "application/json"})
 
-    with ThreadPoolExecutor(BODIES) as pool:
+    with ThreadPoolExecutor(at_once) as pool:
         for _ in range(rounds):
-            for response in pool.map(send, range(BODIES)):
+            for response in pool.map(send, range(at_once)):
                 statuses[response.status_code] += 1
                 largest = max(largest, len(response.content))
     return statuses, largest
@@ -129,7 +140,8 @@ def watched(url: str, path: str, cookies: httpx.Cookies | None, during) -> tuple
     return times, failed, result
 
 
-def scenario(classroom: bool, rounds: int, body: bytes) -> list[Figure]:
+def scenario(classroom: bool, rounds: int, body: bytes, route: str = "/api/rules/parse", at_once: int = BODIES,
+             what: str = "the flood", one: str = "a flood body") -> list[Figure]:
     mode = "classroom" if classroom else "plain"
     with tempfile.TemporaryDirectory() as folder:
         serve = Serve(folder, classroom)
@@ -144,20 +156,20 @@ def scenario(classroom: bool, rounds: int, body: bytes) -> list[Figure]:
                     teacher = client.cookies
             path = "/api/class" if classroom else "/api/rulebases"
             times, failed, (statuses, largest) = watched(serve.url, path, teacher,
-                                                 lambda: flood(serve.url, pupil, body, rounds))
+                                                 lambda: flood(serve.url, pupil, body, rounds, route, at_once))
         finally:
             serve.stop()
     median, most = statistics.median(times), max(times)
     answers = ", ".join(f"{count} x {status}" for status, count in sorted(statuses.items()))
     print(f"{mode}: GET {path} median {median * 1000:.0f} ms, max {most * 1000:.0f} ms over {len(times)} requests; "
-          f"the flood's answers: {answers}; largest {largest:,} bytes; failed: {failed or 'none'}")
+          f"{what}'s answers: {answers}; largest {largest:,} bytes; failed: {failed or 'none'}")
     who = "the teacher's GET /api/class" if classroom else "GET /api/rulebases"
-    return [Figure(f"{mode}: {who} during the flood, median", round(median * 1000), "ms",
+    return [Figure(f"{mode}: {who} during {what}, median", round(median * 1000), "ms",
                    target="<= 200 ms" if classroom else "",
-                   note=f"{len(times)} requests, {len(failed)} failed; flood: {answers}"),
-            Figure(f"{mode}: {who} during the flood, max", round(most * 1000), "ms",
+                   note=f"{len(times)} requests, {len(failed)} failed; {what}: {answers}"),
+            Figure(f"{mode}: {who} during {what}, max", round(most * 1000), "ms",
                    target="<= 1000 ms" if classroom else ""),
-            Figure(f"{mode}: the largest answer to a flood body", largest, "bytes", target="<= 16,000 bytes")]
+            Figure(f"{mode}: the largest answer to {one}", largest, "bytes", target="<= 16,000 bytes")]
 
 
 def main() -> None:
@@ -170,6 +182,8 @@ def main() -> None:
     print(f"{BODIES} bodies of {len(body):,} bytes ({KEYS:,} unknown keys) at once, {args.rounds} rounds; "
           f"load average {load_before}")
     figures = scenario(True, args.rounds, body) + scenario(False, args.rounds, body)
+    figures += scenario(False, args.rounds, opponent_body(), "/api/runs", 1, "a run's 200 KB opponent, one at a time",
+                        "a run's 200 KB opponent")[:2]  # its answer is the run, opponent included: no error's size
     print(f"load average after: {load_average()}")
     if args.record:
         record("hostile_pupil", figures, command=this_command(), load_before=load_before)

@@ -133,6 +133,7 @@ def resume(folder: str | PathLike, *, on_generation: OnGeneration | None = None)
 
     run = Run.open(folder)
     if not _finished(run.saved_state()):
+        run.refuse_if_played_elsewhere()
         _play(run, on_generation)
     return open_run(folder)
 

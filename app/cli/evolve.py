@@ -272,6 +272,7 @@ def _resume(path: Path, servers: list[str] | None, rcssserver: Path | None, coun
 
     try:
         run = Run.open(path)
+        run.refuse_if_played_elsewhere()
         state = run.saved_state()
     except (RunFolderError, CheckpointError) as exc:
         fail(str(exc))

@@ -20,6 +20,8 @@ from pydantic import ValidationError
 from soccer_lab.app.runs.environments import (RCSS, SIMPLE, Announce, Environment, RcssTrials, Replay,
                                               SimpleSoccerGames, checked_behaviour_seeds, checked_env, checked_opponent,
                                               checked_servers, checked_start_servers, checked_workers)
+from soccer_lab.app.paths import DataFolderInUse
+from soccer_lab.app.runs.lease import RunLease
 from soccer_lab.app.runs.recording import RunRecorder
 from soccer_lab.app.runs.outputs import (GenerationBestsFile, LineageFile, Replayer, RunFolder, RunFolderError,
                                          RunOutputs, generation_best, lineage_line)
@@ -98,18 +100,18 @@ class RunSettings:
             raise ValueError(f"invalid co-evolution parameters: {problems}") from None
         if coevolve is not None and (env != SIMPLE or algorithm != GA):
             raise ValueError("coevolve: co-evolution is a GA run in SimpleSoccer")
+        checked = {}  # each checked once: the opponent's rules are parsed once
         for where, check in (("env", lambda: checked_env(env)), ("servers", lambda: checked_servers(env, servers)),
                              ("start_servers", lambda: checked_start_servers(env, servers, start_servers)),
                              ("ga.workers", lambda: checked_workers(env, ga.workers)),
                              ("ga.behaviour_seeds", lambda: checked_behaviour_seeds(env, ga.behaviour_seeds)),
                              ("opponent", lambda: checked_opponent(env, opponent))):
             try:
-                check()
+                checked[where] = check()
             except ValueError as exc:
                 raise ValueError(f"{where}: {exc}") from None
-        return cls(ga, game, env, tuple(checked_servers(env, servers)), trial, algorithm,
-                   checked_start_servers(env, servers, start_servers), opponent=checked_opponent(env, opponent),
-                   coevolve=coevolve)
+        return cls(ga, game, env, tuple(checked["servers"]), trial, algorithm, checked["start_servers"],
+                   opponent=checked["opponent"], coevolve=coevolve)
 
     @classmethod
     def from_dict(cls, data: dict[str, Any]) -> "RunSettings":
@@ -215,6 +217,25 @@ class Run:
         """Play the run to its end (or until `stop`, within the generation in progress); the GA's result.
         The environment's failures (a server gone...) and KeyboardInterrupt propagate; every finished
         generation is kept and the run can be continued."""
+        with self._lease():
+            return self._play(evaluate, callbacks, stop)
+
+    def refuse_if_played_elsewhere(self) -> None:
+        """RunFolderError (one line) when another process plays this run: a resume says so before it starts
+        anything (`play` takes the lease for good)."""
+        self._lease().release()
+
+    def _lease(self) -> RunLease:
+        """The run's lease, held while it plays: RunFolderError (one line) when another process plays it."""
+        try:
+            self.folder.path.mkdir(parents=True, exist_ok=True)
+            return RunLease(self.folder.path)
+        except DataFolderInUse as exc:
+            raise RunFolderError(str(exc)) from None
+        except OSError as exc:
+            raise RunFolderError(f"cannot create run folder {self.folder.path}: {exc.strerror or exc}") from exc
+
+    def _play(self, evaluate: Evaluator, callbacks: Iterable[Callback], stop: threading.Event | None) -> RunResult:
         if not self.folder.manifest.exists():
             RunFolder.create(self.folder.path, self.settings.to_dict())
         state = self.saved_state()

@@ -1,5 +1,7 @@
 """One server per data folder (issue 36): a second serve on a folder in use refuses in one line naming the
-first (PID, address) and leaves its running run alone; a folder whose serve was SIGKILLed is usable at once."""
+first (PID, address) and leaves its running run alone; a folder whose serve was SIGKILLed is usable at once.
+One process per run: `evolve --resume` of a run a serve plays refuses in one line naming it; a run whose
+player was SIGKILLed is resumable at once."""
 
 from __future__ import annotations
 
@@ -11,6 +13,7 @@ import sys
 import pytest
 
 from soccer_lab.app.paths import LOCK_FILE, DataFolderInUse, DataFolderLock
+from soccer_lab.app.runs.lease import RunLease
 from tests.app.test_serve_lifecycle import Serve, free_port, run_status, wait_for
 
 pytestmark = pytest.mark.skipif(sys.platform != "linux", reason="flock and the serve lifecycle are tested on Linux")
@@ -69,3 +72,46 @@ def test_folder_of_a_sigkilled_serve_is_usable_at_once(tmp_path):
         again.process.send_signal(signal.SIGTERM)
         again.process.wait(30)
         again.stop()
+
+
+# a run that plays generation after generation for minutes: its checkpoint is there within seconds
+ENDLESS_GA = {"population_size": 20, "max_generations": 100_000, "seed": 3, "workers": 1}
+
+
+def test_evolve_resume_of_a_run_a_serve_plays_refuses_naming_the_serve(tmp_path):
+    """The probe's fault by another door: `evolve --resume` on the serve's run folder ran the run a second time,
+    both processes writing its checkpoint and statistics."""
+    first = Serve(tmp_path, ports())
+    try:
+        run = first.post("/api/runs", json={"ga": ENDLESS_GA, "game": {"max_ticks": 100}})
+        assert run.status_code == 201, run.text
+        run_id = run.json()["id"]
+        wait_for(lambda: len(first.get(f"/api/runs/{run_id}/statistics").json()) >= 2, what="two generations")
+        folder = tmp_path / "runs" / str(run_id)
+        assert (folder / "checkpoint").is_file()
+        resume = subprocess.run([sys.executable, "-c", "from soccer_lab.app.cli import main; main()", "evolve",
+                                 "--resume", str(folder)], capture_output=True, text=True, timeout=300)
+        assert resume.returncode == 2, resume.stderr
+        lines = resume.stderr.strip().splitlines()
+        assert len(lines) == 1 and f"soccer-lab serve (PID {first.process.pid})" in lines[0], resume.stderr
+        assert first.get(f"/api/runs/{run_id}").json()["status"] == "running"
+        generations = [row["generation"] for row in first.get(f"/api/runs/{run_id}/statistics").json()]
+        assert generations == list(range(len(generations)))  # no generation played twice
+    finally:
+        first.stop()
+
+
+def test_a_run_leased_by_a_sigkilled_process_is_resumable_at_once(tmp_path):
+    holder = subprocess.Popen([sys.executable, "-c", "import sys, time; from soccer_lab.app.runs.lease import RunLease; "
+                               "lease = RunLease(sys.argv[1]); print('held', flush=True); time.sleep(300)",
+                               str(tmp_path), "evolve"], stdout=subprocess.PIPE, text=True)
+    try:
+        assert holder.stdout.readline().strip() == "held"
+        with pytest.raises(DataFolderInUse) as refused:
+            RunLease(tmp_path)
+        assert f"soccer-lab evolve (PID {holder.pid})" in str(refused.value), str(refused.value)
+    finally:
+        holder.send_signal(signal.SIGKILL)
+        holder.wait(30)
+    with RunLease(tmp_path):  # the kernel released it with the process
+        pass

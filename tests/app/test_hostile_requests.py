@@ -64,6 +64,9 @@ def test_a_flood_of_unknown_keys_is_refused_before_validation(client):
     (json.dumps({"text": "", "x": [[0] * 100] * 100}).encode(), "keys and values"),
     (json.dumps({"text": "x" * 500_000}).encode(), "characters"),
     (json.dumps({"text": "", "k" * 200: 1}).encode(), "a key of the body"),
+    # an integer past Python's 4,300 digits: json.loads refuses it with a plain ValueError, which was a 500
+    (b"1" * 900_000, "digits"),
+    (b'{"ga": {"population_size": 1' + b"0" * 5_000 + b"}}", "digits"),
 ])
 def test_a_body_too_large_in_shape_is_refused_with_the_usual_shape(client, body, says):
     response = client.post("/api/rules/parse", content=body, headers={"Content-Type": "application/json"})
@@ -159,7 +162,7 @@ def test_ten_megabyte_bodies_at_once_spend_one_pupils_rate_not_the_class(room):
     assert teacher.get("/api/class").status_code == 200
 
 
-@pytest.mark.parametrize("lookalike", ["B\u200bob", "B\u043eb", "BOB", "\uff22ob", "B0b", "Bo\u0062"])
+@pytest.mark.parametrize("lookalike", ["B\u200bob", "B\u043eb", "BOB", "\uff22ob", "B0b", "Bo\u0062", "\u0392ob", "Bob\u00a0"])
 def test_a_name_that_looks_like_a_taken_one_is_refused(room, lookalike):
     room.student("Bob")
     response = room.browser().post("/api/class/join", json={"code": CODE, "name": lookalike})
@@ -167,7 +170,7 @@ def test_a_name_that_looks_like_a_taken_one_is_refused(room, lookalike):
     assert [s.name for s in room.store.list_students()] == ["Bob"]
 
 
-@pytest.mark.parametrize("name", ["teacher\u200b", "\u0422eacher", "TEACHER", "t\u0435acher", "\uff54eacher"])
+@pytest.mark.parametrize("name", ["teacher", "Teacher", "teacher\u200b", "\u0422eacher", "TEACHER", "t\u0435acher", "\uff54eacher"])
 def test_the_teachers_name_is_reserved_by_its_look(room, name):
     response = room.browser().post("/api/class/join", json={"code": CODE, "name": name})
     assert response.status_code == 400 and room.store.list_students() == []
@@ -253,3 +256,66 @@ def test_the_class_settings_take_numbers_as_numbers(room):
     changed = teacher.put("/api/class/settings", json={"max_run_games": 100, "starts": 5})
     assert changed.status_code == 200 and room.classroom.settings.max_run_games == 100
     assert type(room.classroom.settings).__name__ == "ClassSettings"
+
+
+# ---- rule text parsed off the event loop ---------------------------------------------------------------------
+HEAVY_RULE = "if Ball is not At and Goal is not Near and Ball is Left then GoToBall VeryHigh"
+
+
+@pytest.fixture
+def parsed_on_the_loop(monkeypatch) -> list[int]:
+    """Rule lines parsed while an event loop runs in the parsing thread (the server's loop: every other
+    request waits for them); a route's thread has none."""
+    import asyncio
+
+    from soccer_lab.fuzzy import parser
+
+    on_the_loop: list[int] = []
+    rule = parser._LineParser.rule
+
+    def watched(self):
+        try:
+            asyncio.get_running_loop()
+            on_the_loop.append(1)
+        except RuntimeError:
+            pass
+        return rule(self)
+
+    monkeypatch.setattr(parser._LineParser, "rule", watched)
+    return on_the_loop
+
+
+@pytest.mark.parametrize("route, body", [
+    ("/api/runs", {"opponent": HEAVY_RULE, "ga": {"population_size": 2, "max_generations": 1, "workers": 1},
+                   "game": {"max_ticks": 10, "games_per_evaluation": 1}}),
+    ("/api/runs", {"opponent": HEAVY_RULE.replace("GoToBall", "Dance"), "ga": {"population_size": 2}}),
+    ("/api/rules/parse", {"text": HEAVY_RULE}),
+    ("/api/rules/evaluate", {"text": HEAVY_RULE, "inputs": {}}),
+    ("/api/rulebases", {"name": "heavy", "text": HEAVY_RULE}),
+])
+def test_rule_text_is_never_parsed_on_the_event_loop(client, parsed_on_the_loop, route, body):
+    """The probe after the body-shape fix: 200,000 characters of opponent rules in POST /api/runs were parsed
+    while its body was validated, on the event loop, holding every request 1.5 s; now in the route's thread."""
+    response = client.post(route, json=body)
+    assert response.status_code in (200, 201, 422), response.text
+    assert parsed_on_the_loop == [], route
+
+
+def test_a_bad_opponent_is_still_a_422_naming_it(client):
+    response = client.post("/api/runs", json={"opponent": "if Ball is Somewhere then Dance Wildly",
+                                              "ga": {"population_size": 2}})
+    assert response.status_code == 422 and "opponent: line 1, column 12" in response.json()["detail"], response.text
+    assert client.get("/api/runs").json() == []
+    rcss = client.post("/api/runs", json={"opponent": HEAVY_RULE, "env": "rcss", "ga": {"workers": 1}})
+    assert rcss.status_code == 422 and "opponent" in rcss.json()["detail"], rcss.text
+
+
+@pytest.mark.parametrize("method, path, status", [("get", "/api/no-such-route", 404), ("delete", "/api/vocabulary", 405),
+                                                  ("put", "/api/rules/parse", 405)])
+def test_an_unknown_path_or_method_is_answered_in_the_usual_shape(client, method, path, status):
+    """Starlette's own 404 and 405 were {"detail"} alone, where the API reference promises every error's shape."""
+    response = client.request(method, path, headers={"Content-Type": "application/json"})
+    assert response.status_code == status
+    assert set(response.json()) == {"detail", "errors", "error_count"}, response.text
+    if status == 405:
+        assert response.headers["allow"]

@@ -121,7 +121,11 @@ def test_serve_on_the_ipv6_loopback(tmp_path):
 
 HOSTILE_NEXTS = ["/%09/evil.example/", "/\t/evil.example/", "//evil.example/", "/\\evil.example/",
                  "\\\\evil.example/", "https:evil.example", "https://evil.example/", "javascript:alert(1)",
-                 "/%5Cevil.example/", "/\n/evil.example/", "%2F%2Fevil.example/", " //evil.example/"]
+                 "/%5Cevil.example/", "/\n/evil.example/", "%2F%2Fevil.example/", " //evil.example/",
+                 # dot segments: the path left once they are resolved is "//evil.example/" (the join page followed
+                 # the path alone, to another site)
+                 "/.//evil.example/", "/..//evil.example/", "/%2e//evil.example/", "/a/..//evil.example/",
+                 "/./\\evil.example/"]
 
 
 @pytest.mark.browser

@@ -10,6 +10,7 @@ then does FastAPI validate it. The bounds are far above the largest real request
 from __future__ import annotations
 
 import json
+import sys
 from dataclasses import dataclass
 
 from soccer_lab.app.web.api.models import RULE_TEXT_MAX_LENGTH
@@ -46,6 +47,11 @@ class BodyShape:
             raise ShapeRefused(400, f"malformed JSON: {exc.msg} at line {exc.lineno}, column {exc.colno}") from None
         except RecursionError:
             raise ShapeRefused(413, f"the body nests deeper than {self.max_depth} levels") from None
+        except ShapeRefused:
+            raise
+        except ValueError:  # an integer past Python's digits limit (4,300): json.loads's only other refusal
+            raise ShapeRefused(413, f"a number of the body has more than {sys.get_int_max_str_digits():,} "
+                                    "digits") from None
         self._walk(document)
 
     def _object(self, pairs: list[tuple[str, object]]) -> dict[str, object]:

@@ -11,6 +11,7 @@ import anyio
 from fastapi import FastAPI, Request
 from fastapi.exceptions import RequestValidationError
 from fastapi.responses import JSONResponse
+from starlette.exceptions import HTTPException as StarletteHTTPException
 from starlette.types import ASGIApp, Message, Receive, Scope, Send
 
 from soccer_lab.app.web.access import Forbidden
@@ -65,6 +66,13 @@ async def _rule_syntax(_: Request, exc: RuleSyntaxError) -> JSONResponse:
     return error_response(422, f"invalid rule text: {_cut(str(exc), 300)}{more}", errors, len(exc.errors))
 
 
+async def _http(_: Request, exc: StarletteHTTPException) -> JSONResponse:
+    """Starlette's own refusals (an unknown path, a method a route does not take) in the usual shape."""
+    response = error_response(exc.status_code, str(exc.detail))
+    response.headers.update(exc.headers or {})  # 405's Allow
+    return response
+
+
 async def _not_found(_: Request, exc: NotFound) -> JSONResponse:
     return error_response(404, str(exc))
 
@@ -82,6 +90,7 @@ async def _refused(_: Request, exc: StoreError) -> JSONResponse:
 
 
 def install_error_handlers(app: FastAPI) -> None:
+    app.add_exception_handler(StarletteHTTPException, _http)
     app.add_exception_handler(RequestValidationError, _invalid_request)
     app.add_exception_handler(RuleSyntaxError, _rule_syntax)
     app.add_exception_handler(NotFound, _not_found)

@@ -332,8 +332,10 @@ class RunStart(Strict):
     def playable(self) -> "RunStart":
         from soccer_lab.app.runs.run import RunSettings  # the one place the rules for env, servers and workers live
 
+        # The opponent's rules are parsed by the route, in a thread: this runs on the event loop, and 200,000
+        # characters of rules take a second to parse. Given with an rcss env it is refused here, unparsed.
         RunSettings.build(self.ga, self.game, self.env, self.servers, self.trial, self.algorithm, self.start_servers,
-                          self.opponent, self.coevolve)
+                          None if self.env == SIMPLE else self.opponent, self.coevolve)
         return self
 
 

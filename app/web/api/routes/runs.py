@@ -7,6 +7,7 @@ from pathlib import Path
 from typing import Any
 
 from fastapi import APIRouter, Request, Response
+from fastapi.exceptions import RequestValidationError
 from fastapi.responses import FileResponse
 
 from soccer_lab.app.web.api.models import BestOut, ErrorBody, RunOut, RunRename, RunStart
@@ -14,7 +15,8 @@ from soccer_lab.app.web.api.routes.dependencies import RecordId, RunsDependency,
 from soccer_lab.app.runs.outputs import RunFolder, best_quality_of
 from soccer_lab.app.web.served_files import regular_file_inside
 from soccer_lab.app.web.access import ScopedStore
-from soccer_lab.app.store import NotFound, RunRecord
+from soccer_lab.app.runs.manager import RunStateError
+from soccer_lab.app.store import NotFound, RunRecord, StoreError
 
 router = APIRouter(prefix="/runs", tags=["runs"], responses={404: {"model": ErrorBody}})
 CONFLICT = {409: {"model": ErrorBody, "description": "The run's state does not allow this"}}
@@ -39,9 +41,15 @@ def _out(record: RunRecord, store: ScopedStore, request: Request) -> RunOut:
              summary="Start a GA or random-search run in the background (without ga.seed: a fresh random seed, "
              "recorded in its config); in classroom mode, when every core is busy, it is queued (status queued)")
 def start(body: RunStart, runs: RunsDependency, store: StoreDependency, request: Request) -> RunOut:
-    return _out(runs.start(body.name, body.ga, body.game, algorithm=body.algorithm, env=body.env,
-                           servers=body.servers, trial=body.trial, start_servers=body.start_servers,
-                           opponent=body.opponent, coevolve=body.coevolve), store, request)
+    try:  # a thread (a plain def): the opponent's rules are parsed here, not while the body is validated
+        record = runs.start(body.name, body.ga, body.game, algorithm=body.algorithm, env=body.env,
+                            servers=body.servers, trial=body.trial, start_servers=body.start_servers,
+                            opponent=body.opponent, coevolve=body.coevolve)
+    except (RunStateError, StoreError):
+        raise  # their own answers (409, 403, 422)
+    except ValueError as exc:  # the opponent's rules: the 422 the body's validation would have given
+        raise RequestValidationError([{"type": "value_error", "loc": ("body",), "msg": str(exc)}]) from None
+    return _out(record, store, request)
 
 
 @router.get("", summary="List runs")
