@@ -11,7 +11,8 @@ import time
 
 import pytest
 
-from soccer_lab.app.web.ui.projector import TOGGLE_LABEL
+from soccer_lab.app.web.ui.projector import LEAVE_LABEL, TOGGLE_LABEL
+from soccer_lab.app.web.ui.style import PROJECTOR_CONTROL_FONT_SIZE
 from soccer_lab.app.web.ui.panels.knockout import PROJECTOR_BRACKET_FONT_SIZE
 from tests.app.test_classroom_serve import (INJECTED, SCREENSHOTS, TIMEOUT_MS, browser, join, join_in_browser,  # noqa: F401
                                             new_page, open_class_tab, served, teacher)
@@ -124,4 +125,12 @@ def test_a_knockout_started_by_the_teacher_shows_on_every_screen_and_the_project
     assert all(projected.locator(".knockout-round").nth(i).is_visible() for i in range(2))
     final = projected.locator(".knockout-round").nth(1).bounding_box()
     assert final["x"] + final["width"] <= 1280 and final["y"] + final["height"] <= 800
+    # The match chosen and its button read from the back of the room (viser's 12-13 px before); the way back,
+    # the teacher's at the laptop, keeps viser's type
+    band_sizes = desk.evaluate("""() => [...document.querySelectorAll('[data-dock-group]:has(.projector-controls) '
+        + ':is(.mantine-Button-label, input, select)')].filter((e) => e.offsetParent)
+        .map((e) => parseFloat(getComputedStyle(e).fontSize))""")
+    assert len(band_sizes) >= 2 and min(band_sizes) >= PROJECTOR_CONTROL_FONT_SIZE, band_sizes
+    way_back = desk.get_by_role("button", name=LEAVE_LABEL)
+    assert way_back.evaluate("(e) => parseFloat(getComputedStyle(e).fontSize)") < PROJECTOR_CONTROL_FONT_SIZE
     shot(desk, "knockout-projector")

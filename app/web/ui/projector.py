@@ -56,11 +56,12 @@ class ProjectorView:
         self._sides = (client.gui.main_panel, _ClientPlacement(client.gui, right_panel_id))
         self._on_toggle = on_toggle
         gui = client.gui
+        self.gui = gui
         # The band: the large type, and in its other tabs what the teacher opens over the pitch.
         self.band = gui.add_panel(visible=False)
-        with self.band.add_tab("Game"):
+        with self._band_tab("Game"):
             self.status = gui.add_html("")
-        with self.band.add_tab("Population"):
+        with self._band_tab("Population"):
             self.measure = gui.add_button("Measure these players", visible=False)  # never "play": tests find Play
             self.measure.on_click(lambda _: on_measure())
             self.population = gui.add_html("")
@@ -77,11 +78,19 @@ class ProjectorView:
 
     def class_tab(self) -> viser.GuiTabHandle:
         """The band's tab the class round's table goes in (classroom mode)."""
-        return self.band.add_tab("Class")
+        return self._band_tab("Class")
 
     def knockout_tab(self) -> viser.GuiTabHandle:
         """The band's tab the class knockout's bracket goes in (classroom mode)."""
-        return self.band.add_tab("Knockout")
+        return self._band_tab("Knockout")
+
+    def _band_tab(self, name: str) -> viser.GuiTabHandle:
+        """A tab of the band whose buttons, fields and their labels a class reads from the back of the room.
+        viser draws only the shown tab, so each carries the style's marker."""
+        tab = self.band.add_tab(name)
+        with tab:
+            self.gui.add_html(BAND_CONTROLS_STYLE)
+        return tab
 
     def toggle(self) -> None:
         self.on = not self.on
@@ -209,6 +218,19 @@ def match_projector_html(match: MatchGame) -> str:
 
 
 THINKING_LABEL = "Show the thinking of"
+# The band's controls in large type (viser draws them at 12-13 px, unreadable from the back of a room): the
+# match chosen, the buttons. Only the band's panel holds the marker: the side panels and the way back (the
+# teacher's, at the laptop) keep viser's type.
+_BAND = "[data-dock-group]:has(.projector-controls)"
+BAND_CONTROLS_STYLE = (
+    '<span class="projector-controls"></span><style>'
+    f"{_BAND} .mantine-Button-root {{--button-height:auto; height:auto; min-height:40px; padding:4px 10px}}"
+    f"{_BAND} .mantine-Button-inner {{height:auto}}"
+    f"{_BAND} .mantine-Button-label {{font-size:{style.PROJECTOR_CONTROL_FONT_SIZE}px; white-space:normal; line-height:1.2}}"
+    f"{_BAND} :is(input, select, .mantine-InputWrapper-label, label) "
+    f"{{font-size:{style.PROJECTOR_CONTROL_FONT_SIZE}px !important}}"
+    f"{_BAND} :is(input, select) {{height:auto !important; min-height:36px !important}}"
+    "</style>")
 
 # Each of the band's two lines stays one line: a longer sentence wrapped, the band grew over the pitch's lines
 # (the camera leaves PROJECTOR_BAND px for it); what does not fit ends in "..." and shows whole on hover.

@@ -85,6 +85,7 @@ RULE_EDITOR_LINE_HEIGHT = 1.45  # em
 RIGHT_PANEL_WIDTH = 500
 # The projector view (app/web/ui/projector.py): a band of large type above the pitch, which fills the rest.
 PROJECTOR_FONT_SIZE = 26  # px: the score, the tick, the action and what the player did
+PROJECTOR_CONTROL_FONT_SIZE = 20  # px: the buttons, fields and their labels in the projector view
 PROJECTOR_BAND = 130  # px of the canvas's height above the pitch, for the band's floating panel
 PROJECTOR_GAP = 8  # px between the band's panel and the canvas's edges
 PROJECTOR_WAY_BACK_WIDTH = 250  # px: the panel beside the band, with the way back
