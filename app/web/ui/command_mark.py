@@ -2,8 +2,16 @@
 the ball, a dash along the facing, a turn as an arc) or, for a command that could not happen, a red
 dashed line to what was missing (the ball out of reach, the goal out of view), with a short label.
 
-Geometry only, in world metres (x toward the attacked goal, +y the player's right); pitch.py draws it.
-The sentence that explains the same tick in full is soccer/outcome.py's.
+While a game plays, the pitch changes only where nodes stand and which are shown, never a node's
+content: viser's client applies a pose or a visibility in the frame that receives it, but a label's
+text and a line's points through React, frames later (the pitch trailed the panels). So every mark is
+one of a fixed set of shapes (MARK_SHAPES), built once in a local frame (from the origin along +x)
+and placed by position and heading, and the label one of a fixed set of words (LABELS): it carries no
+number, the arrow's length and the arc's angle do (to ARROW_STEP and TURN_STEP), and the Inference
+panel and the projector band write it.
+
+Geometry only, in world metres and degrees (x toward the attacked goal, +y the player's right); pitch.py
+draws it. The sentence that explains the same tick in full is soccer/outcome.py's.
 """
 
 from __future__ import annotations
@@ -24,13 +32,34 @@ HEAD = 1.6  # metres: an arrow head's sides
 DASH_SCALE = 0.09  # metres of arrow per unit of dash power (plus the player's drawn radius)
 KICK_SCALE = 0.16  # metres of arrow per unit of kick power
 DASH_GAP = 1.2  # metres: the gaps of a dashed line
+MAX_POWER = 100.0  # rcssserver's: longer commands are drawn as long as this
+MAX_TURN = 180.0  # degrees
+ARROW_STEP = 0.5  # metres: an arrow's length is drawn to this
+TURN_STEP = 5.0  # degrees: an arc's angle is drawn to this
+DASHED_RUNS = 6  # a dashed line is made of runs of 1, 2, 4 ... 32 dashes: up to 151 m, past any pitch's diagonal
+KICK_BASE = 2.0  # metres: a kick's arrow without power
+DASH_BASE = style.PLAYER_DRAW_RADIUS + 1.0
+WORDS = {AT_BALL: "stands at the ball", NO_DASH_NEEDED: "drifts onto the ball", NOTHING: "does nothing"}
+NOT_KICKABLE_WORDS, GOAL_OUT_OF_VIEW_WORDS, NO_COMMAND_WORDS = "no kick: ball out of reach", "goal not in view", "no command"
+LABELS = ("kick", "dash", "turn", "hunt: turn", NOT_KICKABLE_WORDS, GOAL_OUT_OF_VIEW_WORDS, *WORDS.values(),
+          NO_COMMAND_WORDS)
+
+
+@dataclass(frozen=True)
+class PlacedShape:
+    """One of MARK_SHAPES, its origin at `at` (world metres), its +x turned to `heading` (degrees); `mirrored`:
+    flipped across its x axis first (a turn to the left is a turn to the right's mirror)."""
+
+    shape: str
+    at: tuple[float, float]
+    heading: float
+    mirrored: bool = False
 
 
 @dataclass(frozen=True)
 class CommandMark:
-    segments: np.ndarray  # float[N, 2, 2]: world metres
-    colour: tuple[int, int, int]
-    label: str
+    shapes: tuple[PlacedShape, ...]
+    label: str  # one of LABELS
     label_at: tuple[float, float]  # world metres, inside the field
 
 
@@ -44,25 +73,87 @@ def command_mark(state: SoccerState, goal: tuple[float, float], field: tuple[flo
     facing = state.facing
     why = outcome.why
     if outcome.kind == KICK:
-        heading = facing + outcome.direction
-        segments = _arrow(state.ball, heading, 2.0 + KICK_SCALE * outcome.value)
-        mark = (segments, style.KICK_MARK, f"kick {outcome.value:.0f}")
+        length = KICK_BASE + KICK_SCALE * _power(outcome.value)
+        shapes, label = (_arrow("kick", state.ball, facing + outcome.direction, length),), "kick"
     elif outcome.kind == DASH:
-        segments = _arrow(state.player, facing, style.PLAYER_DRAW_RADIUS + 1.0 + DASH_SCALE * outcome.value)
-        mark = (segments, style.DASH_MARK, f"dash {outcome.value:.0f}")
+        length = DASH_BASE + DASH_SCALE * _power(outcome.value)
+        shapes, label = (_arrow("dash", state.player, facing, length),), "dash"
     elif outcome.kind == TURN:
-        hunting = why in (HUNT_BALL, HUNT_LAST_SEEN)
-        segments = _arc(state.player, facing, outcome.value)
-        mark = (segments, style.TURN_MARK, f"{'hunt: ' if hunting else ''}turn {outcome.value:+.0f}°")
+        shapes = (_arc(state.player, facing, outcome.value),)
+        label = "hunt: turn" if why in (HUNT_BALL, HUNT_LAST_SEEN) else "turn"
     elif why == NOT_KICKABLE:
-        mark = (_dashed(state.player, state.ball), style.REFUSED_MARK, "no kick: ball out of reach")
+        shapes, label = _dashed(state.player, state.ball), NOT_KICKABLE_WORDS
     elif why == GOAL_OUT_OF_VIEW:
-        mark = (_dashed(state.player, goal), style.REFUSED_MARK, "goal not in view")
+        shapes, label = _dashed(state.player, goal), GOAL_OUT_OF_VIEW_WORDS
     else:
-        words = {AT_BALL: "stands at the ball", NO_DASH_NEEDED: "drifts onto the ball", NOTHING: "does nothing"}
-        mark = (np.zeros((0, 2, 2)), style.REFUSED_MARK, words.get(why, outcome.command_text()))
-    segments, colour, label = mark
-    return CommandMark(segments, colour, label, label_place(px, py, label, field))
+        shapes, label = (), WORDS.get(why, NO_COMMAND_WORDS)
+    return CommandMark(shapes, label, label_place(px, py, label, field))
+
+
+def _power(value: float) -> float:
+    return min(max(value, 0.0), MAX_POWER)
+
+
+def _arrow(kind: str, start: tuple[float, float], heading: float, length: float) -> PlacedShape:
+    return PlacedShape(f"{kind}_{round(length / ARROW_STEP)}", (float(start[0]), float(start[1])), heading)
+
+
+def _arc(centre: tuple[float, float], facing: float, turn: float) -> PlacedShape:
+    steps = round(min(abs(turn), MAX_TURN) / TURN_STEP)
+    return PlacedShape(f"turn_{steps}", (float(centre[0]), float(centre[1])), facing, mirrored=turn < 0)
+
+
+def _dashed(start: tuple[float, float], end: tuple[float, float]) -> tuple[PlacedShape, ...]:
+    """Dashes from `end` back toward `start`, whole dash periods: the player's end, where a part period is
+    left, lies under the player's body."""
+    (ax, ay), (bx, by) = start, end
+    length = math.hypot(bx - ax, by - ay)
+    periods = min(round(length / (2 * DASH_GAP)), 2 ** DASHED_RUNS - 1)
+    back = math.degrees(math.atan2(ay - by, ax - bx))
+    along = _direction(back)
+    shapes, done = [], 0
+    for run in reversed(range(DASHED_RUNS)):
+        if periods & (1 << run):
+            at = np.array([bx, by]) + done * 2 * DASH_GAP * along
+            shapes.append(PlacedShape(f"dashes_{run}", (float(at[0]), float(at[1])), back))
+            done += 1 << run
+    return tuple(shapes)
+
+
+def mark_shapes() -> dict[str, tuple[np.ndarray, tuple[int, int, int]]]:
+    """Every shape a mark is made of, by name: (float[N, 2, 2] world metres in the shape's own frame, colour)."""
+    shapes = {}
+    for kind, base, scale, colour in (("kick", KICK_BASE, KICK_SCALE, style.KICK_MARK),
+                                      ("dash", DASH_BASE, DASH_SCALE, style.DASH_MARK)):
+        for steps in range(round(base / ARROW_STEP), round((base + scale * MAX_POWER) / ARROW_STEP) + 1):
+            shapes[f"{kind}_{steps}"] = (arrow_segments(steps * ARROW_STEP), colour)
+    for steps in range(round(MAX_TURN / TURN_STEP) + 1):
+        shapes[f"turn_{steps}"] = (arc_segments(steps * TURN_STEP), style.TURN_MARK)
+    for run in range(DASHED_RUNS):
+        shapes[f"dashes_{run}"] = (dash_segments(1 << run), style.REFUSED_MARK)
+    return shapes
+
+
+def arrow_segments(length: float) -> np.ndarray:
+    tip = np.array([length, 0.0])
+    return np.array([[(0.0, 0.0), tip], [tip, tip - HEAD * _direction(-30.0)], [tip, tip - HEAD * _direction(30.0)]])
+
+
+def arc_segments(turn: float) -> np.ndarray:
+    """An arc around the origin from +x to `turn` degrees (toward +y), with a head at its end."""
+    angles = np.linspace(0.0, turn, ARC_STEPS + 1)
+    points = np.array([ARC_RADIUS * _direction(a) for a in angles])
+    tangent = angles[-1] + 90.0  # the way the arc runs at its end
+    tip = points[-1]
+    head = np.array([[tip, tip - HEAD * _direction(tangent - 30.0)], [tip, tip - HEAD * _direction(tangent + 30.0)]])
+    return np.concatenate([np.stack([points[:-1], points[1:]], axis=1), head])
+
+
+def dash_segments(periods: int) -> np.ndarray:
+    """`periods` dashes along +x from the origin, each DASH_GAP long and followed by a gap as long."""
+    starts = 2 * DASH_GAP * np.arange(periods)
+    return np.stack([np.stack([starts, np.zeros(periods)], axis=1),
+                     np.stack([starts + DASH_GAP, np.zeros(periods)], axis=1)], axis=1)
 
 
 def label_half_width(label: str) -> float:
@@ -84,34 +175,3 @@ def label_place(px: float, py: float, label: str, field: tuple[float, float, flo
 def _direction(degrees: float) -> np.ndarray:
     radians = math.radians(degrees)
     return np.array([math.cos(radians), math.sin(radians)])
-
-
-def _arrow(start: tuple[float, float], heading: float, length: float) -> np.ndarray:
-    origin = np.asarray(start, dtype=np.float64)
-    tip = origin + length * _direction(heading)
-    left = tip - HEAD * _direction(heading - 30.0)
-    right = tip - HEAD * _direction(heading + 30.0)
-    return np.array([[origin, tip], [tip, left], [tip, right]])
-
-
-def _arc(centre: tuple[float, float], facing: float, turn: float) -> np.ndarray:
-    """An arc from the facing to the facing after the turn, with a head at its end."""
-    c = np.asarray(centre, dtype=np.float64)
-    angles = np.linspace(facing, facing + turn, ARC_STEPS + 1)
-    points = np.array([c + ARC_RADIUS * _direction(a) for a in angles])
-    segments = list(np.stack([points[:-1], points[1:]], axis=1))
-    tangent = angles[-1] + (90.0 if turn >= 0 else -90.0)  # the way the arc runs at its end
-    tip = points[-1]
-    segments += [np.array([tip, tip - HEAD * _direction(tangent - 30.0)]),
-                 np.array([tip, tip - HEAD * _direction(tangent + 30.0)])]
-    return np.array(segments)
-
-
-def _dashed(start: tuple[float, float], end: tuple[float, float]) -> np.ndarray:
-    a, b = np.asarray(start, dtype=np.float64), np.asarray(end, dtype=np.float64)
-    length = float(np.linalg.norm(b - a))
-    if length < 1e-9:
-        return np.zeros((0, 2, 2))
-    dashes = max(1, int(length / (2 * DASH_GAP)))
-    step = (b - a) / (2 * dashes)
-    return np.array([[a + 2 * i * step, a + (2 * i + 1) * step] for i in range(dashes)])
