@@ -99,8 +99,9 @@ def direction(degrees: float) -> np.ndarray:
 @pytest.mark.parametrize("rules", ["demo", "striker", "dribbler"])
 def test_the_pitch_draws_each_command_from_prebuilt_shapes_where_it_belongs(rules):
     """The marks became pre-built shapes moved and turned (so a playing pitch changes only poses): each still
-    starts where its command does and ends where its power or turn says, to the shapes' steps; a turn to the left
-    is the right's mirror, not a right turn; a dashed line runs on the line to what was missing."""
+    starts where its command does and ends where its power or turn says, to the shapes' steps; a turn's arc ends at
+    the facing the turn gave (it began there and overshot); a turn to the left is the right's mirror, not a right
+    turn; a dashed line runs on the line to what was missing."""
     from soccer_lab.app.web.ui.command_mark import (ARC_RADIUS, ARROW_STEP, DASH_BASE, DASH_SCALE, KICK_BASE,
                                                     KICK_SCALE, TURN_STEP)
     from soccer_lab.soccer.examples import example
@@ -124,11 +125,11 @@ def test_the_pitch_draws_each_command_from_prebuilt_shapes_where_it_belongs(rule
                 shaft = drawn(mark.shapes[0])[0]
                 assert np.allclose(shaft[0], start) and np.linalg.norm(shaft[1] - tip) <= ARROW_STEP / 2 + 1e-6
             elif outcome.kind == TURN:
-                arc = drawn(mark.shapes[0])
+                arc = drawn(mark.shapes[0])  # the facing is the tick's last: the arc ends there
                 centre = np.array(state.player)
-                assert np.allclose(arc[0][0], centre + ARC_RADIUS * direction(facing))
-                end = centre + ARC_RADIUS * direction(facing + outcome.value)
-                assert np.linalg.norm(arc[-3][1] - end) <= ARC_RADIUS * math.radians(TURN_STEP / 2) + 1e-6
+                assert np.allclose(arc[-3][1], centre + ARC_RADIUS * direction(facing))
+                start = centre + ARC_RADIUS * direction(facing - outcome.value)
+                assert np.linalg.norm(arc[0][0] - start) <= ARC_RADIUS * math.radians(TURN_STEP / 2) + 1e-6
             elif mark.shapes:
                 dashes = np.concatenate([drawn(p) for p in mark.shapes]).reshape(-1, 2)
                 player = np.array(state.player)

@@ -99,8 +99,11 @@ def _arrow(kind: str, start: tuple[float, float], heading: float, length: float)
 
 
 def _arc(centre: tuple[float, float], facing: float, turn: float) -> PlacedShape:
+    """The commanded turn's arc, ending at `facing`: the state's facing is the one after the tick (an arc
+    starting there drew a second turn past the one made)."""
     steps = round(min(abs(turn), MAX_TURN) / TURN_STEP)
-    return PlacedShape(f"turn_{steps}", (float(centre[0]), float(centre[1])), facing, mirrored=turn < 0)
+    drawn = math.copysign(steps * TURN_STEP, turn)
+    return PlacedShape(f"turn_{steps}", (float(centre[0]), float(centre[1])), facing - drawn, mirrored=turn < 0)
 
 
 def _dashed(start: tuple[float, float], end: tuple[float, float]) -> tuple[PlacedShape, ...]:
