@@ -98,10 +98,10 @@ def direction(degrees: float) -> np.ndarray:
 
 @pytest.mark.parametrize("rules", ["demo", "striker", "dribbler"])
 def test_the_pitch_draws_each_command_from_prebuilt_shapes_where_it_belongs(rules):
-    """The marks became pre-built shapes moved and turned (so a playing pitch changes only poses): each still
-    starts where its command does and ends where its power or turn says, to the shapes' steps; a turn's arc ends at
-    the facing the turn gave (it began there and overshot); a turn to the left is the right's mirror, not a right
-    turn; a dashed line runs on the line to what was missing."""
+    """The marks became pre-built shapes moved and turned (so a playing pitch changes only poses): an arrow's or an
+    arc's runs lie end to end from where the command starts to its head, where its power or turn says, to the
+    shapes' steps; a turn's arc ends at the facing the turn gave (it began there and overshot); a turn to the left
+    is the right's mirror, not a right turn; a dashed line runs on the line to what was missing."""
     from soccer_lab.app.web.ui.command_mark import (ARC_RADIUS, ARROW_STEP, DASH_BASE, DASH_SCALE, KICK_BASE,
                                                     KICK_SCALE, TURN_STEP)
     from soccer_lab.soccer.examples import example
@@ -117,19 +117,29 @@ def test_the_pitch_draws_each_command_from_prebuilt_shapes_where_it_belongs(rule
             outcome = state.outcome
             assert mark.label in LABELS
             facing = state.facing  # degrees
+            if outcome.kind in (KICK, DASH, TURN):
+                *runs, head = mark.shapes
+                assert head.shape.endswith("_head")
+                chain = np.concatenate([drawn(run) for run in runs]) if runs else np.zeros((0, 2, 2))
+                assert np.allclose(chain[1:, 0], chain[:-1, 1]), "the runs are not laid end to end"
+                tip = drawn(head)[0][0]
             if outcome.kind in (KICK, DASH):
                 kick = outcome.kind == KICK
                 start = np.array(state.ball if kick else state.player)
                 length = (KICK_BASE + KICK_SCALE * outcome.value) if kick else (DASH_BASE + DASH_SCALE * outcome.value)
-                tip = start + length * direction(facing + (outcome.direction if kick else 0.0))
-                shaft = drawn(mark.shapes[0])[0]
-                assert np.allclose(shaft[0], start) and np.linalg.norm(shaft[1] - tip) <= ARROW_STEP / 2 + 1e-6
-            elif outcome.kind == TURN:
-                arc = drawn(mark.shapes[0])  # the facing is the tick's last: the arc ends there
+                heading = facing + (outcome.direction if kick else 0.0)
+                assert np.allclose(chain[0][0], start) and np.allclose(chain[-1][1], tip)
+                assert np.linalg.norm(tip - (start + length * direction(heading))) <= ARROW_STEP / 2 + 1e-6
+            elif outcome.kind == TURN:  # the facing is the tick's last: the arc ends there
                 centre = np.array(state.player)
-                assert np.allclose(arc[-3][1], centre + ARC_RADIUS * direction(facing))
+                assert np.allclose(tip, centre + ARC_RADIUS * direction(facing))
                 start = centre + ARC_RADIUS * direction(facing - outcome.value)
-                assert np.linalg.norm(arc[0][0] - start) <= ARC_RADIUS * math.radians(TURN_STEP / 2) + 1e-6
+                if len(chain):
+                    assert np.allclose(chain[-1][1], tip)
+                    assert np.linalg.norm(chain[0][0] - start) <= ARC_RADIUS * math.radians(TURN_STEP / 2) + 1e-6
+                    assert np.allclose(np.linalg.norm(chain.reshape(-1, 2) - centre, axis=1), ARC_RADIUS)
+                else:
+                    assert abs(outcome.value) <= TURN_STEP / 2
             elif mark.shapes:
                 dashes = np.concatenate([drawn(p) for p in mark.shapes]).reshape(-1, 2)
                 player = np.array(state.player)

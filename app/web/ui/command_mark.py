@@ -5,8 +5,9 @@ dashed line to what was missing (the ball out of reach, the goal out of view), w
 While a game plays, the pitch changes only where nodes stand and which are shown, never a node's
 content: viser's client applies a pose or a visibility in the frame that receives it, but a label's
 text and a line's points through React, frames later (the pitch trailed the panels). So every mark is
-one of a fixed set of shapes (MARK_SHAPES), built once in a local frame (from the origin along +x)
-and placed by position and heading, and the label one of a fixed set of words (LABELS): it carries no
+made of a few of a fixed set of shapes (mark_shapes), built once in a local frame (from the origin
+along +x) and placed by position and heading: an arrow's shaft and an arc are runs of 1, 2, 4 ...
+steps laid end to end, then a head. The label is one of a fixed set of words (LABELS): it carries no
 number, the arrow's length and the arc's angle do (to ARROW_STEP and TURN_STEP), and the Inference
 panel and the projector band write it.
 
@@ -27,7 +28,7 @@ from soccer_lab.soccer.skills import (AT_BALL, DASH, GOAL_OUT_OF_VIEW, HUNT_BALL
                                       NOT_KICKABLE, NOTHING, TURN)
 
 ARC_RADIUS = 4.5  # metres: a turn's arc around the player
-ARC_STEPS = 12
+ARC_STEP = 15.0  # degrees: an arc's segments
 HEAD = 1.6  # metres: an arrow head's sides
 DASH_SCALE = 0.09  # metres of arrow per unit of dash power (plus the player's drawn radius)
 KICK_SCALE = 0.16  # metres of arrow per unit of kick power
@@ -47,7 +48,7 @@ LABELS = ("kick", "dash", "turn", "hunt: turn", NOT_KICKABLE_WORDS, GOAL_OUT_OF_
 
 @dataclass(frozen=True)
 class PlacedShape:
-    """One of MARK_SHAPES, its origin at `at` (world metres), its +x turned to `heading` (degrees); `mirrored`:
+    """One of mark_shapes(), its origin at `at` (world metres), its +x turned to `heading` (degrees); `mirrored`:
     flipped across its x axis first (a turn to the left is a turn to the right's mirror)."""
 
     shape: str
@@ -74,12 +75,12 @@ def command_mark(state: SoccerState, goal: tuple[float, float], field: tuple[flo
     why = outcome.why
     if outcome.kind == KICK:
         length = KICK_BASE + KICK_SCALE * _power(outcome.value)
-        shapes, label = (_arrow("kick", state.ball, facing + outcome.direction, length),), "kick"
+        shapes, label = _arrow("kick", state.ball, facing + outcome.direction, length), "kick"
     elif outcome.kind == DASH:
         length = DASH_BASE + DASH_SCALE * _power(outcome.value)
-        shapes, label = (_arrow("dash", state.player, facing, length),), "dash"
+        shapes, label = _arrow("dash", state.player, facing, length), "dash"
     elif outcome.kind == TURN:
-        shapes = (_arc(state.player, facing, outcome.value),)
+        shapes = _arc(state.player, facing, outcome.value)
         label = "hunt: turn" if why in (HUNT_BALL, HUNT_LAST_SEEN) else "turn"
     elif why == NOT_KICKABLE:
         shapes, label = _dashed(state.player, state.ball), NOT_KICKABLE_WORDS
@@ -94,62 +95,79 @@ def _power(value: float) -> float:
     return min(max(value, 0.0), MAX_POWER)
 
 
-def _arrow(kind: str, start: tuple[float, float], heading: float, length: float) -> PlacedShape:
-    return PlacedShape(f"{kind}_{round(length / ARROW_STEP)}", (float(start[0]), float(start[1])), heading)
+def _runs(steps: int) -> list[int]:
+    """The runs, largest first, of 1, 2, 4 ... steps that add up to `steps`: a mark of any size from a few shapes."""
+    return [run for run in reversed(range(steps.bit_length())) if steps & (1 << run)]
 
 
-def _arc(centre: tuple[float, float], facing: float, turn: float) -> PlacedShape:
+def _arrow(kind: str, start: tuple[float, float], heading: float, length: float) -> tuple[PlacedShape, ...]:
+    """The shaft's runs end to end from `start`, the head at the tip."""
+    along = _direction(heading)
+    at, shapes = np.asarray(start, dtype=np.float64), []
+    for run in _runs(round(length / ARROW_STEP)):
+        shapes.append(PlacedShape(f"{kind}_shaft_{run}", (float(at[0]), float(at[1])), heading))
+        at = at + (1 << run) * ARROW_STEP * along
+    return (*shapes, PlacedShape(f"{kind}_head", (float(at[0]), float(at[1])), heading))
+
+
+def _arc(centre: tuple[float, float], facing: float, turn: float) -> tuple[PlacedShape, ...]:
     """The commanded turn's arc, ending at `facing`: the state's facing is the one after the tick (an arc
-    starting there drew a second turn past the one made)."""
+    starting there drew a second turn past the one made). Its runs turn about the player, one after another."""
     steps = round(min(abs(turn), MAX_TURN) / TURN_STEP)
-    drawn = math.copysign(steps * TURN_STEP, turn)
-    return PlacedShape(f"turn_{steps}", (float(centre[0]), float(centre[1])), facing - drawn, mirrored=turn < 0)
+    sign = -1.0 if turn < 0 else 1.0
+    at, heading, shapes = (float(centre[0]), float(centre[1])), facing - sign * steps * TURN_STEP, []
+    for run in _runs(steps):
+        shapes.append(PlacedShape(f"turn_arc_{run}", at, heading, mirrored=turn < 0))
+        heading += sign * (1 << run) * TURN_STEP
+    return (*shapes, PlacedShape("turn_head", at, facing, mirrored=turn < 0))
 
 
 def _dashed(start: tuple[float, float], end: tuple[float, float]) -> tuple[PlacedShape, ...]:
     """Dashes from `end` back toward `start`, whole dash periods: the player's end, where a part period is
     left, lies under the player's body."""
     (ax, ay), (bx, by) = start, end
-    length = math.hypot(bx - ax, by - ay)
-    periods = min(round(length / (2 * DASH_GAP)), 2 ** DASHED_RUNS - 1)
+    periods = min(round(math.hypot(bx - ax, by - ay) / (2 * DASH_GAP)), 2 ** DASHED_RUNS - 1)
     back = math.degrees(math.atan2(ay - by, ax - bx))
     along = _direction(back)
-    shapes, done = [], 0
-    for run in reversed(range(DASHED_RUNS)):
-        if periods & (1 << run):
-            at = np.array([bx, by]) + done * 2 * DASH_GAP * along
-            shapes.append(PlacedShape(f"dashes_{run}", (float(at[0]), float(at[1])), back))
-            done += 1 << run
+    at, shapes = np.array([bx, by], dtype=np.float64), []
+    for run in _runs(periods):
+        shapes.append(PlacedShape(f"dashes_{run}", (float(at[0]), float(at[1])), back))
+        at = at + (1 << run) * 2 * DASH_GAP * along
     return tuple(shapes)
 
 
 def mark_shapes() -> dict[str, tuple[np.ndarray, tuple[int, int, int]]]:
     """Every shape a mark is made of, by name: (float[N, 2, 2] world metres in the shape's own frame, colour)."""
     shapes = {}
-    for kind, base, scale, colour in (("kick", KICK_BASE, KICK_SCALE, style.KICK_MARK),
-                                      ("dash", DASH_BASE, DASH_SCALE, style.DASH_MARK)):
-        for steps in range(round(base / ARROW_STEP), round((base + scale * MAX_POWER) / ARROW_STEP) + 1):
-            shapes[f"{kind}_{steps}"] = (arrow_segments(steps * ARROW_STEP), colour)
-    for steps in range(round(MAX_TURN / TURN_STEP) + 1):
-        shapes[f"turn_{steps}"] = (arc_segments(steps * TURN_STEP), style.TURN_MARK)
+    for kind, longest, colour in (("kick", KICK_BASE + KICK_SCALE * MAX_POWER, style.KICK_MARK),
+                                  ("dash", DASH_BASE + DASH_SCALE * MAX_POWER, style.DASH_MARK)):
+        for run in range(round(longest / ARROW_STEP).bit_length()):
+            shapes[f"{kind}_shaft_{run}"] = (np.array([[(0.0, 0.0), ((1 << run) * ARROW_STEP, 0.0)]]), colour)
+        shapes[f"{kind}_head"] = (head_segments(), colour)
+    for run in range(round(MAX_TURN / TURN_STEP).bit_length()):
+        shapes[f"turn_arc_{run}"] = (arc_segments((1 << run) * TURN_STEP), style.TURN_MARK)
+    # the head at the arc's end: the tip on the arc, pointing the way it runs (+y)
+    shapes["turn_head"] = (rotated(head_segments(), 90.0) + np.array([ARC_RADIUS, 0.0]), style.TURN_MARK)
     for run in range(DASHED_RUNS):
         shapes[f"dashes_{run}"] = (dash_segments(1 << run), style.REFUSED_MARK)
     return shapes
 
 
-def arrow_segments(length: float) -> np.ndarray:
-    tip = np.array([length, 0.0])
-    return np.array([[(0.0, 0.0), tip], [tip, tip - HEAD * _direction(-30.0)], [tip, tip - HEAD * _direction(30.0)]])
+def head_segments() -> np.ndarray:
+    """An arrow head with its tip at the origin, pointing along +x."""
+    return np.array([[(0.0, 0.0), -HEAD * _direction(-30.0)], [(0.0, 0.0), -HEAD * _direction(30.0)]])
+
+
+def rotated(segments: np.ndarray, degrees: float) -> np.ndarray:
+    c, s = math.cos(math.radians(degrees)), math.sin(math.radians(degrees))
+    return segments @ np.array([[c, s], [-s, c]])
 
 
 def arc_segments(turn: float) -> np.ndarray:
-    """An arc around the origin from +x to `turn` degrees (toward +y), with a head at its end."""
-    angles = np.linspace(0.0, turn, ARC_STEPS + 1)
-    points = np.array([ARC_RADIUS * _direction(a) for a in angles])
-    tangent = angles[-1] + 90.0  # the way the arc runs at its end
-    tip = points[-1]
-    head = np.array([[tip, tip - HEAD * _direction(tangent - 30.0)], [tip, tip - HEAD * _direction(tangent + 30.0)]])
-    return np.concatenate([np.stack([points[:-1], points[1:]], axis=1), head])
+    """An arc around the origin at ARC_RADIUS from +x to `turn` degrees (toward +y), a segment per ARC_STEP."""
+    angles = np.linspace(0.0, turn, max(1, math.ceil(turn / ARC_STEP)) + 1)
+    points = ARC_RADIUS * np.stack([np.cos(np.radians(angles)), np.sin(np.radians(angles))], axis=1)
+    return np.stack([points[:-1], points[1:]], axis=1)
 
 
 def dash_segments(periods: int) -> np.ndarray:
