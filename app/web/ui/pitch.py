@@ -134,8 +134,8 @@ def show_picture(scene: viser.SceneApi, name: str, picture: Picture, z: float, *
 def draw_pitch(scene: viser.SceneApi, geometry: PitchGeometry, start: PitchFrame) -> None:
     """Every picture of the pitch, the same for every tab, drawn once into the server's scene, which
     viser sends each tab as it connects, before the tab's session exists: the field, the player, its
-    view cones and the ball, hung from frames placed as every new tab's game starts (the demo player,
-    the first seed). A tab's session then moves frames of its own with the same names (PitchView): in
+    view cones, the ball and the marks' line shapes (command_mark.py), hung from frames placed as every
+    new tab's game starts (the demo player, the first seed). A tab's session then moves frames of its own with the same names (PitchView): in
     the browser a tab's node stands in for the server's of its name, the pictures hanging from it.
     So a new tab draws the whole pitch from the first message, and no tab sends a picture again."""
     # Unlit: no environment map (its loading keeps the canvas transparent for seconds) and no lights
@@ -260,9 +260,9 @@ class PitchView:
 
     @staticmethod
     def _place(frame: viser.FrameHandle, shape: PlacedShape) -> None:
-        facing = math.radians(shape.heading)
+        heading = math.radians(shape.heading)
         frame.position = to_scene(*shape.at, Z_COMMAND)
-        frame.wxyz = mirrored_yaw_quaternion(facing) if shape.mirrored else yaw_quaternion(facing)
+        frame.wxyz = mirrored_yaw_quaternion(heading) if shape.mirrored else yaw_quaternion(heading)
         frame.visible = True
 
     def _show_trail(self, trail: np.ndarray) -> None:
