@@ -40,8 +40,9 @@ TURN_STEP = 5.0  # degrees: an arc's angle is drawn to this
 DASHED_RUNS = 6  # a dashed line is made of runs of 1, 2, 4 ... 32 dashes: up to 151 m, past any pitch's diagonal
 KICK_BASE = 2.0  # metres: a kick's arrow without power
 DASH_BASE = style.PLAYER_DRAW_RADIUS + 1.0
-WORDS = {AT_BALL: "stands at the ball", NO_DASH_NEEDED: "drifts onto the ball", NOTHING: "does nothing"}
-NOT_KICKABLE_WORDS, GOAL_OUT_OF_VIEW_WORDS, NO_COMMAND_WORDS = "no kick: ball out of reach", "goal not in view", "no command"
+WORDS = {AT_BALL: "stands at the ball", NO_DASH_NEEDED: "drifts onto the ball", NOTHING: "does nothing"}  # no command, why
+NOT_KICKABLE_WORDS, GOAL_OUT_OF_VIEW_WORDS = "no kick: ball out of reach", "goal not in view"
+NO_COMMAND_WORDS = "no command"
 LABELS = ("kick", "dash", "turn", "hunt: turn", NOT_KICKABLE_WORDS, GOAL_OUT_OF_VIEW_WORDS, *WORDS.values(),
           NO_COMMAND_WORDS)
 
