@@ -169,6 +169,51 @@ def test_pitch_panel_and_status_show_one_tick_in_every_frame(ui, browser, speed)
         page.close()
 
 
+@pytest.mark.parametrize("speed,match", [(1.0, False), (4.0, False), (4.0, True)], ids=["1x", "4x", "match-4x"])
+def test_while_playing_the_pitch_changes_only_poses_and_visibility_so_its_label_never_trails_the_panels(
+        ui, browser, speed, match):
+    """The band said "dash 100" while the pitch's label still said "dash 92": viser's client applies a node's pose
+    and visibility in the frame that receives them, but a label's text and a line's points through React, frames
+    later. Every message the tab's pitch gets while a game (or a match, its names shown) plays moves, shows or hides
+    a node made beforehand; only the trail (history, up to the ball) gets new points."""
+    from viser import _messages
+
+    from soccer_lab.app.web.ui.pitch import COMMAND_LABEL_NODE, COMMAND_NODE, NAME_LABEL_NODES, TRAIL_NODE
+    from soccer_lab.fuzzy.vocabulary import Vocabulary
+    from soccer_lab.soccer.examples import example
+
+    page, session = open_tab(ui, browser, PROJECTOR_SIZES[0])
+    connection = session.client.scene._websock_interface
+    sent = []
+    try:
+        with session.lock:
+            session.controls.speed.value = speed
+            if match:
+                striker, dribbler = (example(name).rulebase(Vocabulary.default()) for name in ("striker", "dribbler"))
+                session.watch_match(striker, dribbler, ("Striker", "Dribbler"), 3, GameConfig(), Vocabulary.default())
+            else:
+                session.new_start(3)
+            session.set_playing(True)
+        page.locator(".inference-decision").wait_for()
+        wait_until(lambda: session.game.state.tick >= 2)  # a match's names placed
+        start = session.game.state.tick
+        queue = connection.queue_message
+        connection.queue_message = lambda message: (sent.append(message), queue(message))[1]
+        wait_until(lambda: session.game.state.tick >= start + 60, timeout=60)
+    finally:
+        connection.__dict__.pop("queue_message", None)
+        with session.lock:
+            session.set_playing(False)
+        page.close()
+    pitch = [m for m in sent if getattr(m, "name", "").startswith("/pitch")]
+    moves = (_messages.SetPositionMessage, _messages.SetOrientationMessage, _messages.SetSceneNodeVisibilityMessage)
+    changed = [(type(m).__name__, m.name) for m in pitch if not isinstance(m, moves) and m.name != TRAIL_NODE]
+    assert not changed, changed
+    assert any(m.name.startswith(f"{COMMAND_NODE}_") for m in pitch), "no mark moved or was shown"
+    assert any(m.name.startswith(f"{COMMAND_LABEL_NODE}_") for m in pitch), "no label moved or was shown"
+    assert not match or any(m.name in NAME_LABEL_NODES for m in pitch), "the match's names did not move"
+
+
 def test_a_game_over_stays_until_the_teacher_starts_the_next_and_skills_replay_the_same_start(ui, browser):
     """"game over" disappeared after 2.4 s and the next seed started by itself, so "switch to strict: the same
     start scores" (lesson minutes 5-6) was another start. Now the end stays, with its reason; a skill switch

@@ -2,8 +2,17 @@
 the ball, a dash along the facing, a turn as an arc) or, for a command that could not happen, a red
 dashed line to what was missing (the ball out of reach, the goal out of view), with a short label.
 
-Geometry only, in world metres (x toward the attacked goal, +y the player's right); pitch.py draws it.
-The sentence that explains the same tick in full is soccer/outcome.py's.
+While a game plays, the pitch changes only where nodes stand and which are shown, never a node's
+content: viser's client applies a pose or a visibility in the frame that receives it, but a label's
+text and a line's points through React, frames later (the pitch trailed the panels). So every mark is
+made of a few of a fixed set of shapes (mark_shapes), built once in a local frame (from the origin
+along +x) and placed by position and heading: an arrow's shaft and an arc are runs of 1, 2, 4 ...
+steps laid end to end, then a head. The label is one of a fixed set of words (LABELS): it carries no
+number, the arrow's length and the arc's angle do (to ARROW_STEP and TURN_STEP), and the Inference
+panel and the projector band write it.
+
+Geometry only, in world metres and degrees (x toward the attacked goal, +y the player's right); pitch.py
+draws it. The sentence that explains the same tick in full is soccer/outcome.py's.
 """
 
 from __future__ import annotations
@@ -19,18 +28,40 @@ from soccer_lab.soccer.skills import (AT_BALL, DASH, GOAL_OUT_OF_VIEW, HUNT_BALL
                                       NOT_KICKABLE, NOTHING, TURN)
 
 ARC_RADIUS = 4.5  # metres: a turn's arc around the player
-ARC_STEPS = 12
+ARC_STEP = 15.0  # degrees: an arc's segments
 HEAD = 1.6  # metres: an arrow head's sides
 DASH_SCALE = 0.09  # metres of arrow per unit of dash power (plus the player's drawn radius)
 KICK_SCALE = 0.16  # metres of arrow per unit of kick power
 DASH_GAP = 1.2  # metres: the gaps of a dashed line
+MAX_POWER = 100.0  # rcssserver's: longer commands are drawn as long as this
+MAX_TURN = 180.0  # degrees
+ARROW_STEP = 0.5  # metres: an arrow's length is drawn to this
+TURN_STEP = 5.0  # degrees: an arc's angle is drawn to this
+DASHED_RUNS = 6  # a dashed line is made of runs of 1, 2, 4 ... 32 dashes: up to 151 m, past any pitch's diagonal
+KICK_BASE = 2.0  # metres: a kick's arrow without power
+DASH_BASE = style.PLAYER_DRAW_RADIUS + 1.0
+WORDS = {AT_BALL: "stands at the ball", NO_DASH_NEEDED: "drifts onto the ball", NOTHING: "does nothing"}  # why no command
+NOT_KICKABLE_WORDS, GOAL_OUT_OF_VIEW_WORDS = "no kick: ball out of reach", "goal not in view"
+NO_COMMAND_WORDS = "no command"
+LABELS = ("kick", "dash", "turn", "hunt: turn", NOT_KICKABLE_WORDS, GOAL_OUT_OF_VIEW_WORDS, *WORDS.values(),
+          NO_COMMAND_WORDS)
+
+
+@dataclass(frozen=True)
+class PlacedShape:
+    """One of mark_shapes(), its origin at `at` (world metres), its +x turned to `heading` (degrees); `mirrored`:
+    flipped across its x axis first (a turn to the left is a turn to the right's mirror)."""
+
+    shape: str
+    at: tuple[float, float]
+    heading: float
+    mirrored: bool = False
 
 
 @dataclass(frozen=True)
 class CommandMark:
-    segments: np.ndarray  # float[N, 2, 2]: world metres
-    colour: tuple[int, int, int]
-    label: str
+    shapes: tuple[PlacedShape, ...]
+    label: str  # one of LABELS
     label_at: tuple[float, float]  # world metres, inside the field
 
 
@@ -44,25 +75,107 @@ def command_mark(state: SoccerState, goal: tuple[float, float], field: tuple[flo
     facing = state.facing
     why = outcome.why
     if outcome.kind == KICK:
-        heading = facing + outcome.direction
-        segments = _arrow(state.ball, heading, 2.0 + KICK_SCALE * outcome.value)
-        mark = (segments, style.KICK_MARK, f"kick {outcome.value:.0f}")
+        length = KICK_BASE + KICK_SCALE * _power(outcome.value)
+        shapes, label = _arrow("kick", state.ball, facing + outcome.direction, length), "kick"
     elif outcome.kind == DASH:
-        segments = _arrow(state.player, facing, style.PLAYER_DRAW_RADIUS + 1.0 + DASH_SCALE * outcome.value)
-        mark = (segments, style.DASH_MARK, f"dash {outcome.value:.0f}")
+        length = DASH_BASE + DASH_SCALE * _power(outcome.value)
+        shapes, label = _arrow("dash", state.player, facing, length), "dash"
     elif outcome.kind == TURN:
-        hunting = why in (HUNT_BALL, HUNT_LAST_SEEN)
-        segments = _arc(state.player, facing, outcome.value)
-        mark = (segments, style.TURN_MARK, f"{'hunt: ' if hunting else ''}turn {outcome.value:+.0f}°")
+        shapes = _arc(state.player, facing, outcome.value)
+        label = "hunt: turn" if why in (HUNT_BALL, HUNT_LAST_SEEN) else "turn"
     elif why == NOT_KICKABLE:
-        mark = (_dashed(state.player, state.ball), style.REFUSED_MARK, "no kick: ball out of reach")
+        shapes, label = _dashed(state.player, state.ball), NOT_KICKABLE_WORDS
     elif why == GOAL_OUT_OF_VIEW:
-        mark = (_dashed(state.player, goal), style.REFUSED_MARK, "goal not in view")
+        shapes, label = _dashed(state.player, goal), GOAL_OUT_OF_VIEW_WORDS
     else:
-        words = {AT_BALL: "stands at the ball", NO_DASH_NEEDED: "drifts onto the ball", NOTHING: "does nothing"}
-        mark = (np.zeros((0, 2, 2)), style.REFUSED_MARK, words.get(why, outcome.command_text()))
-    segments, colour, label = mark
-    return CommandMark(segments, colour, label, label_place(px, py, label, field))
+        shapes, label = (), WORDS.get(why, NO_COMMAND_WORDS)
+    return CommandMark(shapes, label, label_place(px, py, label, field))
+
+
+def _power(value: float) -> float:
+    return min(max(value, 0.0), MAX_POWER)
+
+
+def _runs(steps: int) -> list[int]:
+    """The runs, largest first, of 1, 2, 4 ... steps that add up to `steps`: a mark of any size from a few shapes."""
+    return [run for run in reversed(range(steps.bit_length())) if steps & (1 << run)]
+
+
+def _arrow(kind: str, start: tuple[float, float], heading: float, length: float) -> tuple[PlacedShape, ...]:
+    """The shaft's runs end to end from `start`, the head at the tip."""
+    along = _direction(heading)
+    at, shapes = np.asarray(start, dtype=np.float64), []
+    for run in _runs(round(length / ARROW_STEP)):
+        shapes.append(PlacedShape(f"{kind}_shaft_{run}", (float(at[0]), float(at[1])), heading))
+        at = at + (1 << run) * ARROW_STEP * along
+    return (*shapes, PlacedShape(f"{kind}_head", (float(at[0]), float(at[1])), heading))
+
+
+def _arc(centre: tuple[float, float], facing: float, turn: float) -> tuple[PlacedShape, ...]:
+    """The commanded turn's arc, ending at `facing`: the state's facing is the one after the tick (an arc
+    starting there drew a second turn past the one made). Its runs turn about the player, one after another."""
+    steps = round(min(abs(turn), MAX_TURN) / TURN_STEP)
+    sign = -1.0 if turn < 0 else 1.0
+    at, heading, shapes = (float(centre[0]), float(centre[1])), facing - sign * steps * TURN_STEP, []
+    for run in _runs(steps):
+        shapes.append(PlacedShape(f"turn_arc_{run}", at, heading, mirrored=turn < 0))
+        heading += sign * (1 << run) * TURN_STEP
+    return (*shapes, PlacedShape("turn_head", at, facing, mirrored=turn < 0))
+
+
+def _dashed(start: tuple[float, float], end: tuple[float, float]) -> tuple[PlacedShape, ...]:
+    """Dashes from `end` back toward `start`, whole dash periods: the player's end, where a part period is
+    left, lies under the player's body."""
+    (ax, ay), (bx, by) = start, end
+    periods = min(round(math.hypot(bx - ax, by - ay) / (2 * DASH_GAP)), 2 ** DASHED_RUNS - 1)
+    back = math.degrees(math.atan2(ay - by, ax - bx))
+    along = _direction(back)
+    at, shapes = np.array([bx, by], dtype=np.float64), []
+    for run in _runs(periods):
+        shapes.append(PlacedShape(f"dashes_{run}", (float(at[0]), float(at[1])), back))
+        at = at + (1 << run) * 2 * DASH_GAP * along
+    return tuple(shapes)
+
+
+def mark_shapes() -> dict[str, tuple[np.ndarray, tuple[int, int, int]]]:
+    """Every shape a mark is made of, by name: (float[N, 2, 2] world metres in the shape's own frame, colour)."""
+    shapes = {}
+    for kind, longest, colour in (("kick", KICK_BASE + KICK_SCALE * MAX_POWER, style.KICK_MARK),
+                                  ("dash", DASH_BASE + DASH_SCALE * MAX_POWER, style.DASH_MARK)):
+        for run in range(round(longest / ARROW_STEP).bit_length()):
+            shapes[f"{kind}_shaft_{run}"] = (np.array([[(0.0, 0.0), ((1 << run) * ARROW_STEP, 0.0)]]), colour)
+        shapes[f"{kind}_head"] = (head_segments(), colour)
+    for run in range(round(MAX_TURN / TURN_STEP).bit_length()):
+        shapes[f"turn_arc_{run}"] = (arc_segments((1 << run) * TURN_STEP), style.TURN_MARK)
+    # the head at the arc's end: the tip on the arc, pointing the way it runs (+y)
+    shapes["turn_head"] = (rotated(head_segments(), 90.0) + np.array([ARC_RADIUS, 0.0]), style.TURN_MARK)
+    for run in range(DASHED_RUNS):
+        shapes[f"dashes_{run}"] = (dash_segments(1 << run), style.REFUSED_MARK)
+    return shapes
+
+
+def head_segments() -> np.ndarray:
+    """An arrow head with its tip at the origin, pointing along +x."""
+    return np.array([[(0.0, 0.0), -HEAD * _direction(-30.0)], [(0.0, 0.0), -HEAD * _direction(30.0)]])
+
+
+def rotated(segments: np.ndarray, degrees: float) -> np.ndarray:
+    c, s = math.cos(math.radians(degrees)), math.sin(math.radians(degrees))
+    return segments @ np.array([[c, s], [-s, c]])
+
+
+def arc_segments(turn: float) -> np.ndarray:
+    """An arc around the origin at ARC_RADIUS from +x to `turn` degrees (toward +y), a segment per ARC_STEP."""
+    angles = np.linspace(0.0, turn, max(1, math.ceil(turn / ARC_STEP)) + 1)
+    points = ARC_RADIUS * np.stack([np.cos(np.radians(angles)), np.sin(np.radians(angles))], axis=1)
+    return np.stack([points[:-1], points[1:]], axis=1)
+
+
+def dash_segments(periods: int) -> np.ndarray:
+    """`periods` dashes along +x from the origin, each DASH_GAP long and followed by a gap as long."""
+    starts = 2 * DASH_GAP * np.arange(periods)
+    return np.stack([np.stack([starts, np.zeros(periods)], axis=1),
+                     np.stack([starts + DASH_GAP, np.zeros(periods)], axis=1)], axis=1)
 
 
 def label_half_width(label: str) -> float:
@@ -84,34 +197,3 @@ def label_place(px: float, py: float, label: str, field: tuple[float, float, flo
 def _direction(degrees: float) -> np.ndarray:
     radians = math.radians(degrees)
     return np.array([math.cos(radians), math.sin(radians)])
-
-
-def _arrow(start: tuple[float, float], heading: float, length: float) -> np.ndarray:
-    origin = np.asarray(start, dtype=np.float64)
-    tip = origin + length * _direction(heading)
-    left = tip - HEAD * _direction(heading - 30.0)
-    right = tip - HEAD * _direction(heading + 30.0)
-    return np.array([[origin, tip], [tip, left], [tip, right]])
-
-
-def _arc(centre: tuple[float, float], facing: float, turn: float) -> np.ndarray:
-    """An arc from the facing to the facing after the turn, with a head at its end."""
-    c = np.asarray(centre, dtype=np.float64)
-    angles = np.linspace(facing, facing + turn, ARC_STEPS + 1)
-    points = np.array([c + ARC_RADIUS * _direction(a) for a in angles])
-    segments = list(np.stack([points[:-1], points[1:]], axis=1))
-    tangent = angles[-1] + (90.0 if turn >= 0 else -90.0)  # the way the arc runs at its end
-    tip = points[-1]
-    segments += [np.array([tip, tip - HEAD * _direction(tangent - 30.0)]),
-                 np.array([tip, tip - HEAD * _direction(tangent + 30.0)])]
-    return np.array(segments)
-
-
-def _dashed(start: tuple[float, float], end: tuple[float, float]) -> np.ndarray:
-    a, b = np.asarray(start, dtype=np.float64), np.asarray(end, dtype=np.float64)
-    length = float(np.linalg.norm(b - a))
-    if length < 1e-9:
-        return np.zeros((0, 2, 2))
-    dashes = max(1, int(length / (2 * DASH_GAP)))
-    step = (b - a) / (2 * dashes)
-    return np.array([[a + 2 * i * step, a + (2 * i + 1) * step] for i in range(dashes)])

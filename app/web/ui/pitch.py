@@ -23,7 +23,7 @@ import numpy as np
 import viser
 
 from soccer_lab.app.web.ui import style
-from soccer_lab.app.web.ui.command_mark import CommandMark, label_half_width
+from soccer_lab.app.web.ui.command_mark import LABELS, CommandMark, PlacedShape, label_half_width, mark_shapes
 from soccer_lab.app.web.ui.pitch_pictures import (Picture, ball_picture, cone_picture, field_picture, player_picture,
                                                   solid_picture)
 from soccer_lab.soccer.config import WorldConfig
@@ -34,8 +34,8 @@ PLAYER_NODE = "/pitch/player"
 CONE_NODES = {False: f"{PLAYER_NODE}/view_cone_no_ball", True: f"{PLAYER_NODE}/view_cone_ball"}  # ball seen?
 BALL_NODE = "/pitch/ball"
 TRAIL_NODE = "/pitch/trail"
-COMMAND_NODE = "/pitch/command"
-COMMAND_LABEL_NODE = "/pitch/command_label"
+COMMAND_NODE = "/pitch/command"  # + "_" + a mark shape's name: the frame its lines hang from
+COMMAND_LABEL_NODE = "/pitch/command_label"  # + "_" + the label's index in LABELS
 FRAME_NODE = "/stadium"  # the frame around the grass
 MATCH_FIELD_NODE = "/match_field"  # a match's pitch, a goal at each end, over the field (hidden but in a match)
 OPPONENT_NODE = "/pitch/opponent"  # a match's second player
@@ -107,6 +107,21 @@ def yaw_quaternion(facing: float) -> tuple[float, float, float, float]:
     return (math.cos(half), 0.0, 0.0, math.sin(half))
 
 
+def mirrored_yaw_quaternion(facing: float) -> tuple[float, float, float, float]:
+    """Flipped across the local x axis (y and z negated: the flat shapes stay flat), then turned to `facing`."""
+    w, _, _, z = yaw_quaternion(facing)
+    return (0.0, w, z, 0.0)
+
+
+def scene_segments(segments: np.ndarray, z: float) -> np.ndarray:
+    """float32[N, 2, 3]: world segments [N, 2, 2] in the scene at height z."""
+    points = np.zeros((len(segments), 2, 3), np.float32)
+    points[..., 0] = segments[..., 0]
+    points[..., 1] = -segments[..., 1]
+    points[..., 2] = z
+    return points
+
+
 def show_picture(scene: viser.SceneApi, name: str, picture: Picture, z: float, **kwargs) -> viser.ImageHandle:
     """`picture` as a flat quad at height z, centred where it belongs. Every picture is symmetric about
     its x axis (the pitch; the player, ball and view facing +x), so the scene's flipped y needs no
@@ -119,8 +134,8 @@ def show_picture(scene: viser.SceneApi, name: str, picture: Picture, z: float, *
 def draw_pitch(scene: viser.SceneApi, geometry: PitchGeometry, start: PitchFrame) -> None:
     """Every picture of the pitch, the same for every tab, drawn once into the server's scene, which
     viser sends each tab as it connects, before the tab's session exists: the field, the player, its
-    view cones and the ball, hung from frames placed as every new tab's game starts (the demo player,
-    the first seed). A tab's session then moves frames of its own with the same names (PitchView): in
+    view cones, the ball and the marks' line shapes (command_mark.py), hung from frames placed as every
+    new tab's game starts (the demo player, the first seed). A tab's session then moves frames of its own with the same names (PitchView): in
     the browser a tab's node stands in for the server's of its name, the pictures hanging from it.
     So a new tab draws the whole pitch from the first message, and no tab sends a picture again."""
     # Unlit: no environment map (its loading keeps the canvas transparent for seconds) and no lights
@@ -136,6 +151,9 @@ def draw_pitch(scene: viser.SceneApi, geometry: PitchGeometry, start: PitchFrame
         colour = style.BALL if seen else style.VIEW_CONE
         show_picture(scene, f"{name}/picture", cone_picture(geometry.view_half_angle, colour), 0.0)
     show_picture(scene, f"{BALL_NODE}/picture", ball_picture(), 0.0)
+    for name, (segments, colour) in mark_shapes().items():
+        scene.add_line_segments(f"{COMMAND_NODE}_{name}/lines", scene_segments(segments, 0.0),
+                                colors=colour, thickness=style.COMMAND_MARK_THICKNESS)
     show_picture(scene, f"{MATCH_FIELD_NODE}/picture", field_picture(geometry, both_goals=True), Z_MATCH_FIELD)
     show_picture(scene, f"{OPPONENT_NODE}/body", player_picture(colour=style.OPPONENT), 0.0)
     for seen, name in OPPONENT_CONE_NODES.items():
@@ -157,8 +175,10 @@ def draw_frame(scene: viser.SceneApi, geometry: PitchGeometry) -> None:
 
 
 class PitchView:
-    """The frames that move on a pitch (player with facing and view cones, ball) and the ball's trail;
-    the pictures hang from the frames (draw_pitch). `show(frame)` sends only what changed."""
+    """The frames that move on a pitch (player with facing and view cones, ball, the marks' shapes), the mark's
+    labels and the ball's trail; the pictures and shapes hang from the frames (draw_pitch). `show(frame)` sends
+    only what changed, and while a game plays only poses and visibilities (command_mark.py says why), but the
+    trail's points."""
 
     def __init__(self, scene: viser.SceneApi, geometry: PitchGeometry):
         self.geometry = geometry
@@ -172,12 +192,12 @@ class PitchView:
             visible=False,
         )
         self._trail_shown: np.ndarray | None = None
-        self.command = scene.add_line_segments(
-            COMMAND_NODE, np.zeros((1, 2, 3), np.float32), colors=np.zeros((1, 2, 3), np.uint8),
-            thickness=style.COMMAND_MARK_THICKNESS, visible=False)
-        self.command_label = scene.add_label(
-            COMMAND_LABEL_NODE, "", position=to_scene(0, 0, Z_BODY), visible=False, font_size_mode="scene",
-            font_scene_height=style.COMMAND_LABEL_HEIGHT, anchor="bottom-center")
+        # Every mark shape's frame and every label, hidden: a tick shows some and moves them.
+        self.mark_frames = {name: scene.add_frame(f"{COMMAND_NODE}_{name}", show_axes=False, visible=False)
+                            for name in mark_shapes()}
+        self.command_labels = {text: scene.add_label(
+            f"{COMMAND_LABEL_NODE}_{i}", text, position=to_scene(0, 0, Z_BODY), visible=False, font_size_mode="scene",
+            font_scene_height=style.COMMAND_LABEL_HEIGHT, anchor="bottom-center") for i, text in enumerate(LABELS)}
         self._command_shown: CommandMark | None = None
         # A match's pitch and second player, hidden until a match is shown (their pictures are draw_pitch's).
         self.match_field = scene.add_frame(MATCH_FIELD_NODE, show_axes=False, visible=False)
@@ -221,27 +241,33 @@ class PitchView:
 
     def _show_command(self, mark: CommandMark | None) -> None:
         shown = self._command_shown
-        if shown is mark or (shown is not None and mark is not None and shown.label == mark.label
-                             and shown.label_at == mark.label_at and np.array_equal(shown.segments, mark.segments)):
+        if shown == mark:
             return
         self._command_shown = mark
-        if mark is None:
-            self.command.visible = False
-            self.command_label.visible = False
-            return
-        if len(mark.segments):
-            points = np.zeros((len(mark.segments), 2, 3), np.float32)
-            points[..., 0] = mark.segments[..., 0]
-            points[..., 1] = -mark.segments[..., 1]
-            points[..., 2] = Z_COMMAND
-            self.command.colors = np.tile(np.array(mark.colour, np.uint8), (len(mark.segments), 2, 1))
-            self.command.points = points
-        self.command.visible = len(mark.segments) > 0
-        self.command_label.text = mark.label
-        self.command_label.position = to_scene(*mark.label_at, Z_BODY)
-        self.command_label.visible = True
+        placed = {p.shape: p for p in mark.shapes} if mark is not None else {}
+        for old in (shown.shapes if shown is not None else ()):
+            if old.shape not in placed:
+                self.mark_frames[old.shape].visible = False
+        for name, shape in placed.items():
+            self._place(self.mark_frames[name], shape)
+        label = mark.label if mark is not None else None
+        if shown is not None and shown.label != label:
+            self.command_labels[shown.label].visible = False
+        if mark is not None:
+            handle = self.command_labels[mark.label]
+            handle.position = to_scene(*mark.label_at, Z_BODY)
+            handle.visible = True
+
+    @staticmethod
+    def _place(frame: viser.FrameHandle, shape: PlacedShape) -> None:
+        heading = math.radians(shape.heading)
+        frame.position = to_scene(*shape.at, Z_COMMAND)
+        frame.wxyz = mirrored_yaw_quaternion(heading) if shape.mirrored else yaw_quaternion(heading)
+        frame.visible = True
 
     def _show_trail(self, trail: np.ndarray) -> None:
+        # The one content change while playing: the trail is history up to the ball, so a frame that draws
+        # the ball's new place before the trail's new end shows nothing wrong.
         if self._trail_shown is not None and np.array_equal(trail, self._trail_shown):
             return  # the ball rests: nothing to send
         self._trail_shown = trail.copy()
@@ -251,11 +277,7 @@ class PitchView:
         step = np.linalg.norm(points[:, 1] - points[:, 0], axis=1)
         points = points[(step > 0) & (step <= self.geometry.ball_speed_max * 1.01)]
         if len(points):
-            scene_points = np.zeros((len(points), 2, 3), np.float32)
-            scene_points[..., 0] = points[..., 0]
-            scene_points[..., 1] = -points[..., 1]
-            scene_points[..., 2] = Z_TRAIL
-            self.trail.points = scene_points
+            self.trail.points = scene_segments(points, Z_TRAIL)
         self.trail.visible = len(points) > 0
 
     def fit_camera(self, camera: viser.CameraHandle) -> None:
