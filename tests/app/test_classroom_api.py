@@ -61,9 +61,12 @@ class Class:
         return client
 
     def student(self, name: str) -> TestClient:
+        """A pupil's browser, joined under `name`, its cookie come back as with the join page's next page (the place
+        is claimed; admitted in process, so the tests' rate budgets stay whole)."""
         client = self.browser()
         joined = client.post("/api/class/join", json={"code": CODE, "name": name})
         assert joined.status_code == 200, joined.text
+        assert self.classroom.admit("; ".join(f"{k}={v}" for k, v in client.cookies.items())) is not None
         return client
 
     def teacher(self) -> TestClient:

@@ -14,9 +14,10 @@ from fastapi.testclient import TestClient
 
 from soccer_lab.app.web.api import create_app
 from soccer_lab.app.web.api.errors import MAX_ERROR_BYTES, MAX_ERRORS
+from soccer_lab.app.web.classroom.admission import JoinRefused
 from soccer_lab.app.web.classroom.names import display_name, skeleton
 from soccer_lab.app.web.classroom.rate import RateLimiter
-from soccer_lab.app.web.classroom.settings import REQUEST_BURST, REQUESTS_PER_SECOND
+from soccer_lab.app.web.classroom.settings import MAX_STUDENTS, REQUEST_BURST, REQUESTS_PER_SECOND
 from soccer_lab.app.web.origins import SiteAddresses
 from soccer_lab.app.paths import DATABASE_FILE
 from soccer_lab.app.runs.manager import RunManager
@@ -195,6 +196,42 @@ def test_joining_again_from_the_same_browser_renames_its_place(room):
     assert again.status_code == 200 and again.json()["name"] == "Grace"
     assert [(s.id, s.name) for s in room.store.list_students()] == [(first[0].id, "Grace")]
     assert pupil.get("/api/class").json()["you"]["name"] == "Grace"
+
+
+def test_a_script_dropping_its_cookie_cannot_fill_the_class_against_pupils(room):
+    """A script that drops its cookie between joins is a new browser each time: it took all 60 places in 2.1 s and
+    kept every pupil out (the teacher had to remove them one by one). A place whose cookie never came back gives
+    way to a newcomer when the class is full, or when it holds the name asked for; a pupil's place, once their
+    browser has come back with its cookie, never does."""
+    ada = room.browser()
+    assert ada.post("/api/class/join", json={"code": CODE, "name": "Ada"}).status_code == 200
+    assert ada.get("/").status_code == 200  # the join page's next page, with her cookie: the place is hers
+    for i in range(MAX_STUDENTS - 1):
+        room.classroom.join(CODE, f"bot{i}", None)  # the cookie thrown away, every time
+    assert len(room.store.list_students()) == MAX_STUDENTS
+    grace = room.student("Grace")  # a full class of unclaimed places: the oldest gives way
+    names = {student.name for student in room.store.list_students()}
+    assert len(names) == MAX_STUDENTS and {"Ada", "Grace"} <= names and "bot0" not in names
+    assert grace.get("/api/class").json()["you"]["name"] == "Grace"
+    squatted = room.student("bot5")  # a name an unclaimed place holds gives way too
+    assert squatted.get("/api/class").json()["you"]["name"] == "bot5"
+    for i in range(MAX_STUDENTS):
+        room.classroom.join(CODE, f"again{i}", None)
+    names = {student.name for student in room.store.list_students()}
+    assert {"Ada", "Grace", "bot5"} <= names and len(names) == MAX_STUDENTS
+    assert ada.get("/api/class").json()["you"]["name"] == "Ada"
+    with pytest.raises(JoinRefused, match="taken"):  # a claimed place's name stays its own
+        room.classroom.join(CODE, "ada", None)
+
+
+def test_a_class_whose_places_are_all_claimed_refuses_the_next_with_its_limit(room, monkeypatch):
+    import soccer_lab.app.web.classroom.admission as admission
+
+    monkeypatch.setattr(admission, "MAX_STUDENTS", 3)
+    for i in range(3):
+        room.student(f"pupil {i}")
+    with pytest.raises(JoinRefused, match="its limit"):
+        room.classroom.join(CODE, "one more", None)
 
 
 def test_a_pupils_runs_count_against_the_pupil_whatever_their_names(room):

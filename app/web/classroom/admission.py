@@ -24,7 +24,7 @@ from soccer_lab.app.web.classroom.names import NameRefused, display_name, skelet
 from soccer_lab.app.web.classroom.rate import RateLimiter
 from soccer_lab.app.web.classroom.settings import (DISPLAY_NAME_MAX_LENGTH, MAX_STUDENTS, REQUEST_BURST,
                                                    REQUESTS_PER_SECOND, ClassSettings)
-from soccer_lab.app.store import Store, StoreError, StudentRecord, name_key, valid_name
+from soccer_lab.app.store import NotFound, Store, StoreError, StudentRecord, name_key, valid_name
 
 JOIN_COOKIE = "soccer_lab_class"
 STUDENT_COOKIE = "soccer_lab_student"
@@ -70,6 +70,10 @@ class Classroom:
     settings: ClassSettings = field(default_factory=ClassSettings)
     rate: RateLimiter = field(default_factory=lambda: RateLimiter(REQUESTS_PER_SECOND, REQUEST_BURST))
     _joining: threading.Lock = field(default_factory=threading.Lock)  # a name checked and taken in one step
+    # Places joined since serve started whose cookie has not come back yet (a browser sends it with its next
+    # page at once; a script that drops it never does), oldest first. Such a place has no entry and no run
+    # (both need the cookie), so it gives way to a newcomer when the class is full or holds the name they ask.
+    _unclaimed: dict[int, None] = field(default_factory=dict)
 
     def admit(self, cookie_header: str | None) -> Visitor | None:
         """The visitor whose browser sent these cookies, or None when it has not joined (no code, a wrong code,
@@ -81,7 +85,10 @@ class Classroom:
             return Visitor(None, TEACHER_NAME, teacher=True)
         token = cookies.get(STUDENT_COOKIE)
         student = self.store.student_by_token(token_hash(token)) if token else None
-        return None if student is None else Visitor(student.id, student.name, teacher=False)
+        if student is None:
+            return None
+        self._unclaimed.pop(student.id, None)
+        return Visitor(student.id, student.name, teacher=False)
 
     def join(self, code: str, name: str, cookie_header: str | None) -> tuple[StudentRecord, dict[str, str]]:
         """A student joins under `name`: their record and the cookies to set. A browser holds one place: one
@@ -98,23 +105,42 @@ class Classroom:
                 if name_key(known.name) != name_key(name) or known.name != name:
                     known = self._renamed(known, name)
                 return known, {JOIN_COOKIE: self.join_code, STUDENT_COOKIE: token}
-            if len(self.store.list_students()) >= MAX_STUDENTS:
+            if len(self.store.list_students()) >= MAX_STUDENTS and not self._give_way():
                 raise JoinRefused(f"the class has {MAX_STUDENTS} students, its limit: the teacher may remove some")
             token = secrets.token_urlsafe(32)
             try:
                 student = self.store.add_student(name, token_hash(token))
             except StoreError as exc:
                 raise JoinRefused(str(exc)) from None
+            self._unclaimed[student.id] = None
         return student, {JOIN_COOKIE: self.join_code, STUDENT_COOKIE: token}
 
     def _check_unlike_others(self, name: str, own: StudentRecord | None) -> None:
-        """JoinRefused when `name` looks like another student's (their confusable skeletons are equal)."""
+        """JoinRefused when `name` looks like another student's (their confusable skeletons are equal); an
+        unclaimed place holding it gives way."""
         look = skeleton(name)
         for student in self.store.list_students():
             if (own is None or student.id != own.id) and (skeleton(student.name) == look
                                                          or name_key(student.name) == name_key(name)):
+                if student.id in self._unclaimed:
+                    self._remove_unclaimed(student.id)
+                    continue
                 raise JoinRefused(f"the name {name!r} is taken in this class, or looks like {student.name!r}: "
                                   "choose another")
+
+    def _give_way(self) -> bool:
+        """Free the oldest unclaimed place; False when there is none."""
+        if not self._unclaimed:
+            return False
+        self._remove_unclaimed(next(iter(self._unclaimed)))
+        return True
+
+    def _remove_unclaimed(self, student_id: int) -> None:
+        del self._unclaimed[student_id]
+        try:
+            self.store.remove_student(student_id)
+        except NotFound:  # the teacher removed it meanwhile
+            pass
 
     def _renamed(self, student: StudentRecord, name: str) -> StudentRecord:
         try:
