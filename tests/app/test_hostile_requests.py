@@ -224,6 +224,18 @@ def test_a_script_dropping_its_cookie_cannot_fill_the_class_against_pupils(room)
         room.classroom.join(CODE, "ada", None)
 
 
+def test_an_unclaimed_place_the_teacher_removed_frees_no_place_twice(room, monkeypatch):
+    import soccer_lab.app.web.classroom.admission as admission
+
+    monkeypatch.setattr(admission, "MAX_STUDENTS", 2)
+    first, _ = room.classroom.join(CODE, "bot a", None)
+    room.classroom.join(CODE, "bot b", None)
+    room.store.remove_student(first.id)  # the teacher's Remove
+    room.classroom.join(CODE, "bot c", None)  # a free place: nothing gives way
+    room.classroom.join(CODE, "bot d", None)  # full: "bot b" gives way, not the place already gone
+    assert sorted(student.name for student in room.store.list_students()) == ["bot c", "bot d"]
+
+
 def test_a_class_whose_places_are_all_claimed_refuses_the_next_with_its_limit(room, monkeypatch):
     import soccer_lab.app.web.classroom.admission as admission
 

@@ -130,17 +130,19 @@ class Classroom:
 
     def _give_way(self) -> bool:
         """Free the oldest unclaimed place; False when there is none."""
-        if not self._unclaimed:
-            return False
-        self._remove_unclaimed(next(iter(self._unclaimed)))
-        return True
+        while self._unclaimed:
+            if self._remove_unclaimed(next(iter(self._unclaimed))):
+                return True
+        return False
 
-    def _remove_unclaimed(self, student_id: int) -> None:
+    def _remove_unclaimed(self, student_id: int) -> bool:
+        """False when the place was gone already (the teacher removed it)."""
         del self._unclaimed[student_id]
         try:
             self.store.remove_student(student_id)
-        except NotFound:  # the teacher removed it meanwhile
-            pass
+        except NotFound:
+            return False
+        return True
 
     def _renamed(self, student: StudentRecord, name: str) -> StudentRecord:
         try:
