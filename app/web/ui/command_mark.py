@@ -103,12 +103,8 @@ def _runs(steps: int) -> list[int]:
 
 def _arrow(kind: str, start: tuple[float, float], heading: float, length: float) -> tuple[PlacedShape, ...]:
     """The shaft's runs end to end from `start`, the head at the tip."""
-    along = _direction(heading)
-    at, shapes = np.asarray(start, dtype=np.float64), []
-    for run in _runs(round(length / ARROW_STEP)):
-        shapes.append(PlacedShape(f"{kind}_shaft_{run}", (float(at[0]), float(at[1])), heading))
-        at = at + (1 << run) * ARROW_STEP * along
-    return (*shapes, PlacedShape(f"{kind}_head", (float(at[0]), float(at[1])), heading))
+    shaft, tip = _end_to_end(f"{kind}_shaft", start, heading, round(length / ARROW_STEP), ARROW_STEP)
+    return (*shaft, PlacedShape(f"{kind}_head", tip, heading))
 
 
 def _arc(centre: tuple[float, float], facing: float, turn: float) -> tuple[PlacedShape, ...]:
@@ -129,12 +125,19 @@ def _dashed(start: tuple[float, float], end: tuple[float, float]) -> tuple[Place
     (ax, ay), (bx, by) = start, end
     periods = min(round(math.hypot(bx - ax, by - ay) / (2 * DASH_GAP)), 2 ** DASHED_RUNS - 1)
     back = math.degrees(math.atan2(ay - by, ax - bx))
-    along = _direction(back)
-    at, shapes = np.array([bx, by], dtype=np.float64), []
-    for run in _runs(periods):
-        shapes.append(PlacedShape(f"dashes_{run}", (float(at[0]), float(at[1])), back))
-        at = at + (1 << run) * 2 * DASH_GAP * along
-    return tuple(shapes)
+    return _end_to_end("dashes", end, back, periods, 2 * DASH_GAP)[0]
+
+
+def _end_to_end(prefix: str, start: tuple[float, float], heading: float, steps: int,
+                step: float) -> tuple[tuple[PlacedShape, ...], tuple[float, float]]:
+    """The runs of `steps` steps of `step` metres (shapes `prefix`_run) laid end to end from `start` along
+    `heading`, and where the last one ends."""
+    along = _direction(heading)
+    at, shapes = np.asarray(start, dtype=np.float64), []
+    for run in _runs(steps):
+        shapes.append(PlacedShape(f"{prefix}_{run}", (float(at[0]), float(at[1])), heading))
+        at = at + (1 << run) * step * along
+    return tuple(shapes), (float(at[0]), float(at[1]))
 
 
 def mark_shapes() -> dict[str, tuple[np.ndarray, tuple[int, int, int]]]:
